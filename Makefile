@@ -1,0 +1,34 @@
+# Every target sets itself up: a .venv with the CPU torch wheel and the package in dev mode.
+PYTHON ?= python3
+VENV := .venv
+BIN := $(VENV)/bin
+STAMP := $(VENV)/.installed
+
+.PHONY: setup run test lint bench docs clean
+
+setup: $(STAMP)
+
+$(STAMP): pyproject.toml
+	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
+	$(BIN)/pip install -q --upgrade pip
+	$(BIN)/pip install -q torch==2.13.0
+	$(BIN)/pip install -q -e '.[dev]'
+	touch $(STAMP)
+
+run: $(STAMP)
+	$(BIN)/gvgai-pcg evaluate --agent random --game zelda --levels human --episodes 30 --seed 0
+
+test: $(STAMP)
+	$(BIN)/ruff check gvgai_pcg tests
+	$(BIN)/ruff format --check gvgai_pcg tests
+	$(BIN)/pytest -q -n 2
+
+lint: $(STAMP)
+	$(BIN)/ruff format gvgai_pcg tests
+	$(BIN)/ruff check --fix gvgai_pcg tests
+
+bench: $(STAMP)
+	$(BIN)/gvgai-pcg bench --output docs/benchmarks.md
+
+clean:
+	rm -rf $(VENV) build *.egg-info
