@@ -1,0 +1,58 @@
+"""``gvgai-pcg``: one console script, one subcommand per module in ``gvgai_pcg.commands``.
+
+Each command module exposes ``add_arguments(parser)`` and ``run(args) -> int``, so a command
+lives next to nothing but its own options; this file only dispatches. ``train`` is a Hydra app
+and takes Hydra's own arguments, so it is handed the raw argument list.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import importlib.util
+import sys
+
+COMMANDS: dict[str, str] = {
+    "evaluate": "Evaluate agents (random or trained) on human levels and test sets",
+    "bench": "Measure engine throughput and write docs/benchmarks.md",
+    "generate": "Generate levels at a difficulty",
+    "play": "Play a level in the terminal",
+    "train": "Train an agent (Hydra app: gvgai-pcg train game=zelda regimen=ppcg ...)",
+    "report": "Merge run results into the results table and figures",
+    "analyze": "Level-distribution analysis (PCA + DBSCAN)",
+}
+RAW_ARGUMENT_COMMANDS = {"train"}
+
+
+def _command_module(name: str):
+    return importlib.import_module(f"gvgai_pcg.commands.{name}")
+
+
+def available_commands() -> dict[str, str]:
+    """The commands whose module is installed (a command may be added by a later release)."""
+    found = {}
+    for name, help_text in COMMANDS.items():
+        try:
+            importlib.util.find_spec(f"gvgai_pcg.commands.{name}") and found.setdefault(name, help_text)
+        except ModuleNotFoundError:
+            continue
+    return found
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    commands = available_commands()
+    if argv and argv[0] in RAW_ARGUMENT_COMMANDS and argv[0] in commands:
+        return int(_command_module(argv[0]).run_raw(argv[1:]) or 0)
+    parser = argparse.ArgumentParser(prog="gvgai-pcg", description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for name, help_text in commands.items():
+        sub_parser = sub.add_parser(name, help=help_text, description=help_text)
+        if name not in RAW_ARGUMENT_COMMANDS:
+            _command_module(name).add_arguments(sub_parser)
+    args = parser.parse_args(argv)
+    return int(_command_module(args.command).run(args) or 0)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,192 @@
+"""The contract every game implements, and the compile helpers they share.
+
+A game is a set of rules over a batched state (a ``TensorDict`` with batch size ``[B]``):
+static tiles as ``[B, H, W]`` bool grids, moving sprites as entity tables (nested
+TensorDicts with batch size ``[B, K]`` and an ``alive`` mask). Every state carries the common
+entries ``seed``, ``tick``, ``score``, ``won`` and ``lost`` (all ``[B]``). ``tick`` runs one
+game cycle for all B environments with tensor ops only (RULES.md §1.3); the engine never loops
+over environments or sprites in Python.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import ClassVar
+
+import torch
+from tensordict import TensorDict
+
+from gvgai_pcg.games.geometry import CELL
+from gvgai_pcg.levels import Level, LevelFormat, level_format
+
+
+@dataclass(frozen=True)
+class GridLayer:
+    """Static sprites of one type: one per set cell of ``cells`` (``[B, H, W]`` bool)."""
+
+    name: str
+    cells: torch.Tensor
+
+
+@dataclass(frozen=True)
+class SpriteLayer:
+    """Moving sprites of one type at pixel positions ``x, y`` (``[B, K]``) where ``present``.
+
+    ``variant`` (``[B, K]`` int, optional) picks one of the type's images, e.g. the facing of an
+    oriented avatar.
+    """
+
+    name: str
+    x: torch.Tensor
+    y: torch.Tensor
+    present: torch.Tensor
+    variant: torch.Tensor | None = None
+
+
+Layer = GridLayer | SpriteLayer
+
+
+@dataclass(frozen=True)
+class SpriteArt:
+    """Our own tile art for a sprite type: a colour and a shape (see ``gvgai_pcg.games.render``)."""
+
+    color: tuple[int, int, int]
+    shape: str = "square"
+    oriented: bool = False
+
+
+class Game(ABC):
+    """One GVGAI game: its legend, action set, batched state and tick."""
+
+    name: ClassVar[str]
+    actions: ClassVar[tuple[str, ...]]
+    # Observation channels of ``tiles``, one per sprite type that matters (decoration left out).
+    tile_types: ClassVar[tuple[str, ...]]
+    art: ClassVar[dict[str, SpriteArt]]
+    # The row used to pad a level that is smaller than the batch's grid (RULES.md §8, frogs lvl4).
+    pad_char: ClassVar[str] = "w"
+
+    @property
+    def level_format(self) -> LevelFormat:
+        return level_format(self.name)
+
+    @property
+    def num_actions(self) -> int:
+        return len(self.actions)
+
+    @abstractmethod
+    def compile(self, levels: Sequence[Level], seeds: torch.Tensor, device: torch.device) -> TensorDict:
+        """The initial state of ``len(levels)`` envs, before the reset tick (``tick == -1``)."""
+
+    @abstractmethod
+    def tick(self, state: TensorDict, action: torch.Tensor) -> None:
+        """Advance every env of ``state`` by one game cycle with ``action`` (``[B]`` int), in place."""
+
+    @abstractmethod
+    def layers(self, state: TensorDict) -> list[Layer]:
+        """What is drawn, in drawing order (the avatar last)."""
+
+    @abstractmethod
+    def snapshot(self, state: TensorDict, index: int) -> dict:
+        """Env ``index`` in the golden-trace format (``../shared/gvgai/golden/README.md``)."""
+
+    @abstractmethod
+    def max_score(self, level: Level) -> int:
+        """The highest score the rules allow on ``level`` (RULES.md §4.6, 5.8, 6.6, 7.6)."""
+
+
+def common_state(seeds: torch.Tensor, device: torch.device) -> dict[str, torch.Tensor]:
+    """The entries every game state has, for a fresh episode (the reset tick makes ``tick`` 0)."""
+    batch = seeds.shape[0]
+    return {
+        "seed": seeds.to(device=device, dtype=torch.int64),
+        "tick": torch.full((batch,), -1, dtype=torch.int64, device=device),
+        "score": torch.zeros(batch, dtype=torch.int64, device=device),
+        "won": torch.zeros(batch, dtype=torch.bool, device=device),
+        "lost": torch.zeros(batch, dtype=torch.bool, device=device),
+    }
+
+
+def char_grid(levels: Sequence[Level], chars: str, device: torch.device) -> torch.Tensor:
+    """``[B, H, W]`` bool: where each level holds one of ``chars``."""
+    rows = [[[ch in chars for ch in row] for row in level.rows] for level in levels]
+    return torch.tensor(rows, dtype=torch.bool, device=device)
+
+
+def char_entities(
+    levels: Sequence[Level], kinds: dict[str, int], device: torch.device, capacity: int | None = None
+) -> TensorDict:
+    """An entity table (batch ``[B, K]``) of the sprites placed by ``kinds`` (char -> kind code).
+
+    Slots follow ``(kind code, row-major order)``, which is the order in which GVGAI processes a
+    type group whose subtypes are declared in that order. ``K`` is the largest count in the batch
+    (or ``capacity``); unused slots have ``alive`` false.
+    """
+    found = []
+    for level in levels:
+        sprites = [
+            (kinds[ch], r, c) for r, row in enumerate(level.rows) for c, ch in enumerate(row) if ch in kinds
+        ]
+        found.append(sorted(sprites))
+    size = max([len(f) for f in found] + [capacity or 0])
+    x = torch.zeros(len(levels), size, dtype=torch.int64)
+    y = torch.zeros(len(levels), size, dtype=torch.int64)
+    kind = torch.zeros(len(levels), size, dtype=torch.int64)
+    alive = torch.zeros(len(levels), size, dtype=torch.bool)
+    for b, sprites in enumerate(found):
+        for k, (code, r, c) in enumerate(sprites):
+            x[b, k], y[b, k], kind[b, k], alive[b, k] = CELL * c, CELL * r, code, True
+    table = {"x": x, "y": y, "kind": kind, "alive": alive}
+    return TensorDict(table, batch_size=[len(levels), size]).to(device)
+
+
+def avatar_cell(levels: Sequence[Level], chars: str) -> tuple[torch.Tensor, torch.Tensor]:
+    """Pixel position (x ``[B]``, y ``[B]``) of each level's avatar character."""
+    cells = [next(level.find(ch)[0] for ch in chars if level.count(ch)) for level in levels]
+    ys, xs = zip(*cells, strict=True)
+    return CELL * torch.tensor(xs, dtype=torch.int64), CELL * torch.tensor(ys, dtype=torch.int64)
+
+
+def pad_level(level: Level, height: int, width: int, pad_char: str) -> Level:
+    """``level`` grown to ``height x width`` with ``pad_char`` rows at the bottom and columns at
+    the right (the study's padding of frogs lvl4)."""
+    if level.height > height or level.width > width:
+        raise ValueError(
+            f"level {level.name or ''} is {level.width}x{level.height}, larger than {width}x{height}"
+        )
+    rows = [row + pad_char * (width - level.width) for row in level.rows]
+    rows += [pad_char * width] * (height - level.height)
+    return Level(level.game, tuple(rows), name=level.name, seed=level.seed)
+
+
+def pad_entity_tables(state: TensorDict, capacities: dict[str, int]) -> TensorDict:
+    """``state`` with each entity table named in ``capacities`` grown to that many slots."""
+    for key, size in capacities.items():
+        table = state.get(key)
+        missing = size - table.batch_size[1]
+        if missing > 0:
+            blank = table[:, :1].apply(torch.zeros_like).expand(table.batch_size[0], missing).clone()
+            state.set(key, torch.cat([table, blank], dim=1))
+    return state
+
+
+def entity_capacities(state: TensorDict) -> dict[str, int]:
+    """The slot count of every entity table (nested TensorDict with a ``[B, K]`` batch)."""
+    return {
+        key: value.batch_size[1]
+        for key, value in state.items()
+        if isinstance(value, TensorDict) and value.batch_dims == 2
+    }
+
+
+def merge_states(state: TensorDict, fresh: TensorDict, index: torch.Tensor) -> TensorDict:
+    """``state`` with envs ``index`` replaced by ``fresh`` (a partial reset); entity tables of both
+    are first grown to the larger capacity."""
+    ours, theirs = entity_capacities(state), entity_capacities(fresh)
+    sizes = {key: max(ours[key], theirs[key]) for key in ours}
+    state = pad_entity_tables(state, sizes)
+    fresh = pad_entity_tables(fresh, sizes)
+    state[index] = fresh
+    return state

@@ -1,0 +1,1 @@
+"""boulderdash: implemented in its own change (see issues)."""

@@ -1,0 +1,1 @@
+"""frogs: implemented in its own change (see issues)."""

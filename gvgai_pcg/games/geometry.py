@@ -1,0 +1,81 @@
+"""Pixel geometry shared by every game: directions, rectangle overlap, and which grid cells a
+10x10 sprite rectangle covers.
+
+All sprites in these games are 10x10 px and positions are integer pixels (RULES.md §1.1), so a
+rectangle at (x, y) overlaps at most the 2x2 cells {x//10, (x+9)//10} x {y//10, (y+9)//10}.
+"""
+
+from __future__ import annotations
+
+import torch
+
+CELL = 10
+
+# Direction codes follow the Gym's action order for directions: LEFT, RIGHT, DOWN, UP; NONE last.
+LEFT, RIGHT, DOWN, UP, NONE = 0, 1, 2, 3, 4
+DIRECTION_NAMES = ("LEFT", "RIGHT", "DOWN", "UP", None)
+_DX = (-1, 1, 0, 0, 0)
+_DY = (0, 0, 1, -1, 0)
+
+
+def direction_dx(direction: torch.Tensor) -> torch.Tensor:
+    """Unit x displacement of direction codes (any shape)."""
+    return torch.tensor(_DX, dtype=torch.int64, device=direction.device)[direction]
+
+
+def direction_dy(direction: torch.Tensor) -> torch.Tensor:
+    """Unit y displacement of direction codes (any shape, y grows downward)."""
+    return torch.tensor(_DY, dtype=torch.int64, device=direction.device)[direction]
+
+
+def overlaps(ax: torch.Tensor, ay: torch.Tensor, bx: torch.Tensor, by: torch.Tensor) -> torch.Tensor:
+    """Strict overlap of 10x10 rectangles (edge-adjacent cells do not overlap); broadcasts."""
+    return (ax < bx + CELL) & (bx < ax + CELL) & (ay < by + CELL) & (by < ay + CELL)
+
+
+def covered_cells(
+    x: torch.Tensor, y: torch.Tensor, height: int, width: int
+) -> tuple[torch.Tensor, torch.Tensor]:
+    """Flat cell indices ``[..., 4]`` of the (up to four) distinct cells a rectangle overlaps, and a
+    validity mask ``[..., 4]`` (false for duplicates and cells outside the grid)."""
+    cx0, cy0 = x.div(CELL, rounding_mode="floor"), y.div(CELL, rounding_mode="floor")
+    cx1, cy1 = (
+        (x + CELL - 1).div(CELL, rounding_mode="floor"),
+        (y + CELL - 1).div(CELL, rounding_mode="floor"),
+    )
+    cxs = torch.stack([cx0, cx1, cx0, cx1], dim=-1)
+    cys = torch.stack([cy0, cy0, cy1, cy1], dim=-1)
+    split_x, split_y = (cx1 != cx0).unsqueeze(-1), (cy1 != cy0).unsqueeze(-1)
+    corner = torch.tensor([[True, False, False, False]], device=x.device)
+    distinct = (
+        corner
+        | (torch.tensor([False, True, False, False], device=x.device) & split_x)
+        | (torch.tensor([False, False, True, False], device=x.device) & split_y)
+        | (torch.tensor([False, False, False, True], device=x.device) & split_x & split_y)
+    )
+    inside = (cxs >= 0) & (cxs < width) & (cys >= 0) & (cys < height)
+    index = (cys.clamp(0, height - 1) * width + cxs.clamp(0, width - 1)).long()
+    return index, distinct & inside
+
+
+def grid_hits(grid: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+    """Which covered cells of ``grid`` (``[B, H, W]`` bool) are set under rectangles at ``x, y``
+    (``[B]`` or ``[B, K]``): returns (flat cell index ``[..., 4]``, hit mask ``[..., 4]``)."""
+    batch, height, width = grid.shape
+    index, valid = covered_cells(x, y, height, width)
+    flat = grid.reshape(batch, height * width)
+    gathered = torch.gather(flat, 1, index.reshape(batch, -1)).reshape(index.shape)
+    return index, gathered & valid
+
+
+def grid_count(grid: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
+    """How many set cells of ``grid`` each rectangle overlaps (``[B]`` or ``[B, K]``)."""
+    return grid_hits(grid, x, y)[1].sum(-1)
+
+
+def cell_mask(shape: torch.Size, index: torch.Tensor, mask: torch.Tensor) -> torch.Tensor:
+    """A ``[B, H, W]`` bool grid that is set exactly at the cells ``index[mask]`` (duplicates are fine)."""
+    batch = shape[0]
+    counts = torch.zeros(batch, shape[1] * shape[2], dtype=torch.int32, device=index.device)
+    counts.scatter_add_(1, index.reshape(batch, -1), mask.reshape(batch, -1).to(torch.int32))
+    return (counts > 0).reshape(shape)

@@ -1,0 +1,145 @@
+"""Observations drawn from a game's layers: ``tiles`` (one channel per sprite type, a sprite
+marked in the cell holding its centre) and ``pixels`` (RGB, 10 px per cell, our own art).
+
+Both are batched tensor ops over all envs; the only Python loop is over a game's handful of
+layers (sprite types), never over environments or sprites.
+"""
+
+from __future__ import annotations
+
+from functools import cache
+
+import torch
+from tensordict import TensorDict
+
+from gvgai_pcg.games.base import Game, GridLayer, SpriteArt
+from gvgai_pcg.games.geometry import CELL, DOWN, LEFT, RIGHT, UP
+
+
+def _shape_mask(shape: str) -> torch.Tensor:
+    """``[10, 10]`` bool footprint of a shape name."""
+    yy, xx = torch.meshgrid(torch.arange(CELL), torch.arange(CELL), indexing="ij")
+    cx, cy = xx - 4.5, yy - 4.5
+    shapes = {
+        "square": torch.ones(CELL, CELL, dtype=torch.bool),
+        "circle": cx**2 + cy**2 <= 16.5,
+        "diamond": cx.abs() + cy.abs() <= 5.0,
+        "small": (xx >= 1) & (xx < 8) & (yy >= 1) & (yy < 8),
+        "frame": (xx == 0) | (xx == 9) | (yy == 0) | (yy == 9) | ((xx - yy).abs() <= 0),
+        "cross": (cx.abs() <= 1) | (cy.abs() <= 1),
+        "bar": (yy >= 3) & (yy < 7),
+        "dot": cx**2 + cy**2 <= 6.5,
+    }
+    if shape not in shapes:
+        raise ValueError(f"unknown art shape {shape!r}; valid shapes are: {', '.join(shapes)}")
+    return shapes[shape]
+
+
+def _facing_marker(direction: int) -> torch.Tensor:
+    """``[10, 10]`` bool triangle pointing along ``direction`` (RULES.md §1.9, simplified)."""
+    yy, xx = torch.meshgrid(torch.arange(CELL), torch.arange(CELL), indexing="ij")
+    along = {RIGHT: xx, LEFT: 9 - xx, DOWN: yy, UP: 9 - yy}[direction]
+    across = {RIGHT: yy, LEFT: yy, DOWN: xx, UP: xx}[direction]
+    return (along >= 6) & ((across - 4.5).abs() <= (9 - along) + 0.5)
+
+
+def sprite_images(art: SpriteArt) -> torch.Tensor:
+    """``[V, 4, 10, 10]`` uint8 RGBA images of a type: one, or one per facing (LEFT, RIGHT, DOWN, UP)."""
+    mask = _shape_mask(art.shape)
+    color = torch.tensor(art.color, dtype=torch.uint8).view(3, 1, 1)
+    base = torch.cat([color.expand(3, CELL, CELL), (mask * 255).to(torch.uint8).unsqueeze(0)])
+    if not art.oriented:
+        return base.unsqueeze(0)
+    marker_color = torch.tensor((art.color[0], 255 - art.color[1], art.color[2]), dtype=torch.uint8).view(
+        3, 1, 1
+    )
+    variants = []
+    for direction in (LEFT, RIGHT, DOWN, UP):
+        marker = _facing_marker(direction)
+        image = base.clone()
+        image[:3] = torch.where(marker, marker_color, image[:3])
+        image[3] = torch.where(marker, torch.tensor(255, dtype=torch.uint8), image[3])
+        variants.append(image)
+    return torch.stack(variants)
+
+
+@cache
+def _images(game_name: str, type_name: str, device: str) -> torch.Tensor:
+    from gvgai_pcg.games.registry import get_game
+
+    return sprite_images(get_game(game_name).art[type_name]).to(device)
+
+
+def render_tiles(game: Game, state: TensorDict) -> torch.Tensor:
+    """``[B, C, H, W]`` uint8, channel c = ``game.tile_types[c]``."""
+    layers = game.layers(state)
+    grid = next(layer.cells for layer in layers if isinstance(layer, GridLayer))
+    batch, height, width = grid.shape
+    channels = []
+    for name in game.tile_types:
+        plane = torch.zeros(batch, height * width, dtype=torch.uint8, device=grid.device)
+        for layer in layers:
+            if layer.name != name:
+                continue
+            if isinstance(layer, GridLayer):
+                plane |= layer.cells.reshape(batch, -1).to(torch.uint8)
+            else:
+                cx = (layer.x + CELL // 2).div(CELL, rounding_mode="floor")
+                cy = (layer.y + CELL // 2).div(CELL, rounding_mode="floor")
+                inside = layer.present & (cx >= 0) & (cx < width) & (cy >= 0) & (cy < height)
+                index = (cy.clamp(0, height - 1) * width + cx.clamp(0, width - 1)).reshape(batch, -1)
+                plane.scatter_reduce_(1, index, inside.reshape(batch, -1).to(torch.uint8), reduce="amax")
+        channels.append(plane.view(batch, height, width))
+    return torch.stack(channels, dim=1)
+
+
+def render_pixels(game: Game, state: TensorDict) -> torch.Tensor:
+    """``[B, 3, 10H, 10W]`` uint8 RGB frame; uncovered pixels are black (GVGAI has no background)."""
+    layers = game.layers(state)
+    grid = next(layer.cells for layer in layers if isinstance(layer, GridLayer))
+    batch, height, width = grid.shape
+    device = grid.device
+    ph, pw = height * CELL, width * CELL
+    canvas = torch.zeros(batch, 3, ph * pw + 1, dtype=torch.uint8, device=device)  # last pixel: a dump
+    offsets = torch.arange(CELL, device=device)
+    for layer in layers:
+        images = _images(game.name, layer.name, str(device))
+        if isinstance(layer, GridLayer):
+            rgb = images[0, :3].repeat(1, height, width).reshape(3, -1)
+            alpha = images[0, 3].repeat(height, width).reshape(-1) > 0
+            cells = layer.cells.repeat_interleave(CELL, 1).repeat_interleave(CELL, 2).reshape(batch, -1)
+            mask = (cells & alpha).unsqueeze(1)
+            canvas[:, :, :-1] = torch.where(mask, rgb.unsqueeze(0), canvas[:, :, :-1])
+            continue
+        k = layer.x.shape[1]
+        px = layer.x.unsqueeze(-1).unsqueeze(-1) + offsets.view(1, 1, 1, CELL)  # [B, K, 1, 10]
+        py = layer.y.unsqueeze(-1).unsqueeze(-1) + offsets.view(1, 1, CELL, 1)  # [B, K, 10, 1]
+        variant = layer.variant if layer.variant is not None else torch.zeros_like(layer.x)
+        image = images[variant.clamp(0, images.shape[0] - 1)]  # [B, K, 4, 10, 10]
+        visible = (
+            layer.present.view(batch, k, 1, 1)
+            & (px >= 0)
+            & (px < pw)
+            & (py >= 0)
+            & (py < ph)
+            & (image[:, :, 3] > 0)
+        )
+        index = torch.where(visible, py * pw + px, ph * pw).reshape(batch, 1, -1).expand(batch, 3, -1)
+        values = image[:, :, :3].permute(0, 2, 1, 3, 4).reshape(batch, 3, -1)
+        canvas.scatter_(2, index, values)
+    return canvas[:, :, :-1].reshape(batch, 3, ph, pw)
+
+
+def ascii_frame(game: Game, state: TensorDict, index: int = 0) -> str:
+    """Env ``index`` as text, one character per cell: the last-drawn type's level char, else '.'.
+
+    Meant for debugging; the characters come from the first letter of each tile type.
+    """
+    tiles = render_tiles(game, state)[index]
+    _, height, width = tiles.shape
+    rows = [["." for _ in range(width)] for _ in range(height)]
+    for channel, name in enumerate(game.tile_types):
+        symbol = name[0].upper() if name in ("avatar", "nokey", "withkey") else name[0]
+        for r, c in (tiles[channel] > 0).nonzero().tolist():
+            rows[r][c] = "A" if name in ("avatar", "nokey", "withkey") else symbol
+    return "\n".join("".join(row) for row in rows)

@@ -1,0 +1,1 @@
+"""solarfox: implemented in its own change (see issues)."""
