@@ -12,7 +12,7 @@ from functools import cache
 import torch
 from tensordict import TensorDict
 
-from gvgai_pcg.games.base import Game, GridLayer, SpriteArt
+from gvgai_pcg.games.base import Game, GridLayer, SpriteArt, SpriteLayer
 from gvgai_pcg.games.geometry import CELL, DOWN, LEFT, RIGHT, UP
 
 
@@ -75,59 +75,95 @@ def render_tiles(game: Game, state: TensorDict) -> torch.Tensor:
     layers = game.layers(state)
     grid = next(layer.cells for layer in layers if isinstance(layer, GridLayer))
     batch, height, width = grid.shape
-    channels = []
-    for name in game.tile_types:
-        plane = torch.zeros(batch, height * width, dtype=torch.uint8, device=grid.device)
-        for layer in layers:
-            if layer.name != name:
-                continue
-            if isinstance(layer, GridLayer):
-                plane |= layer.cells.reshape(batch, -1).to(torch.uint8)
-            else:
-                cx = (layer.x + CELL // 2).div(CELL, rounding_mode="floor")
-                cy = (layer.y + CELL // 2).div(CELL, rounding_mode="floor")
-                inside = layer.present & (cx >= 0) & (cx < width) & (cy >= 0) & (cy < height)
-                index = (cy.clamp(0, height - 1) * width + cx.clamp(0, width - 1)).reshape(batch, -1)
-                plane.scatter_reduce_(1, index, inside.reshape(batch, -1).to(torch.uint8), reduce="amax")
-        channels.append(plane.view(batch, height, width))
-    return torch.stack(channels, dim=1)
+    channel_of = {name: c for c, name in enumerate(game.tile_types)}
+    tiles = torch.zeros(batch, len(game.tile_types), height * width, dtype=torch.uint8, device=grid.device)
+    for layer in layers:
+        channel = channel_of.get(layer.name)
+        if channel is None:
+            continue
+        plane = tiles[:, channel]
+        if isinstance(layer, GridLayer):
+            plane |= layer.cells.reshape(batch, -1).to(torch.uint8)
+            continue
+        cx = (layer.x + CELL // 2).div(CELL, rounding_mode="floor")
+        cy = (layer.y + CELL // 2).div(CELL, rounding_mode="floor")
+        inside = layer.present & (cx >= 0) & (cx < width) & (cy >= 0) & (cy < height)
+        index = (cy.clamp(0, height - 1) * width + cx.clamp(0, width - 1)).reshape(batch, -1)
+        plane.scatter_reduce_(1, index, inside.reshape(batch, -1).to(torch.uint8), reduce="amax")
+    return tiles.view(batch, len(game.tile_types), height, width)
+
+
+def _packed_images(game: Game, type_name: str, device: torch.device) -> torch.Tensor:
+    """``[V, 10, 10]`` int32: each RGBA pixel packed in one int (R in the low byte), 0 = transparent."""
+    rgba = _images(game.name, type_name, str(device)).to(torch.int32)  # [V, 4, 10, 10]
+    packed = rgba[:, 0] | (rgba[:, 1] << 8) | (rgba[:, 2] << 16) | (rgba[:, 3] << 24)
+    return torch.where(rgba[:, 3] > 0, packed, 0)
+
+
+def _composite_grid_run(canvas: torch.Tensor, run: list[GridLayer], game: Game, first: bool) -> None:
+    """Draw consecutive grid layers in one pass: pick each cell's top image, expand it to pixels."""
+    batch, height, width = run[0].cells.shape
+    device = canvas.device
+    atlas = torch.cat(
+        [torch.zeros(1, CELL, CELL, dtype=torch.int32, device=device)]
+        + [_packed_images(game, layer.name, device)[:1] for layer in run]
+    )  # [1 + len(run), 10, 10], index 0 = nothing
+    top = torch.zeros(batch, height, width, dtype=torch.int64, device=device)
+    for i, layer in enumerate(run, start=1):
+        top = torch.where(layer.cells, i, top)
+    pixels = atlas.view(len(run) + 1, CELL * CELL).index_select(0, top.view(-1))
+    pixels = (
+        pixels.view(batch, height, width, CELL, CELL).transpose(2, 3).reshape(batch, -1)
+    )  # [B, 10H * 10W]
+    if first:
+        canvas[:, :-1] = pixels
+    else:
+        canvas[:, :-1] = torch.where(pixels != 0, pixels, canvas[:, :-1])
+
+
+def _draw_sprites(canvas: torch.Tensor, layer: SpriteLayer, game: Game, height: int, width: int) -> None:
+    batch, k = layer.x.shape
+    device = canvas.device
+    ph, pw = height * CELL, width * CELL
+    images = _packed_images(game, layer.name, device)
+    offsets = torch.arange(CELL, device=device)
+    px = layer.x.view(batch, k, 1, 1) + offsets.view(1, 1, 1, CELL)  # [B, K, 1, 10]
+    py = layer.y.view(batch, k, 1, 1) + offsets.view(1, 1, CELL, 1)  # [B, K, 10, 1]
+    variant = layer.variant if layer.variant is not None else torch.zeros_like(layer.x)
+    image = images[variant.clamp(0, images.shape[0] - 1)]  # [B, K, 10, 10]
+    visible = (
+        layer.present.view(batch, k, 1, 1) & (px >= 0) & (px < pw) & (py >= 0) & (py < ph) & (image != 0)
+    )
+    index = torch.where(visible, py * pw + px, ph * pw).reshape(batch, -1)
+    canvas.scatter_(1, index, image.reshape(batch, -1))
 
 
 def render_pixels(game: Game, state: TensorDict) -> torch.Tensor:
-    """``[B, 3, 10H, 10W]`` uint8 RGB frame; uncovered pixels are black (GVGAI has no background)."""
+    """``[B, 3, 10H, 10W]`` uint8 RGB frame; uncovered pixels are black (GVGAI has no background).
+
+    Layers are drawn in the game's drawing order on a canvas of packed RGBA ints: runs of
+    consecutive grid layers are composited in one pass, sprites are scattered at their exact
+    pixel positions.
+    """
     layers = game.layers(state)
     grid = next(layer.cells for layer in layers if isinstance(layer, GridLayer))
     batch, height, width = grid.shape
-    device = grid.device
     ph, pw = height * CELL, width * CELL
-    canvas = torch.zeros(batch, 3, ph * pw + 1, dtype=torch.uint8, device=device)  # last pixel: a dump
-    offsets = torch.arange(CELL, device=device)
-    for layer in layers:
-        images = _images(game.name, layer.name, str(device))
+    canvas = torch.zeros(batch, ph * pw + 1, dtype=torch.int32, device=grid.device)  # last pixel: a dump
+    run: list[GridLayer] = []
+    drawn_any = False
+    for layer in [*layers, None]:
         if isinstance(layer, GridLayer):
-            rgb = images[0, :3].repeat(1, height, width).reshape(3, -1)
-            alpha = images[0, 3].repeat(height, width).reshape(-1) > 0
-            cells = layer.cells.repeat_interleave(CELL, 1).repeat_interleave(CELL, 2).reshape(batch, -1)
-            mask = (cells & alpha).unsqueeze(1)
-            canvas[:, :, :-1] = torch.where(mask, rgb.unsqueeze(0), canvas[:, :, :-1])
+            run.append(layer)
             continue
-        k = layer.x.shape[1]
-        px = layer.x.unsqueeze(-1).unsqueeze(-1) + offsets.view(1, 1, 1, CELL)  # [B, K, 1, 10]
-        py = layer.y.unsqueeze(-1).unsqueeze(-1) + offsets.view(1, 1, CELL, 1)  # [B, K, 10, 1]
-        variant = layer.variant if layer.variant is not None else torch.zeros_like(layer.x)
-        image = images[variant.clamp(0, images.shape[0] - 1)]  # [B, K, 4, 10, 10]
-        visible = (
-            layer.present.view(batch, k, 1, 1)
-            & (px >= 0)
-            & (px < pw)
-            & (py >= 0)
-            & (py < ph)
-            & (image[:, :, 3] > 0)
-        )
-        index = torch.where(visible, py * pw + px, ph * pw).reshape(batch, 1, -1).expand(batch, 3, -1)
-        values = image[:, :, :3].permute(0, 2, 1, 3, 4).reshape(batch, 3, -1)
-        canvas.scatter_(2, index, values)
-    return canvas[:, :, :-1].reshape(batch, 3, ph, pw)
+        if run:
+            _composite_grid_run(canvas, run, game, first=not drawn_any)
+            run, drawn_any = [], True
+        if layer is not None:
+            _draw_sprites(canvas, layer, game, height, width)
+            drawn_any = True
+    rgba = canvas[:, :-1].contiguous().view(torch.uint8).view(batch, ph, pw, 4)
+    return rgba[..., :3].permute(0, 3, 1, 2).contiguous()
 
 
 def ascii_frame(game: Game, state: TensorDict, index: int = 0) -> str:

@@ -1,0 +1,219 @@
+"""``GVGAIEnv``: a natively batched TorchRL environment over one game.
+
+All ``num_envs`` environments live in one tensor state and advance in one ``game.tick``. The
+env keeps the Gym's semantics (RULES.md §1.8): reset runs tick 0 with NIL, a step is one tick,
+the reward is the score delta, and a step limit truncates. Partial resets (the ``"_reset"``
+mask) recompile only the masked envs, each with the next level from its level source.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import torch
+from tensordict import TensorDict, TensorDictBase
+from torchrl.data import Bounded, Categorical, Composite, Unbounded
+from torchrl.envs import EnvBase
+
+from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
+from gvgai_pcg.games import get_game
+from gvgai_pcg.games.base import merge_states, pad_level
+from gvgai_pcg.games.geometry import CELL
+from gvgai_pcg.games.render import ascii_frame, render_pixels, render_tiles
+from gvgai_pcg.games.rng import derive_seeds, mix64
+from gvgai_pcg.levels import Level
+
+OBSERVATION_KINDS = ("tiles", "pixels")
+
+
+class GVGAIEnv(EnvBase):
+    """``num_envs`` copies of ``game`` stepped together (batch size ``[num_envs]``).
+
+    Args:
+        game: a registered game name (``zelda``, ``solarfox``, ``frogs``, ``boulderdash``).
+        num_envs: the batch size B.
+        levels: a ``LevelSource``, a ``Level``, a list of levels or names, ``"human"`` or a name.
+        obs: ``"tiles"`` (``[C, H, W]`` uint8, one channel per sprite type) or ``"pixels"``
+            (``[3, 10H, 10W]`` uint8 RGB).
+        max_steps: the step limit that truncates an episode (the Gym's TimeLimit, 2000).
+        device: where the state and every output tensor live.
+        seed: an int (per-env seeds are derived from it) or one seed per env. Env i's episode k
+            uses the seed ``mix(env_seed[i], k)``, whatever else shares the batch.
+    """
+
+    batch_locked = True
+
+    def __init__(
+        self,
+        game: str,
+        num_envs: int = 1,
+        levels: LevelSource | Level | Sequence[Level | str] | str = "human",
+        obs: str = "tiles",
+        max_steps: int = 2000,
+        device: torch.device | str = "cpu",
+        seed: int | Sequence[int] = 0,
+        difficulty: float = 0.0,
+    ) -> None:
+        if obs not in OBSERVATION_KINDS:
+            raise ValueError(
+                f"unknown observation kind {obs!r}; valid kinds are: {', '.join(OBSERVATION_KINDS)}"
+            )
+        if num_envs < 1:
+            raise ValueError(f"num_envs must be at least 1, got {num_envs}")
+        if max_steps < 1:
+            raise ValueError(f"max_steps must be at least 1, got {max_steps}")
+        super().__init__(device=device, batch_size=torch.Size([num_envs]))
+        self.game = get_game(game)
+        self.level_source = as_level_source(game, levels)
+        self.obs_kind, self.max_steps, self.num_envs = obs, max_steps, num_envs
+        fmt = self.game.level_format
+        self.grid_height, self.grid_width = fmt.height, fmt.width
+        self._env_seeds = self._seeds_from(seed)
+        self._episodes = torch.zeros(num_envs, dtype=torch.int64)
+        self._default_difficulty = float(difficulty)
+        self._state: TensorDict | None = None
+        self._steps = torch.zeros(num_envs, dtype=torch.int64, device=self.device)
+        self._difficulty = torch.full(
+            (num_envs,), self._default_difficulty, dtype=torch.float32, device=self.device
+        )
+        self._levels: list[Level | None] = [None] * num_envs
+        self._level_seeds = torch.full((num_envs,), -1, dtype=torch.int64)
+        self._make_specs()
+
+    # --- specs ---
+    def _make_specs(self) -> None:
+        b, h, w = self.num_envs, self.grid_height, self.grid_width
+        if self.obs_kind == "tiles":
+            shape = (b, len(self.game.tile_types), h, w)
+        else:
+            shape = (b, 3, h * CELL, w * CELL)
+        self.observation_spec = Composite(
+            {
+                self.obs_kind: Bounded(0, 255, shape=shape, dtype=torch.uint8, device=self.device),
+                "score": Unbounded(shape=(b, 1), dtype=torch.float32, device=self.device),
+                "won": Categorical(2, shape=(b, 1), dtype=torch.bool, device=self.device),
+                "difficulty": Bounded(0.0, 1.0, shape=(b, 1), dtype=torch.float32, device=self.device),
+                "level_seed": Unbounded(shape=(b, 1), dtype=torch.int64, device=self.device),
+            },
+            shape=(b,),
+        )
+        self.action_spec = Categorical(
+            self.game.num_actions, shape=(b,), dtype=torch.int64, device=self.device
+        )
+        self.reward_spec = Unbounded(shape=(b, 1), dtype=torch.float32, device=self.device)
+        self.done_spec = Composite(
+            {
+                key: Categorical(2, shape=(b, 1), dtype=torch.bool, device=self.device)
+                for key in ("done", "terminated", "truncated")
+            },
+            shape=(b,),
+        )
+
+    def _seeds_from(self, seed: int | Sequence[int]) -> torch.Tensor:
+        if isinstance(seed, int | np.integer):
+            return derive_seeds(int(seed), self.num_envs)
+        seeds = torch.as_tensor(list(seed), dtype=torch.int64)
+        if seeds.shape != (self.num_envs,):
+            raise ValueError(f"got {seeds.numel()} seeds for {self.num_envs} envs")
+        return seeds
+
+    @property
+    def env_seeds(self) -> torch.Tensor:
+        """``[B]`` int64: the per-env seeds (pass one of them as ``seed=[s]`` to replay an env alone)."""
+        return self._env_seeds.clone()
+
+    @property
+    def state(self) -> TensorDict:
+        """The batched game state (see ``gvgai_pcg.games.base``); read it, do not keep it."""
+        if self._state is None:
+            raise RuntimeError("the env has not been reset yet")
+        return self._state
+
+    @property
+    def current_levels(self) -> list[Level | None]:
+        """The level each env is playing (as given by its source, before padding)."""
+        return list(self._levels)
+
+    # --- reset and step ---
+    def _reset(self, tensordict: TensorDictBase | None = None, **kwargs) -> TensorDict:
+        mask = None
+        if tensordict is not None and "_reset" in tensordict.keys():
+            mask = tensordict.get("_reset").reshape(self.num_envs).to(self.device)
+        reset_all = self._state is None or mask is None
+        index = torch.arange(self.num_envs) if reset_all else mask.nonzero().flatten().cpu()
+        if tensordict is not None and "difficulty" in tensordict.keys():
+            requested = tensordict.get("difficulty").reshape(self.num_envs).to(self.device, torch.float32)
+            self._difficulty = requested if reset_all else torch.where(mask, requested, self._difficulty)
+        if len(index) > 0:
+            self._start_episodes(index)
+        return self._observation(torch.zeros(self.num_envs, dtype=torch.bool, device=self.device), reset=True)
+
+    def _start_episodes(self, index: torch.Tensor) -> None:
+        episode_seeds = mix64(self._env_seeds[index] ^ mix64(self._episodes[index]))
+        self._episodes[index] += 1
+        difficulties = self._difficulty[index.to(self.device)].cpu()
+        levels = self.level_source.next_levels(index, episode_seeds, difficulties)
+        for i, level in zip(index.tolist(), levels, strict=True):
+            self._levels[i] = level
+        padded = [pad_level(level, self.grid_height, self.grid_width, self.game.pad_char) for level in levels]
+        fresh = self.game.compile(padded, episode_seeds, self.device)
+        self.game.tick(
+            fresh, torch.zeros(len(index), dtype=torch.int64, device=self.device)
+        )  # the reset tick
+        if self._state is None or len(index) == self.num_envs:
+            self._state = fresh
+        else:
+            self._state = merge_states(self._state, fresh, index.to(self.device))
+        self._steps[index.to(self.device)] = 0
+        self._level_seeds[index] = torch.tensor([lv.seed if lv.seed is not None else -1 for lv in levels])
+
+    def _step(self, tensordict: TensorDictBase) -> TensorDict:
+        state = self.state
+        action = tensordict.get("action").reshape(self.num_envs).to(self.device, torch.int64)
+        before = state.get("score")
+        self.game.tick(state, action)
+        self._steps += 1
+        reward = (state.get("score") - before).to(torch.float32).unsqueeze(-1)
+        truncated = (self._steps >= self.max_steps) & ~(state.get("won") | state.get("lost"))
+        out = self._observation(truncated, reset=False)
+        out.set("reward", reward)
+        return out
+
+    def _observation(self, truncated: torch.Tensor, reset: bool) -> TensorDict:
+        state = self.state
+        terminated = state.get("won") | state.get("lost")
+        if reset:
+            terminated = torch.zeros_like(terminated)
+        render = render_tiles if self.obs_kind == "tiles" else render_pixels
+        b = self.num_envs
+        return TensorDict(
+            {
+                self.obs_kind: render(self.game, state),
+                "score": state.get("score").to(torch.float32).unsqueeze(-1),
+                "won": state.get("won").unsqueeze(-1),
+                "difficulty": self._difficulty.unsqueeze(-1).clone(),
+                "level_seed": self._level_seeds.to(self.device).unsqueeze(-1),
+                "terminated": terminated.unsqueeze(-1),
+                "truncated": truncated.unsqueeze(-1),
+                "done": (terminated | truncated).unsqueeze(-1),
+            },
+            batch_size=[b],
+            device=self.device,
+        )
+
+    def _set_seed(self, seed: int | None) -> int | None:
+        if seed is not None:
+            self._env_seeds = derive_seeds(int(seed), self.num_envs)
+            self._episodes.zero_()
+        return seed
+
+    # --- looking at an env ---
+    def render(self, index: int = 0, mode: str = "rgb_array") -> np.ndarray | str:
+        """Env ``index`` as an RGB array ``[10H, 10W, 3]`` (mode ``rgb_array``) or text (``ansi``)."""
+        if mode == "ansi":
+            return ascii_frame(self.game, self.state, index)
+        if mode != "rgb_array":
+            raise ValueError(f"unknown render mode {mode!r}; valid modes are: rgb_array, ansi")
+        frame = render_pixels(self.game, self.state[index : index + 1])[0]
+        return frame.permute(1, 2, 0).cpu().numpy()

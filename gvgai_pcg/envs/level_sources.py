@@ -1,0 +1,104 @@
+"""Level sources: where a resetting environment takes its next level from.
+
+The env asks its source for one level per resetting env, passing each env's episode seed and
+difficulty, so a source can be deterministic per (env, episode) whatever the batch does.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Protocol, runtime_checkable
+
+import torch
+
+from gvgai_pcg.levels import Level, human_levels, resolve_level
+
+
+@runtime_checkable
+class LevelSource(Protocol):
+    """Gives the next level of each resetting env."""
+
+    game: str
+
+    def next_levels(
+        self, env_indices: torch.Tensor, episode_seeds: torch.Tensor, difficulties: torch.Tensor
+    ) -> list[Level]:
+        """One level per resetting env: ``env_indices``, ``episode_seeds`` (int64) and
+        ``difficulties`` (float) are ``[N]``, on the CPU."""
+        ...
+
+
+class FixedLevel:
+    """The same level every episode (the study's Lv X)."""
+
+    def __init__(self, level: Level) -> None:
+        self.game, self.level = level.game, level
+
+    def next_levels(
+        self, env_indices: torch.Tensor, episode_seeds: torch.Tensor, difficulties: torch.Tensor
+    ) -> list[Level]:
+        return [self.level] * len(episode_seeds)
+
+    def __repr__(self) -> str:
+        return f"FixedLevel({self.level.name or self.level.game})"
+
+
+class UniformLevels:
+    """A uniform choice among ``levels`` each episode (the study's Lv 0-3), drawn from the
+    episode seed so that the choice is reproducible per env."""
+
+    def __init__(self, levels: Sequence[Level]) -> None:
+        if not levels:
+            raise ValueError("UniformLevels needs at least one level")
+        games = {level.game for level in levels}
+        if len(games) != 1:
+            raise ValueError(f"all levels of a source must be of one game, got {sorted(games)}")
+        self.game, self.levels = games.pop(), list(levels)
+
+    def next_levels(
+        self, env_indices: torch.Tensor, episode_seeds: torch.Tensor, difficulties: torch.Tensor
+    ) -> list[Level]:
+        picks = (episode_seeds % len(self.levels)).tolist()
+        return [self.levels[i] for i in picks]
+
+    def __repr__(self) -> str:
+        return f"UniformLevels({[level.name for level in self.levels]})"
+
+
+class LevelPerEnv:
+    """Env i always plays ``levels[i]`` (evaluation: every env of the batch has its own level)."""
+
+    def __init__(self, levels: Sequence[Level]) -> None:
+        games = {level.game for level in levels}
+        if len(games) != 1:
+            raise ValueError(f"all levels of a source must be of one game, got {sorted(games)}")
+        self.game, self.levels = games.pop(), list(levels)
+
+    def next_levels(
+        self, env_indices: torch.Tensor, episode_seeds: torch.Tensor, difficulties: torch.Tensor
+    ) -> list[Level]:
+        return [self.levels[i] for i in env_indices.tolist()]
+
+
+def as_level_source(game: str, levels: LevelSource | Level | Sequence[Level | str] | str) -> LevelSource:
+    """Interpret the ``levels`` argument of ``GVGAIEnv``.
+
+    Accepts a source, a Level, a list of Levels or names/paths, ``"human"`` (the five human
+    levels, uniformly), or one name/path (``"zelda_lvl3"``).
+    """
+    if isinstance(levels, LevelSource):
+        source = levels
+    elif isinstance(levels, Level):
+        source = FixedLevel(levels)
+    elif isinstance(levels, str):
+        source = (
+            UniformLevels(human_levels(game))
+            if levels == "human"
+            else FixedLevel(resolve_level(levels, game))
+        )
+    else:
+        resolved = [lv if isinstance(lv, Level) else resolve_level(lv, game) for lv in levels]
+        source = FixedLevel(resolved[0]) if len(resolved) == 1 else UniformLevels(resolved)
+    if source.game != game:
+        raise ValueError(f"level source is for {source.game!r}, but the env plays {game!r}")
+    return source

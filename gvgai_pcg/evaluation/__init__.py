@@ -1,0 +1,14 @@
+"""Evaluation: play agents on levels in one batched env and summarise what they scored."""
+
+from gvgai_pcg.evaluation.human_levels import LevelSummary, evaluate_levels, format_table
+from gvgai_pcg.evaluation.random_agent import RandomAgent
+from gvgai_pcg.evaluation.runner import EpisodeResults, play_episodes
+
+__all__ = [
+    "EpisodeResults",
+    "LevelSummary",
+    "RandomAgent",
+    "evaluate_levels",
+    "format_table",
+    "play_episodes",
+]
