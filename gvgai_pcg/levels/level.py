@@ -20,9 +20,7 @@ class LevelFormatError(ValueError):
     position) say where the problem is.
     """
 
-    def __init__(
-        self, message: str, source: str, line: int | None = None, column: int | None = None
-    ) -> None:
+    def __init__(self, message: str, source: str, line: int | None = None, column: int | None = None) -> None:
         self.source, self.line, self.column = source, line, column
         where = source
         if line is not None:
@@ -103,8 +101,7 @@ class Level:
                     )
         if len(rows) > fmt.height or width > fmt.width:
             raise LevelFormatError(
-                f"grid is {width}x{len(rows)} (WxH) but a {game} level is at most "
-                f"{fmt.width}x{fmt.height}",
+                f"grid is {width}x{len(rows)} (WxH) but a {game} level is at most {fmt.width}x{fmt.height}",
                 source,
             )
         avatars = [(r, c) for r, row in enumerate(rows) for c, ch in enumerate(row) if ch in fmt.avatar_chars]
