@@ -102,3 +102,35 @@ def as_level_source(game: str, levels: LevelSource | Level | Sequence[Level | st
     if source.game != game:
         raise ValueError(f"level source is for {source.game!r}, but the env plays {game!r}")
     return source
+
+
+# Generated training levels draw their seeds from [0, 2**31); the frozen evaluation test sets
+# use seeds at and above TEST_SEED_BASE, so no training episode can ever see a test level.
+TRAINING_SEED_SPACE = 2**31
+TEST_SEED_BASE = 2**40
+
+
+class GeneratedLevels:
+    """A new generated level every episode, at the difficulty given for that env (PCG X, PPCG).
+
+    The level seed comes from the episode seed (in ``[0, TRAINING_SEED_SPACE)``), so every level
+    can be regenerated from (game, difficulty, seed) and is reported as ``level_seed``.
+    """
+
+    def __init__(self, game: str) -> None:
+        from gvgai_pcg.generators import get_generator
+
+        get_generator(game)  # refuses a game without a generator, listing the registered ones
+        self.game = game
+
+    def next_levels(
+        self, env_indices: torch.Tensor, episode_seeds: torch.Tensor, difficulties: torch.Tensor
+    ) -> list[Level]:
+        from gvgai_pcg.generators import generate_level
+
+        seeds = (episode_seeds % TRAINING_SEED_SPACE).tolist()
+        levels = difficulties.clamp(0.0, 1.0).double().round(decimals=4).tolist()
+        return [generate_level(self.game, d, s) for d, s in zip(levels, seeds, strict=True)]
+
+    def __repr__(self) -> str:
+        return f"GeneratedLevels({self.game!r})"

@@ -167,7 +167,10 @@ def pad_entity_tables(state: TensorDict, capacities: dict[str, int]) -> TensorDi
         table = state.get(key)
         missing = size - table.batch_size[1]
         if missing > 0:
-            blank = table[:, :1].apply(torch.zeros_like).expand(table.batch_size[0], missing).clone()
+            batch = table.batch_size[0]
+            blank = table.apply(
+                lambda t, n=missing: t.new_zeros((t.shape[0], n, *t.shape[2:])), batch_size=[batch, missing]
+            )
             state.set(key, torch.cat([table, blank], dim=1))
     return state
 

@@ -1,0 +1,116 @@
+"""``DifficultyTransform``: the one difficulty that PCG X and Progressive PCG train at.
+
+The transform owns the curriculum so the env stays stateless about it: before a reset it writes
+the current difficulty into the reset tensordict (the env's level source generates at it), and
+after each step it moves the difficulty once per finished episode, in order of env index:
++alpha on a win, -alpha on a loss, clipped to [0, 1] after every move (GENERATORS.md §2). The
+value lives in a shared-memory tensor, so collector workers in other processes read and move
+one difficulty, and it is a buffer, so ``state_dict()`` carries it into checkpoints.
+"""
+
+from __future__ import annotations
+
+import torch
+from tensordict import TensorDictBase
+from torchrl.envs.transforms import Transform
+
+MODES = ("fixed", "progressive")
+WIN_RULES = ("game", "study")
+# The study's win rule (GENERATORS.md §2): Boulderdash counts an episode score of 20 or more.
+STUDY_SCORE_WIN = {"boulderdash": 20.0}
+
+
+class DifficultyTransform(Transform):
+    """Owns the difficulty of generated levels.
+
+    Args:
+        mode: ``"fixed"`` (PCG X: always ``start``) or ``"progressive"`` (PPCG).
+        alpha: the step per finished episode (0.01 in the study).
+        start: the initial difficulty (0 for PPCG, X for PCG X).
+        win_rule: ``"game"`` (the game's own win flag) or ``"study"`` (anything but a loss is a
+            win, so a step-limit timeout raises d; Boulderdash: episode score >= 20).
+        game: the game name, needed by the study's rule; taken from the env when left out.
+    """
+
+    def __init__(
+        self,
+        mode: str = "progressive",
+        alpha: float = 0.01,
+        start: float = 0.0,
+        win_rule: str = "game",
+        game: str | None = None,
+    ) -> None:
+        mode = "progressive" if mode == "ppcg" else mode
+        if mode not in MODES:
+            raise ValueError(f"unknown difficulty mode {mode!r}; valid modes are: {', '.join(MODES)}")
+        if win_rule not in WIN_RULES:
+            raise ValueError(f"unknown win rule {win_rule!r}; valid rules are: {', '.join(WIN_RULES)}")
+        if not 0.0 <= start <= 1.0:
+            raise ValueError(f"start difficulty must be in [0, 1], got {start}")
+        if not alpha >= 0.0:
+            raise ValueError(f"alpha must be >= 0, got {alpha}")
+        super().__init__(in_keys=[], out_keys=["difficulty"])
+        self.mode, self.alpha, self.win_rule, self._game = mode, float(alpha), win_rule, game
+        self.register_buffer(
+            "shared_difficulty", torch.tensor([float(start)], dtype=torch.float64).share_memory_()
+        )
+        self.register_buffer("episodes", torch.zeros(1, dtype=torch.int64).share_memory_())
+
+    @property
+    def difficulty(self) -> float:
+        return float(self.shared_difficulty[0])
+
+    @property
+    def game(self) -> str | None:
+        if self._game is None and self.parent is not None:
+            self._game = self.parent.base_env.game.name
+        return self._game
+
+    def wins(self, next_tensordict: TensorDictBase) -> torch.Tensor:
+        """``[B]`` bool: which of this step's envs won, under the chosen rule."""
+        won = next_tensordict.get("won").reshape(-1)
+        if self.win_rule == "game":
+            return won
+        if self.game in STUDY_SCORE_WIN:
+            return next_tensordict.get("score").reshape(-1) >= STUDY_SCORE_WIN[self.game]
+        terminated = next_tensordict.get("terminated").reshape(-1)
+        return won | ~terminated  # anything but a loss: a win or a step-limit timeout
+
+    def update(self, outcomes: list[bool]) -> float:
+        """Move the difficulty once per outcome (True = win), in order; returns the new value."""
+        value = float(self.shared_difficulty[0])
+        if self.mode == "progressive":
+            for win in outcomes:
+                value = min(1.0, value + self.alpha) if win else max(0.0, value - self.alpha)
+        self.shared_difficulty[0] = value
+        self.episodes[0] += len(outcomes)
+        return value
+
+    def _step(self, tensordict: TensorDictBase, next_tensordict: TensorDictBase) -> TensorDictBase:
+        done = next_tensordict.get("done").reshape(-1)
+        if done.any():
+            self.update(self.wins(next_tensordict)[done].tolist())
+        return self._write(next_tensordict)
+
+    def _write(self, tensordict: TensorDictBase) -> TensorDictBase:
+        shape = (*tensordict.batch_size, 1)
+        value = self.shared_difficulty.to(device=tensordict.device, dtype=torch.float32)
+        tensordict.set("difficulty", value.expand(shape).clone())
+        return tensordict
+
+    def _reset_env_preprocess(self, tensordict: TensorDictBase | None) -> TensorDictBase:
+        if tensordict is None:
+            parent = self.parent
+            tensordict = parent.base_env.full_done_spec.zero().empty() if parent is not None else None
+            if tensordict is None:
+                raise RuntimeError("DifficultyTransform must be attached to an env before reset")
+        return self._write(tensordict)
+
+    def _reset(self, tensordict: TensorDictBase, tensordict_reset: TensorDictBase) -> TensorDictBase:
+        return self._write(tensordict_reset)
+
+    def _call(self, next_tensordict: TensorDictBase) -> TensorDictBase:
+        return self._write(next_tensordict)
+
+    def __repr__(self) -> str:
+        return f"DifficultyTransform(mode={self.mode!r}, d={self.difficulty:.2f}, alpha={self.alpha}, win_rule={self.win_rule!r})"
