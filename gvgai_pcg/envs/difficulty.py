@@ -113,4 +113,7 @@ class DifficultyTransform(Transform):
         return self._write(next_tensordict)
 
     def __repr__(self) -> str:
-        return f"DifficultyTransform(mode={self.mode!r}, d={self.difficulty:.2f}, alpha={self.alpha}, win_rule={self.win_rule!r})"
+        return (
+            f"DifficultyTransform(mode={self.mode!r}, d={self.difficulty:.2f}, alpha={self.alpha}, "
+            f"win_rule={self.win_rule!r})"
+        )
