@@ -1,0 +1,78 @@
+"""``gvgai-pcg generate``: levels from the constructive generators, printed or written as files.
+
+``--difficulty`` takes one value or a sweep ``start:stop:step`` (stop included); for each
+difficulty, ``--count`` levels with seeds ``seed .. seed+count-1``. Writing goes through
+``write_level`` so another output format (e.g. PNG) can be added next to the text one.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from gvgai_pcg.generators import generate_level, registered_generators
+from gvgai_pcg.generators.registry import check_difficulty
+from gvgai_pcg.levels.level import Level
+
+
+def difficulties(spec: str) -> list[float]:
+    """``"0.5"`` -> [0.5]; ``"0:1:0.25"`` -> [0, 0.25, 0.5, 0.75, 1] (stop included)."""
+    parts = spec.split(":")
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"difficulty must be a number or start:stop:step, got {spec!r}"
+        ) from None
+    if len(values) == 1:
+        sweep = values
+    elif len(values) == 3 and values[2] > 0 and values[0] <= values[1]:
+        start, stop, step = values
+        steps = int((stop - start) / step + 1e-9)
+        sweep = [round(start + i * step, 10) for i in range(steps + 1)]
+    else:
+        raise argparse.ArgumentTypeError(
+            f"a difficulty sweep is start:stop:step with start <= stop and step > 0, got {spec!r}"
+        )
+    try:
+        return [check_difficulty(d) for d in sweep]
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--game", required=True, choices=registered_generators())
+    parser.add_argument(
+        "--difficulty",
+        type=difficulties,
+        default=[1.0],
+        help="d in [0, 1], or a sweep start:stop:step with stop included (default 1)",
+    )
+    parser.add_argument("--count", type=int, default=1, help="levels per difficulty (default 1)")
+    parser.add_argument("--seed", type=int, default=0, help="first seed; level i uses seed+i (default 0)")
+    parser.add_argument("--out", type=Path, help="write <name>.txt files here instead of printing")
+
+
+def write_level(level: Level, out: Path) -> Path:
+    """Write ``level`` as ``<out>/<name>.txt``; returns the path."""
+    path = out / f"{level.name}.txt"
+    path.write_text(str(level))
+    return path
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.count < 1 or args.seed < 0:
+        print("--count must be >= 1 and --seed >= 0", file=sys.stderr)
+        return 2
+    if args.out is not None:
+        args.out.mkdir(parents=True, exist_ok=True)
+    for difficulty in args.difficulty:
+        for seed in range(args.seed, args.seed + args.count):
+            level = generate_level(args.game, difficulty, seed)
+            if args.out is None:
+                print(f"# game={args.game} d={difficulty:g} seed={seed}")
+                print(level, end="")
+            else:
+                print(write_level(level, args.out))
+    return 0

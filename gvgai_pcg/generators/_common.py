@@ -1,0 +1,51 @@
+"""Pieces every generator shares: the uniform stream, framing in `w`, and the Level it returns.
+
+The originals draw from JavaScript's ``Math.random()`` one value at a time. ``UniformStream``
+plays that role on top of a seeded ``numpy.random.Generator``, fetching draws in blocks because a
+numpy call per scalar costs about a microsecond and a level needs a few hundred draws. The
+stream is deterministic, so the same seed gives the same level on every machine.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gvgai_pcg.levels.formats import level_format
+from gvgai_pcg.levels.level import Level
+
+_BLOCK = 256
+
+
+class UniformStream:
+    """A callable giving U[0,1) floats from ``rng``, like ``Math.random()`` but seeded."""
+
+    __slots__ = ("_rng", "_it")
+
+    def __init__(self, rng: np.random.Generator) -> None:
+        self._rng = rng
+        self._it = iter(())
+
+    def __call__(self) -> float:
+        try:
+            return next(self._it)
+        except StopIteration:
+            self._it = iter(self._rng.random(_BLOCK).tolist())
+            return next(self._it)
+
+
+def frame(rows: list[str], game: str, pad: str = "w") -> list[str]:
+    """Centre ``rows`` in a ``pad`` frame of the game's full size (floor on the left and top)."""
+    fmt = level_format(game)
+    height, width = len(rows), len(rows[0])
+    if (height, width) == (fmt.height, fmt.width):
+        return rows
+    left = (fmt.width - width) // 2
+    top = (fmt.height - height) // 2
+    left_pad, right_pad = pad * left, pad * (fmt.width - width - left)
+    full = pad * fmt.width
+    return [full] * top + [left_pad + row + right_pad for row in rows] + [full] * (fmt.height - height - top)
+
+
+def generated_level(game: str, rows: list[str], difficulty: float, seed: int) -> Level:
+    """The Level a generator returns, named ``<game>_d<d>_s<seed>`` and carrying its seed."""
+    return Level(game=game, rows=tuple(rows), name=f"{game}_d{difficulty:g}_s{seed}", seed=seed)
