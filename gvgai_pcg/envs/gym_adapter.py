@@ -1,0 +1,276 @@
+"""``GVGAIGymEnv``: one game as a Gymnasium ``Env``, for CleanRL, Stable-Baselines3 and plain loops.
+
+It is a thin view of a ``GVGAIEnv`` with a batch of one, so the rules, observations, seeds and
+step limit are exactly the TorchRL env's: ``reset(seed=s)`` followed by the same actions gives
+the same trajectory as ``GVGAIEnv(game, 1, seed=s)``. The training regimens of the study
+(Lv X, Lv 0-3, PCG X, Progressive PCG) are chosen by name; the difficulty of generated levels
+is owned by a ``DifficultyTransform`` used standalone, so the curriculum rule lives in one place.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Sequence
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+import torch
+from tensordict import TensorDict, TensorDictBase
+
+from gvgai_pcg.envs.difficulty import DifficultyTransform
+from gvgai_pcg.envs.gvgai_env import OBSERVATION_KINDS, GVGAIEnv
+from gvgai_pcg.envs.level_sources import GeneratedLevels, LevelSource, as_level_source
+from gvgai_pcg.games import get_game
+from gvgai_pcg.games.geometry import CELL
+from gvgai_pcg.levels import Level, human_level, resolve_level
+
+# Human-level regimens, then the generated ones (whose difficulty a reset option may set).
+HUMAN_REGIMENS = ("lv", "lv0-3", "human")
+GENERATED_REGIMENS = ("pcg", "ppcg")
+REGIMENS = HUMAN_REGIMENS + GENERATED_REGIMENS
+RENDER_MODES = ("rgb_array", "ansi", "human")
+
+LevelSpec = Level | str | int
+
+
+def _resolve(game: str, spec: LevelSpec) -> Level:
+    """A level from a Level, a human level index, a name (``zelda_lvl3``) or a file path."""
+    if isinstance(spec, Level):
+        if spec.game != game:
+            raise ValueError(f"level {spec.name or '<unnamed>'} is a {spec.game} level, not a {game} level")
+        return spec
+    if isinstance(spec, int | np.integer):
+        return human_level(game, int(spec))
+    return resolve_level(str(spec), game)
+
+
+class LevelOverrides:
+    """A level source that plays a requested level once, then defers to the regimen's source.
+
+    ``reset(options={"level": ...})`` needs this: the env asks its source for the next level of
+    every resetting env, and a pending request wins over the regimen for that one episode.
+    """
+
+    def __init__(self, source: LevelSource, num_envs: int) -> None:
+        self.source, self.game = source, source.game
+        self._pending: list[Level | None] = [None] * num_envs
+
+    def request(self, env_indices: Sequence[int], level: Level) -> None:
+        for i in env_indices:
+            self._pending[i] = level
+
+    def next_levels(
+        self, env_indices: torch.Tensor, episode_seeds: torch.Tensor, difficulties: torch.Tensor
+    ) -> list[Level]:
+        levels = self.source.next_levels(env_indices, episode_seeds, difficulties)
+        for k, i in enumerate(env_indices.tolist()):
+            if self._pending[i] is not None:
+                levels[k], self._pending[i] = self._pending[i], None
+        return levels
+
+
+class Regimen:
+    """Where levels come from and, for generated levels, the difficulty they are made at.
+
+    Args:
+        game: the game name.
+        regimen: ``"lv"`` (every episode on ``level``: a human level index, a name, a path or a
+            Level, or a list of them played uniformly), ``"lv0-3"`` (human levels 0-3
+            uniformly), ``"human"`` (all five human levels), ``"pcg"`` (generated levels at the
+            fixed ``difficulty``) or ``"ppcg"`` (generated levels; the difficulty starts at
+            ``difficulty`` and moves by ``alpha`` per finished episode).
+        win_rule: what raises the PPCG difficulty (see ``DifficultyTransform``).
+    """
+
+    def __init__(
+        self,
+        game: str,
+        regimen: str,
+        num_envs: int,
+        level: LevelSpec | Sequence[LevelSpec] = 0,
+        difficulty: float = 0.0,
+        alpha: float = 0.01,
+        win_rule: str = "game",
+    ) -> None:
+        if regimen not in REGIMENS:
+            raise ValueError(f"unknown regimen {regimen!r}; valid regimens are: {', '.join(REGIMENS)}")
+        self.game, self.name = game, regimen
+        self.curriculum: DifficultyTransform | None = None
+        if regimen in GENERATED_REGIMENS:
+            mode = "progressive" if regimen == "ppcg" else "fixed"
+            self.curriculum = DifficultyTransform(mode, alpha, difficulty, win_rule, game=game)
+            source: LevelSource = GeneratedLevels(game)
+        elif regimen == "lv":
+            specs = level if isinstance(level, list | tuple) else [level]
+            source = as_level_source(game, [_resolve(game, spec) for spec in specs])
+        elif regimen == "lv0-3":
+            source = as_level_source(game, [human_level(game, i) for i in range(4)])
+        else:
+            source = as_level_source(game, "human")
+        self.source = LevelOverrides(source, num_envs)
+
+    @property
+    def difficulty(self) -> float:
+        """The difficulty the next generated level is made at (0 for human-level regimens)."""
+        return self.curriculum.difficulty if self.curriculum is not None else 0.0
+
+    def set_difficulty(self, value: float) -> None:
+        if self.curriculum is None:
+            raise ValueError(
+                f"regimen {self.name!r} plays human levels, so a difficulty has no effect; "
+                f"use regimen='pcg' or 'ppcg' for generated levels"
+            )
+        if not 0.0 <= value <= 1.0:
+            raise ValueError(f"difficulty must be in [0, 1], got {value}")
+        self.curriculum.shared_difficulty[0] = float(value)
+
+    def record(self, next_td: TensorDictBase, finished: torch.Tensor) -> None:
+        """Move the difficulty once per finished episode (``finished``: ``[B]`` bool), in env order."""
+        if self.curriculum is not None and bool(finished.any()):
+            self.curriculum.update(self.curriculum.wins(next_td)[finished].tolist())
+
+    def reset_tensordict(self, mask: torch.Tensor, device: torch.device) -> TensorDict:
+        """The tensordict that asks the env to reset the envs in ``mask`` (``[B]`` bool)."""
+        b = mask.shape[0]
+        return TensorDict(
+            {
+                "_reset": mask.reshape(b, 1).to(device),
+                "difficulty": torch.full((b, 1), self.difficulty, dtype=torch.float32, device=device),
+            },
+            batch_size=[b],
+            device=device,
+        )
+
+    def apply_options(self, options: dict[str, Any] | None, env_indices: Sequence[int]) -> None:
+        """Reset options: ``level`` (played by the resetting envs this episode), ``difficulty``."""
+        options = options or {}
+        unknown = set(options) - {"level", "difficulty", "reset_mask"}
+        if unknown:
+            raise ValueError(
+                f"unknown reset options {sorted(unknown)}; valid options are: level, difficulty, reset_mask"
+            )
+        if options.get("difficulty") is not None:
+            self.set_difficulty(float(options["difficulty"]))
+        if options.get("level") is not None:
+            self.source.request(env_indices, _resolve(self.game, options["level"]))
+
+
+def observation_space(game: str, obs: str) -> gym.spaces.Box:
+    """One env's observation space: ``tiles`` ``[C, H, W]`` in {0, 1}, ``pixels`` ``[3, 10H, 10W]``."""
+    if obs not in OBSERVATION_KINDS:
+        raise ValueError(f"unknown observation kind {obs!r}; valid kinds are: {', '.join(OBSERVATION_KINDS)}")
+    rules = get_game(game)
+    fmt = rules.level_format
+    if obs == "tiles":
+        return gym.spaces.Box(0, 1, (len(rules.tile_types), fmt.height, fmt.width), np.uint8)
+    return gym.spaces.Box(0, 255, (3, fmt.height * CELL, fmt.width * CELL), np.uint8)
+
+
+class GVGAIGymEnv(gym.Env):
+    """One GVGAI game behind the Gymnasium API (``gymnasium.make("gvgai_pcg/Zelda-v0", ...)``).
+
+    Args:
+        game: ``zelda``, ``solarfox``, ``frogs`` or ``boulderdash``.
+        regimen: where levels come from (see ``Regimen``); ``"human"`` by default.
+        difficulty: the difficulty of generated levels (``pcg``), or where PPCG starts.
+        obs: ``"tiles"`` or ``"pixels"``.
+        render_mode: ``"rgb_array"`` (``[10H, 10W, 3]`` uint8), ``"ansi"`` (text) or ``"human"``
+            (the text frame printed to stdout after every reset and step).
+        level: the level(s) of the ``lv`` regimen.
+        max_steps: the step limit that truncates an episode (2000, as in the study).
+        alpha, win_rule: the PPCG step and win rule.
+        device: where the engine runs; observations are always returned as NumPy arrays.
+    """
+
+    metadata = {"render_modes": list(RENDER_MODES), "render_fps": 15}
+
+    def __init__(
+        self,
+        game: str = "zelda",
+        regimen: str = "human",
+        difficulty: float = 0.0,
+        obs: str = "tiles",
+        render_mode: str | None = None,
+        level: LevelSpec | Sequence[LevelSpec] = 0,
+        max_steps: int = 2000,
+        alpha: float = 0.01,
+        win_rule: str = "game",
+        device: str = "cpu",
+    ) -> None:
+        if render_mode is not None and render_mode not in RENDER_MODES:
+            raise ValueError(
+                f"unknown render mode {render_mode!r}; valid modes are: {', '.join(RENDER_MODES)}"
+            )
+        self.render_mode = render_mode
+        self.regimen = Regimen(game, regimen, 1, level, difficulty, alpha, win_rule)
+        self.engine = GVGAIEnv(
+            game, 1, self.regimen.source, obs=obs, max_steps=max_steps, device=device, difficulty=difficulty
+        )
+        self.obs_kind = obs
+        self.observation_space = observation_space(game, obs)
+        self.action_space = gym.spaces.Discrete(self.engine.game.num_actions)
+        self.action_names = self.engine.game.actions
+        self._finished = True
+        self._started = False
+
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        """Start an episode. ``options``: ``level`` (a Level, name, path or human index, for this
+        episode) and ``difficulty`` (for generated levels, from now on)."""
+        super().reset(seed=seed)
+        if seed is not None:
+            self.engine.set_seed(seed)
+        elif not self._started:
+            self.engine.set_seed(int(self.np_random.integers(2**31)))
+        self._started = True
+        self.regimen.apply_options(options, [0])
+        mask = torch.ones(1, dtype=torch.bool)
+        out = self.engine.reset(self.regimen.reset_tensordict(mask, self.engine.device))
+        self._finished = False
+        self._render_human()
+        return self._obs(out), self._info(out)
+
+    def step(self, action: int) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        if not self._started:
+            raise RuntimeError("call reset() before step()")
+        if not self.action_space.contains(action):
+            raise ValueError(f"invalid action {action!r}; valid actions are 0..{self.action_space.n - 1}")
+        action_td = TensorDict(
+            {"action": torch.tensor([int(action)], device=self.engine.device)},
+            batch_size=[1],
+            device=self.engine.device,
+        )
+        out = self.engine.step(action_td).get("next")
+        terminated, truncated = bool(out["terminated"][0, 0]), bool(out["truncated"][0, 0])
+        if not self._finished and (terminated or truncated):
+            self.regimen.record(out, torch.ones(1, dtype=torch.bool))
+        self._finished = self._finished or terminated or truncated
+        self._render_human()
+        return self._obs(out), float(out["reward"][0, 0]), terminated, truncated, self._info(out)
+
+    def _obs(self, td: TensorDictBase) -> np.ndarray:
+        return td[self.obs_kind][0].cpu().numpy()
+
+    def _info(self, td: TensorDictBase) -> dict[str, Any]:
+        level = self.engine.current_levels[0]
+        return {
+            "won": bool(td["won"][0, 0]),
+            "score": float(td["score"][0, 0]),
+            "difficulty": float(td["difficulty"][0, 0]),
+            "level_seed": int(td["level_seed"][0, 0]),
+            "level_name": (level.name or "") if level is not None else "",
+        }
+
+    def render(self) -> np.ndarray | str | None:
+        if self.render_mode == "rgb_array":
+            return self.engine.render(0, "rgb_array")
+        if self.render_mode == "ansi":
+            return self.engine.render(0, "ansi") + "\n"
+        return None
+
+    def _render_human(self) -> None:
+        if self.render_mode == "human":
+            sys.stdout.write(self.engine.render(0, "ansi") + "\n\n")
+            sys.stdout.flush()

@@ -1,0 +1,189 @@
+"""``GVGAIVectorEnv``: the batched engine behind Gymnasium's ``VectorEnv`` API.
+
+Not N copies of a single env: one ``GVGAIEnv`` with a batch of ``num_envs`` advances every env
+in one tick, and finished envs are restarted with a partial reset (the ``"_reset"`` mask). So a
+Gymnasium user gets the engine's speed, and for the same seed and actions the steps equal the
+TorchRL env's (``GVGAIEnv(game, num_envs, seed=s)``; with ``SAME_STEP`` autoreset they match
+``step_and_maybe_reset`` step for step).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+import torch
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
+from tensordict import TensorDict, TensorDictBase
+
+from gvgai_pcg.envs.gvgai_env import GVGAIEnv
+from gvgai_pcg.envs.gym_adapter import LevelSpec, Regimen, observation_space
+
+INFO_KEYS = ("won", "score", "difficulty", "level_seed")
+INFO_DTYPES = {"won": np.bool_, "score": np.float64, "difficulty": np.float64, "level_seed": np.int64}
+
+
+class GVGAIVectorEnv(VectorEnv):
+    """``num_envs`` envs of one game, stepped together (``gymnasium.make_vec("gvgai_pcg/Zelda-v0", 8)``).
+
+    Takes the single env's arguments (see ``GVGAIGymEnv``) plus ``autoreset_mode``:
+    ``NEXT_STEP`` (Gymnasium's default: the step after an episode ends returns the new episode's
+    first observation, with reward 0) or ``SAME_STEP`` (the ending step already returns the new
+    episode's first observation; the last one is in ``info["final_obs"]``). ``info`` holds
+    ``won``, ``score``, ``difficulty`` and ``level_seed`` as ``[N]`` arrays.
+    """
+
+    metadata = {"render_modes": ["rgb_array", "ansi"], "autoreset_mode": AutoresetMode.NEXT_STEP}
+
+    def __init__(
+        self,
+        num_envs: int = 1,
+        game: str = "zelda",
+        regimen: str = "human",
+        difficulty: float = 0.0,
+        obs: str = "tiles",
+        render_mode: str | None = None,
+        level: LevelSpec | Sequence[LevelSpec] = 0,
+        max_steps: int = 2000,
+        alpha: float = 0.01,
+        win_rule: str = "game",
+        device: str = "cpu",
+        autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
+    ) -> None:
+        autoreset_mode = AutoresetMode(autoreset_mode)
+        if autoreset_mode == AutoresetMode.DISABLED:
+            raise ValueError("autoreset_mode DISABLED is not supported; use NEXT_STEP or SAME_STEP")
+        modes = self.metadata["render_modes"]
+        if render_mode is not None and render_mode not in modes:
+            raise ValueError(f"unknown render mode {render_mode!r}; valid modes are: {', '.join(modes)}")
+        self.metadata = {**self.metadata, "autoreset_mode": autoreset_mode}
+        self.autoreset_mode, self.render_mode, self.num_envs = autoreset_mode, render_mode, num_envs
+        self.regimen = Regimen(game, regimen, num_envs, level, difficulty, alpha, win_rule)
+        self.engine = GVGAIEnv(
+            game,
+            num_envs,
+            self.regimen.source,
+            obs=obs,
+            max_steps=max_steps,
+            device=device,
+            difficulty=difficulty,
+        )
+        self.obs_kind = obs
+        self.single_observation_space = observation_space(game, obs)
+        self.single_action_space = gym.spaces.Discrete(self.engine.game.num_actions)
+        self.observation_space = batch_space(self.single_observation_space, num_envs)
+        self.action_space = batch_space(self.single_action_space, num_envs)
+        self._autoreset = torch.zeros(num_envs, dtype=torch.bool)
+        self._started = False
+
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        """Reset every env, or those in ``options["reset_mask"]``. ``seed`` is one int: env i then
+        plays with ``GVGAIEnv``'s i-th derived seed. ``options`` also takes ``level`` and
+        ``difficulty`` (see ``GVGAIGymEnv.reset``)."""
+        if seed is not None and not isinstance(seed, int | np.integer):
+            raise ValueError(f"seed must be one int (env seeds are derived from it), got {seed!r}")
+        super().reset(seed=seed)
+        if seed is not None:
+            self.engine.set_seed(int(seed))
+        elif not self._started:
+            self.engine.set_seed(int(self.np_random.integers(2**31)))
+        options = options or {}
+        mask = torch.ones(self.num_envs, dtype=torch.bool)
+        if options.get("reset_mask") is not None:
+            mask = torch.as_tensor(np.asarray(options["reset_mask"], dtype=bool))
+        if not self._started:
+            mask = torch.ones(self.num_envs, dtype=torch.bool)
+        self._started = True
+        self.regimen.apply_options(options, mask.nonzero().flatten().tolist())
+        out = self.engine.reset(self.regimen.reset_tensordict(mask, self.engine.device))
+        self._autoreset = self._autoreset & ~mask
+        return self._obs(out), self._info(out)
+
+    def step(
+        self, actions: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+        if not self._started:
+            raise RuntimeError("call reset() before step()")
+        device = self.engine.device
+        action = torch.as_tensor(np.asarray(actions), dtype=torch.int64, device=device).reshape(self.num_envs)
+        out = self.engine.step(TensorDict({"action": action}, batch_size=[self.num_envs], device=device))
+        out = out.get("next")
+        restarting = self._autoreset.to(device)
+        if self.autoreset_mode == AutoresetMode.NEXT_STEP and bool(restarting.any()):
+            fresh = self.engine.reset(self.regimen.reset_tensordict(restarting, device))
+            out = self._merge(restarting, fresh, out)
+        done = out["done"].reshape(self.num_envs) & ~restarting
+        self.regimen.record(out, done)
+        infos: dict[str, Any] = {}
+        if self.autoreset_mode == AutoresetMode.SAME_STEP and bool(done.any()):
+            infos = self._final_infos(out, done)
+            fresh = self.engine.reset(self.regimen.reset_tensordict(done, device))
+            out = _take(done, fresh, out, (self.obs_kind, *INFO_KEYS))
+            self._autoreset = torch.zeros(self.num_envs, dtype=torch.bool)
+        else:
+            self._autoreset = done.cpu()
+        infos.update(self._info(out))
+        return (
+            self._obs(out),
+            out["reward"].reshape(self.num_envs).cpu().numpy().astype(np.float64),
+            out["terminated"].reshape(self.num_envs).cpu().numpy(),
+            out["truncated"].reshape(self.num_envs).cpu().numpy(),
+            infos,
+        )
+
+    def _merge(self, mask: torch.Tensor, fresh: TensorDictBase, stepped: TensorDictBase) -> TensorDictBase:
+        """The step's output where ``mask`` envs show their new episode: first obs, reward 0, not done."""
+        merged = _take(mask, fresh, stepped, (self.obs_kind, *INFO_KEYS))
+        column = mask.reshape(-1, 1)
+        merged.set("reward", torch.where(column, torch.zeros_like(stepped["reward"]), stepped["reward"]))
+        for key in ("terminated", "truncated", "done"):
+            merged.set(key, stepped[key] & ~column)
+        return merged
+
+    def _final_infos(self, out: TensorDictBase, done: torch.Tensor) -> dict[str, Any]:
+        mask = done.cpu().numpy()
+        final_obs = np.full(self.num_envs, None, dtype=object)
+        observations = self._obs(out)
+        for i in np.flatnonzero(mask):
+            final_obs[i] = observations[i]
+        final_info = self._info(out)
+        for key in INFO_KEYS:
+            final_info[f"_{key}"] = mask.copy()
+        return {
+            "final_obs": final_obs,
+            "_final_obs": mask,
+            "final_info": final_info,
+            "_final_info": mask.copy(),
+        }
+
+    def _obs(self, td: TensorDictBase) -> np.ndarray:
+        return td[self.obs_kind].cpu().numpy().copy()
+
+    def _info(self, td: TensorDictBase) -> dict[str, Any]:
+        info: dict[str, Any] = {}
+        for key in INFO_KEYS:
+            info[key] = td[key].reshape(self.num_envs).cpu().numpy().astype(INFO_DTYPES[key])
+            info[f"_{key}"] = np.ones(self.num_envs, dtype=bool)
+        return info
+
+    def render(self) -> tuple[np.ndarray, ...] | tuple[str, ...] | None:
+        """One frame per env (``rgb_array``: ``[10H, 10W, 3]`` arrays; ``ansi``: text)."""
+        if self.render_mode is None:
+            return None
+        return tuple(self.engine.render(i, self.render_mode) for i in range(self.num_envs))
+
+
+def _take(
+    mask: torch.Tensor, source: TensorDictBase, target: TensorDictBase, keys: Sequence[str]
+) -> TensorDictBase:
+    """A copy of ``target`` whose ``keys`` come from ``source`` where ``mask`` (``[B]`` bool)."""
+    merged = target.clone()
+    for key in keys:
+        where = mask.reshape(-1, *([1] * (source[key].dim() - 1)))
+        merged.set(key, torch.where(where, source[key], target[key]))
+    return merged
