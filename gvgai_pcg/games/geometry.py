@@ -7,6 +7,8 @@ rectangle at (x, y) overlaps at most the 2x2 cells {x//10, (x+9)//10} x {y//10, 
 
 from __future__ import annotations
 
+from functools import cache
+
 import torch
 
 CELL = 10
@@ -18,14 +20,19 @@ _DX = (-1, 1, 0, 0, 0)
 _DY = (0, 0, 1, -1, 0)
 
 
+@cache
+def _table(values: tuple[int, ...], device: torch.device) -> torch.Tensor:
+    return torch.tensor(values, dtype=torch.int64, device=device)
+
+
 def direction_dx(direction: torch.Tensor) -> torch.Tensor:
     """Unit x displacement of direction codes (any shape)."""
-    return torch.tensor(_DX, dtype=torch.int64, device=direction.device)[direction]
+    return _table(_DX, direction.device)[direction]
 
 
 def direction_dy(direction: torch.Tensor) -> torch.Tensor:
     """Unit y displacement of direction codes (any shape, y grows downward)."""
-    return torch.tensor(_DY, dtype=torch.int64, device=direction.device)[direction]
+    return _table(_DY, direction.device)[direction]
 
 
 def overlaps(ax: torch.Tensor, ay: torch.Tensor, bx: torch.Tensor, by: torch.Tensor) -> torch.Tensor:
@@ -45,14 +52,8 @@ def covered_cells(
     )
     cxs = torch.stack([cx0, cx1, cx0, cx1], dim=-1)
     cys = torch.stack([cy0, cy0, cy1, cy1], dim=-1)
-    split_x, split_y = (cx1 != cx0).unsqueeze(-1), (cy1 != cy0).unsqueeze(-1)
-    corner = torch.tensor([[True, False, False, False]], device=x.device)
-    distinct = (
-        corner
-        | (torch.tensor([False, True, False, False], device=x.device) & split_x)
-        | (torch.tensor([False, False, True, False], device=x.device) & split_y)
-        | (torch.tensor([False, False, False, True], device=x.device) & split_x & split_y)
-    )
+    split_x, split_y = cx1 != cx0, cy1 != cy0
+    distinct = torch.stack([torch.ones_like(split_x), split_x, split_y, split_x & split_y], dim=-1)
     inside = (cxs >= 0) & (cxs < width) & (cys >= 0) & (cys < height)
     index = (cys.clamp(0, height - 1) * width + cxs.clamp(0, width - 1)).long()
     return index, distinct & inside

@@ -1,0 +1,74 @@
+"""Level parsing: the human levels load, and every kind of bad input is refused with its place."""
+
+import pytest
+
+from gvgai_pcg.levels import LEVEL_FORMATS, Level, LevelFormatError, human_level, human_levels, resolve_level
+
+
+@pytest.mark.parametrize("game", sorted(LEVEL_FORMATS))
+def test_human_levels_load_with_their_sizes(game):
+    levels = human_levels(game)
+    fmt = LEVEL_FORMATS[game]
+    assert [lv.name for lv in levels] == [f"{game}_lvl{i}" for i in range(5)]
+    for level in levels:
+        assert level.width == fmt.width
+        assert level.height == (10 if level.name == "frogs_lvl4" else fmt.height)
+        assert Level.parse(str(level), game) == level
+
+
+def test_trailing_newline_is_optional():
+    assert Level.parse("wAgw\n", "zelda") == Level.parse("wAgw", "zelda")
+    assert Level.parse("wAgw\r\n", "zelda").rows == ("wAgw",)
+
+
+def test_str_round_trips_a_file(tmp_path):
+    path = tmp_path / "zelda_custom.txt"
+    path.write_text(str(human_level("zelda", 2)))
+    loaded = Level.load(path)
+    assert loaded == human_level("zelda", 2) and loaded.name == "zelda_custom"
+    assert resolve_level(str(path)) == loaded
+    assert resolve_level("zelda_lvl2") == human_level("zelda", 2)
+
+
+def refused(text: str, game: str = "zelda", tmp_path=None) -> LevelFormatError:
+    path = tmp_path / f"{game}_bad.txt"
+    path.write_text(text)
+    with pytest.raises(LevelFormatError) as info:
+        Level.load(path)
+    assert str(path) in str(info.value)
+    return info.value
+
+
+def test_bad_character_names_line_column_and_valid_chars(tmp_path):
+    error = refused("wwww\nwA.w\nw.Zw\nwwww\n", tmp_path=tmp_path)
+    assert (error.line, error.column) == (3, 3)
+    assert "'Z'" in str(error) and "line 3, column 3" in str(error)
+    assert "w . A + g 1 2 3" in str(error)
+
+
+def test_ragged_rows_are_refused(tmp_path):
+    error = refused("wwww\nwA.w\nw.w\nwwww\n", tmp_path=tmp_path)
+    assert (error.line, error.column) == (3, 4) and "ragged" in str(error)
+
+
+def test_empty_file_is_refused(tmp_path):
+    assert "empty" in str(refused("\n", tmp_path=tmp_path))
+    assert "empty" in str(refused("", tmp_path=tmp_path))
+
+
+def test_no_avatar_and_two_avatars_are_refused(tmp_path):
+    assert "no avatar" in str(refused("wwww\nw.gw\nwwww\n", tmp_path=tmp_path))
+    error = refused("wwww\nwAAw\nwwww\n", tmp_path=tmp_path)
+    assert (error.line, error.column) == (2, 3) and "second avatar" in str(error)
+    error = refused("wwwww\nwA.Bw\n", game="frogs", tmp_path=tmp_path)
+    assert (error.line, error.column) == (2, 4)
+
+
+def test_grid_larger_than_the_game_is_refused(tmp_path):
+    error = refused("w" * 14 + "\n" + "wA" + "." * 12 + "\n", tmp_path=tmp_path)
+    assert "at most 13x9" in str(error)
+
+
+def test_unknown_game_lists_the_games():
+    with pytest.raises(ValueError, match="boulderdash, frogs, solarfox, zelda"):
+        Level.parse("A", "pacman")
