@@ -78,6 +78,8 @@ class GVGAIVectorEnv(VectorEnv):
         self.action_space = batch_space(self.single_action_space, num_envs)
         self._autoreset = torch.zeros(num_envs, dtype=torch.bool)
         self._started = False
+        self._kept_keys = (obs, *INFO_KEYS)
+        self._last: TensorDictBase | None = None  # the latest observation and info, for partial resets
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
@@ -101,7 +103,10 @@ class GVGAIVectorEnv(VectorEnv):
         self._started = True
         self.regimen.apply_options(options, mask.nonzero().flatten().tolist())
         out = self.engine.reset(self.regimen.reset_tensordict(mask, self.engine.device))
+        if self._last is not None and not bool(mask.all()):
+            out = _take(mask.to(self.engine.device), out, self._last, self._kept_keys)
         self._autoreset = self._autoreset & ~mask
+        self._last = out.select(*self._kept_keys)
         return self._obs(out), self._info(out)
 
     def step(
@@ -123,11 +128,12 @@ class GVGAIVectorEnv(VectorEnv):
         if self.autoreset_mode == AutoresetMode.SAME_STEP and bool(done.any()):
             infos = self._final_infos(out, done)
             fresh = self.engine.reset(self.regimen.reset_tensordict(done, device))
-            out = _take(done, fresh, out, (self.obs_kind, *INFO_KEYS))
+            out = _take(done, fresh, out, self._kept_keys)
             self._autoreset = torch.zeros(self.num_envs, dtype=torch.bool)
         else:
             self._autoreset = done.cpu()
         infos.update(self._info(out))
+        self._last = out.select(*self._kept_keys)
         return (
             self._obs(out),
             out["reward"].reshape(self.num_envs).cpu().numpy().astype(np.float64),
@@ -138,7 +144,7 @@ class GVGAIVectorEnv(VectorEnv):
 
     def _merge(self, mask: torch.Tensor, fresh: TensorDictBase, stepped: TensorDictBase) -> TensorDictBase:
         """The step's output where ``mask`` envs show their new episode: first obs, reward 0, not done."""
-        merged = _take(mask, fresh, stepped, (self.obs_kind, *INFO_KEYS))
+        merged = _take(mask, fresh, stepped, self._kept_keys)
         column = mask.reshape(-1, 1)
         merged.set("reward", torch.where(column, torch.zeros_like(stepped["reward"]), stepped["reward"]))
         for key in ("terminated", "truncated", "done"):

@@ -1,0 +1,169 @@
+"""The Gymnasium adapter: API conformance, the same steps as the TorchRL env, reset options."""
+
+from __future__ import annotations
+
+import warnings
+
+import gymnasium as gym
+import numpy as np
+import pytest
+import torch
+from gymnasium.utils.env_checker import check_env
+
+import gvgai_pcg.envs.gym_registration  # noqa: F401  (registers the ids)
+from gvgai_pcg.envs import GVGAIEnv
+from gvgai_pcg.envs.gym_adapter import GVGAIGymEnv
+from gvgai_pcg.levels import human_level
+
+GAMES = {"Zelda": "zelda", "Solarfox": "solarfox", "Frogs": "frogs", "Boulderdash": "boulderdash"}
+
+
+@pytest.mark.parametrize("obs", ["tiles", "pixels"])
+@pytest.mark.parametrize("name", sorted(GAMES))
+def test_check_env_passes_without_warnings(name: str, obs: str) -> None:
+    env = gym.make(f"gvgai_pcg/{name}-v0", obs=obs)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check_env(env.unwrapped)
+    assert env.unwrapped.engine.game.name == GAMES[name]
+
+
+def test_info_and_spaces() -> None:
+    env = gym.make("gvgai_pcg/Zelda-v0", regimen="lv", level=2)
+    obs, info = env.reset(seed=3)
+    assert obs.shape == (9, 9, 13) and obs.dtype == np.uint8
+    assert env.action_space.n == 6
+    assert set(info) == {"won", "score", "difficulty", "level_seed", "level_name"}
+    assert info["level_name"] == "zelda_lvl2" and info["level_seed"] == -1
+
+
+def test_single_env_steps_like_the_torchrl_env() -> None:
+    gym_env = GVGAIGymEnv("frogs", regimen="human")
+    torch_env = GVGAIEnv("frogs", 1, levels="human", seed=11)
+    obs, _ = gym_env.reset(seed=11)
+    td = torch_env.reset()
+    np.testing.assert_array_equal(obs, td["tiles"][0].numpy())
+    actions = np.random.default_rng(0).integers(0, gym_env.action_space.n, size=40)
+    for action in actions:
+        obs, reward, terminated, truncated, info = gym_env.step(int(action))
+        td = torch_env.step(td.set("action", torch.tensor([int(action)])))["next"]
+        np.testing.assert_array_equal(obs, td["tiles"][0].numpy())
+        assert reward == float(td["reward"][0, 0]) and info["score"] == float(td["score"][0, 0])
+        assert terminated == bool(td["terminated"][0, 0]) and truncated == bool(td["truncated"][0, 0])
+        if terminated or truncated:
+            break
+
+
+def test_vector_env_same_step_equals_torchrl_step_and_maybe_reset() -> None:
+    """Short episodes (max_steps=7) so that many partial resets happen inside the 30 steps."""
+    n, seed = 5, 4
+    vec = gym.make_vec(
+        "gvgai_pcg/Zelda-v0", num_envs=n, max_steps=7, autoreset_mode=gym.vector.AutoresetMode.SAME_STEP
+    )
+    torch_env = GVGAIEnv("zelda", n, levels="human", max_steps=7, seed=seed)
+    obs, info = vec.reset(seed=seed)
+    td = torch_env.reset()
+    np.testing.assert_array_equal(obs, td["tiles"].numpy())
+    rng = np.random.default_rng(1)
+    for _ in range(30):
+        actions = rng.integers(0, 6, size=n)
+        obs, reward, terminated, truncated, info = vec.step(actions)
+        stepped, td = torch_env.step_and_maybe_reset(td.set("action", torch.as_tensor(actions)))
+        nxt = stepped["next"]
+        np.testing.assert_array_equal(reward, nxt["reward"].reshape(n).numpy())
+        np.testing.assert_array_equal(terminated, nxt["terminated"].reshape(n).numpy())
+        np.testing.assert_array_equal(truncated, nxt["truncated"].reshape(n).numpy())
+        np.testing.assert_array_equal(obs, td["tiles"].numpy())  # after the reset, like the vector env
+        done = nxt["done"].reshape(n).numpy()
+        if done.any():
+            np.testing.assert_array_equal(info["_final_obs"], done)
+            for i in np.flatnonzero(done):
+                np.testing.assert_array_equal(info["final_obs"][i], nxt["tiles"][i].numpy())
+
+
+def test_vector_env_next_step_returns_the_new_episode_one_step_later() -> None:
+    n = 3
+    vec = gym.make_vec("gvgai_pcg/Solarfox-v0", num_envs=n, max_steps=4)
+    torch_env = GVGAIEnv("solarfox", n, levels="human", max_steps=4, seed=9)
+    vec.reset(seed=9)
+    td = torch_env.reset()
+    for _ in range(4):
+        obs, reward, terminated, truncated, _ = vec.step(np.zeros(n, dtype=np.int64))
+        _, td = torch_env.step_and_maybe_reset(td.set("action", torch.zeros(n, dtype=torch.int64)))
+    assert truncated.all() or (terminated | truncated).all()
+    obs, reward, terminated, truncated, _ = vec.step(np.zeros(n, dtype=np.int64))
+    np.testing.assert_array_equal(obs, td["tiles"].numpy())  # the new episodes' first observations
+    assert (reward == 0).all() and not terminated.any() and not truncated.any()
+
+
+def test_reset_level_option_loads_that_level_for_one_episode(tmp_path) -> None:
+    env = GVGAIGymEnv("zelda", regimen="lv", level=0)
+    reference = GVGAIGymEnv("zelda", regimen="lv", level=3)
+    expected, _ = reference.reset(seed=0)
+    path = tmp_path / "mine.txt"
+    path.write_text(str(human_level("zelda", 3)))
+    for spec in ("zelda_lvl3", human_level("zelda", 3), str(path), 3):
+        obs, info = env.reset(seed=0, options={"level": spec})
+        np.testing.assert_array_equal(obs, expected)
+        assert env.unwrapped.engine.current_levels[0] == human_level("zelda", 3)
+    _, info = env.reset()
+    assert info["level_name"] == "zelda_lvl0"  # back to the regimen
+
+
+def test_reset_level_option_refuses_another_games_level() -> None:
+    env = GVGAIGymEnv("zelda")
+    with pytest.raises(ValueError, match="frogs level"):
+        env.reset(options={"level": human_level("frogs", 0)})
+
+
+def test_difficulty_option_generates_at_that_difficulty() -> None:
+    env = GVGAIGymEnv("boulderdash", regimen="pcg", difficulty=0.2)
+    _, info = env.reset(seed=1)
+    assert info["difficulty"] == pytest.approx(0.2) and info["level_seed"] >= 0
+    _, info = env.reset(options={"difficulty": 0.9})
+    assert info["difficulty"] == pytest.approx(0.9)
+    with pytest.raises(ValueError, match="plays human levels"):
+        GVGAIGymEnv("zelda", regimen="lv0-3").reset(options={"difficulty": 0.5})
+
+
+def test_ppcg_moves_the_difficulty_once_per_finished_episode() -> None:
+    """Under the study's rule a timeout is a win, so each truncated episode raises d by alpha."""
+    env = GVGAIGymEnv("zelda", regimen="ppcg", difficulty=0.3, alpha=0.1, win_rule="study", max_steps=2)
+    env.reset(seed=0)
+    for expected in (0.4, 0.5):
+        truncated = False
+        while not truncated:
+            *_, truncated, _ = env.step(0)
+        env.step(0)  # stepping past the end does not count the episode twice
+        _, info = env.reset()
+        assert info["difficulty"] == pytest.approx(expected)
+
+
+def test_render_modes() -> None:
+    env = GVGAIGymEnv("zelda", render_mode="rgb_array")
+    env.reset(seed=0)
+    assert env.render().shape == (90, 130, 3)
+    text_env = GVGAIGymEnv("zelda", render_mode="ansi")
+    text_env.reset(seed=0)
+    assert text_env.render().count("\n") == 9
+    vec = gym.make_vec("gvgai_pcg/Zelda-v0", num_envs=2, render_mode="rgb_array")
+    vec.reset(seed=0)
+    assert [frame.shape for frame in vec.render()] == [(90, 130, 3)] * 2
+
+
+def test_unknown_regimen_lists_the_valid_ones() -> None:
+    with pytest.raises(ValueError, match="valid regimens are: lv, lv0-3, human, pcg, ppcg"):
+        GVGAIGymEnv("zelda", regimen="random")
+
+
+def test_vector_env_partial_reset_mask() -> None:
+    vec = gym.make_vec("gvgai_pcg/Zelda-v0", num_envs=2, regimen="lv", level=1)
+    vec.reset(seed=0)
+    for _ in range(3):
+        obs, *_ = vec.step(np.array([3, 3]))
+    fresh, _ = vec.reset(options={"reset_mask": np.array([True, False])})
+    start, _ = gym.make_vec("gvgai_pcg/Zelda-v0", num_envs=2, regimen="lv", level=1).reset(seed=0)
+    avatar = 4  # zelda's "nokey" channel
+    assert not np.array_equal(obs[0, avatar], start[0, avatar])  # env 0 walked away...
+    np.testing.assert_array_equal(fresh[0, avatar], start[0, avatar])  # ...and is back at the start
+    np.testing.assert_array_equal(fresh[1], obs[1])  # env 1 was left alone
