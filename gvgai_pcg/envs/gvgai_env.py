@@ -191,9 +191,9 @@ class GVGAIEnv(EnvBase):
             {
                 self.obs_kind: render(self.game, state),
                 "score": state.get("score").to(torch.float32).unsqueeze(-1),
-                "won": state.get("won").unsqueeze(-1),
+                "won": state.get("won").unsqueeze(-1).clone(),
                 "difficulty": self._difficulty.unsqueeze(-1).clone(),
-                "level_seed": self._level_seeds.to(self.device).unsqueeze(-1),
+                "level_seed": self._level_seeds.to(self.device).unsqueeze(-1).clone(),
                 "terminated": terminated.unsqueeze(-1),
                 "truncated": truncated.unsqueeze(-1),
                 "done": (terminated | truncated).unsqueeze(-1),

@@ -1,0 +1,109 @@
+"""DifficultyTransform: the PPCG update, clipping, win rules, sharing across processes, state."""
+
+import multiprocessing
+
+import pytest
+import torch
+from tensordict import TensorDict
+from torchrl.envs import TransformedEnv, check_env_specs
+
+from gvgai_pcg.envs import GVGAIEnv
+from gvgai_pcg.envs.difficulty import DifficultyTransform
+from gvgai_pcg.envs.level_sources import TEST_SEED_BASE, TRAINING_SEED_SPACE, GeneratedLevels
+
+
+def test_progressive_update_follows_wins_and_losses_in_order():
+    transform = DifficultyTransform("progressive", alpha=0.01)
+    assert transform.update([True, True, True, False]) == pytest.approx(0.02)
+    assert transform.episodes.item() == 4
+
+
+def test_clipping_happens_after_every_move():
+    transform = DifficultyTransform("progressive", alpha=0.25)
+    # from 0: loss (stays 0), win 0.25, loss 0, loss 0, win 0.25
+    assert transform.update([False, True, False, False, True]) == pytest.approx(0.25)
+    transform = DifficultyTransform("progressive", alpha=0.25, start=1.0)
+    assert transform.update([True, True, False]) == pytest.approx(0.75)
+
+
+def test_fixed_mode_never_moves():
+    transform = DifficultyTransform("fixed", start=0.5)
+    assert transform.update([True] * 10 + [False]) == 0.5
+
+
+def step_outcome(won, terminated, truncated, score):
+    b = len(won)
+    column = lambda values, dtype: torch.tensor(values, dtype=dtype).unsqueeze(-1)  # noqa: E731
+    return TensorDict(
+        {
+            "won": column(won, torch.bool),
+            "terminated": column(terminated, torch.bool),
+            "truncated": column(truncated, torch.bool),
+            "done": column([a or b for a, b in zip(terminated, truncated, strict=True)], torch.bool),
+            "score": column(score, torch.float32),
+        },
+        batch_size=[b],
+    )
+
+
+def test_study_rule_counts_timeouts_as_wins_and_boulderdash_by_score():
+    outcome = step_outcome([False, True, False], [True, True, False], [False, False, True], [25.0, 1.0, 3.0])
+    game_rule = DifficultyTransform(win_rule="game", game="zelda")
+    study_zelda = DifficultyTransform(win_rule="study", game="zelda")
+    study_boulderdash = DifficultyTransform(win_rule="study", game="boulderdash")
+    assert game_rule.wins(outcome).tolist() == [False, True, False]
+    assert study_zelda.wins(outcome).tolist() == [False, True, True]
+    assert study_boulderdash.wins(outcome).tolist() == [True, False, False]
+
+
+def _move_in_child(transform: DifficultyTransform) -> None:
+    transform.update([True] * 5)
+
+
+def test_the_difficulty_is_shared_with_worker_processes():
+    transform = DifficultyTransform("progressive", alpha=0.01)
+    child = multiprocessing.get_context("spawn").Process(target=_move_in_child, args=(transform,))
+    child.start()
+    child.join(60)
+    assert child.exitcode == 0
+    assert transform.difficulty == pytest.approx(0.05)
+
+
+def test_state_dict_restores_the_difficulty():
+    transform = DifficultyTransform("progressive")
+    transform.update([True] * 7)
+    restored = DifficultyTransform("progressive")
+    restored.load_state_dict(transform.state_dict())
+    assert restored.difficulty == pytest.approx(0.07) and restored.episodes.item() == 7
+
+
+def test_env_generates_at_the_transform_difficulty():
+    env = TransformedEnv(
+        GVGAIEnv("zelda", num_envs=4, levels=GeneratedLevels("zelda"), max_steps=10),
+        DifficultyTransform("fixed", start=0.7),
+    )
+    check_env_specs(env)
+    rollout = env.rollout(25, break_when_any_done=False)
+    assert torch.allclose(rollout.get(("next", "difficulty")), torch.tensor(0.7))
+    seeds = rollout.get("level_seed")
+    assert ((seeds >= 0) & (seeds < TRAINING_SEED_SPACE)).all() and TRAINING_SEED_SPACE < TEST_SEED_BASE
+    assert len(set(seeds.flatten().tolist())) == 12  # 4 envs x 3 episodes of 10 steps, all distinct
+    assert all(level.name.startswith("zelda_d0.7_s") for level in env.base_env.current_levels)
+
+
+def test_ppcg_moves_one_difficulty_for_all_envs():
+    transform = DifficultyTransform("progressive", win_rule="study")
+    env = TransformedEnv(
+        GVGAIEnv("zelda", num_envs=4, levels=GeneratedLevels("zelda"), max_steps=5), transform
+    )
+    env.rollout(10, break_when_any_done=False)  # every episode times out: 8 study wins
+    assert transform.difficulty == pytest.approx(0.08)
+
+
+def test_bad_settings_are_refused():
+    with pytest.raises(ValueError, match="valid modes are: fixed, progressive"):
+        DifficultyTransform("linear")
+    with pytest.raises(ValueError, match="valid rules are: game, study"):
+        DifficultyTransform(win_rule="paper")
+    with pytest.raises(ValueError, match=r"\[0, 1\]"):
+        DifficultyTransform(start=1.5)
