@@ -1,0 +1,154 @@
+"""Throughput benchmarks: env steps/s per game, batch size and observation kind, generator
+levels/s, and resets/s with a generating level source.
+
+Warm-up (first reset and the first steps, where allocators and caches settle) is timed apart
+from the steady state. Resets happen at their natural rate: finished envs are reset through the
+``"_reset"`` mask as a collector would. Numbers go into ``docs/benchmarks.md`` between markers,
+one section per device kind, so a GPU run does not erase the CPU figures.
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+import re
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import torch
+from tqdm.auto import tqdm
+
+from gvgai_pcg.envs import GVGAIEnv
+from gvgai_pcg.games import registered_games
+
+BATCH_SIZES = (1, 64, 1024, 4096)
+OBSERVATIONS = ("tiles", "pixels")
+
+
+@dataclass
+class StepResult:
+    game: str
+    obs: str
+    batch: int
+    warmup_s: float
+    steps_per_s: float
+    resets: int
+
+
+def measure_env(
+    game: str, batch: int, obs: str, device: str = "cpu", min_seconds: float = 2.0, max_steps: int = 300
+) -> StepResult:
+    """Steady-state env steps/s (one step = one env tick) with uniformly random actions."""
+    begin = time.perf_counter()
+    env = GVGAIEnv(game, num_envs=batch, levels="human", obs=obs, device=device, seed=0)
+    generator = torch.Generator(device=device).manual_seed(0)
+    td = env.reset()
+    for _ in range(3):
+        td.set("action", torch.randint(0, env.game.num_actions, (batch,), generator=generator, device=device))
+        _, td = env.step_and_maybe_reset(td)
+    _sync(device)
+    warmup = time.perf_counter() - begin
+    steps, resets = 0, 0
+    begin = time.perf_counter()
+    while steps < max_steps and (steps < 5 or time.perf_counter() - begin < min_seconds):
+        td.set("action", torch.randint(0, env.game.num_actions, (batch,), generator=generator, device=device))
+        stepped, td = env.step_and_maybe_reset(td)
+        resets += int(stepped.get(("next", "done")).sum())
+        steps += 1
+    _sync(device)
+    elapsed = time.perf_counter() - begin
+    return StepResult(game, obs, batch, warmup, steps * batch / elapsed, resets)
+
+
+def measure_generating_resets(game: str, batch: int = 64, rounds: int = 5) -> float:
+    """Full resets/s of a GVGAIEnv whose source generates a new level each episode (d = 1)."""
+    from gvgai_pcg.envs.level_sources import GeneratedLevels
+
+    env = GVGAIEnv(game, num_envs=batch, levels=GeneratedLevels(game), difficulty=1.0)
+    env.reset()
+    begin = time.perf_counter()
+    for _ in range(rounds):
+        env.reset()
+    return rounds * batch / (time.perf_counter() - begin)
+
+
+def _sync(device: str) -> None:
+    if torch.device(device).type == "cuda":
+        torch.cuda.synchronize()
+
+
+def machine_description(device: str) -> str:
+    cpu = platform.processor() or platform.machine()
+    try:
+        text = Path("/proc/cpuinfo").read_text()
+        match = re.search(r"model name\s*:\s*(.+)", text)
+        cpu = match.group(1).strip() if match else cpu
+    except OSError:
+        pass
+    parts = [f"CPU: {cpu}, {os.cpu_count()} logical cores, torch threads {torch.get_num_threads()}"]
+    if torch.device(device).type == "cuda":
+        parts.append(f"GPU: {torch.cuda.get_device_name(0)}")
+    parts.append(f"torch {torch.__version__}, Python {platform.python_version()}")
+    return "; ".join(parts)
+
+
+def run_benchmarks(
+    device: str = "cpu",
+    games: list[str] | None = None,
+    batch_sizes: tuple[int, ...] = BATCH_SIZES,
+    observations: tuple[str, ...] = OBSERVATIONS,
+    min_seconds: float = 2.0,
+    progress: bool = True,
+) -> str:
+    """Run every benchmark and return the Markdown section for ``device``."""
+    games = games or registered_games()
+    configs = [(g, o, b) for g in games for o in observations for b in batch_sizes]
+    results = []
+    for game, obs, batch in tqdm(configs, desc="env throughput", disable=not progress):
+        results.append(measure_env(game, batch, obs, device, min_seconds))
+    lines = [
+        f"Measured {time.strftime('%Y-%m-%d')} with `make bench`. {machine_description(device)}.",
+        "",
+        "### Env steps/s (random actions, human levels, resets at their natural rate)",
+        "",
+        "| game | obs | B | steps/s | warm-up (s) | resets |",
+        "|---|---|---:|---:|---:|---:|",
+    ]
+    for r in results:
+        lines.append(
+            f"| {r.game} | {r.obs} | {r.batch} | {r.steps_per_s:,.0f} | {r.warmup_s:.2f} | {r.resets} |"
+        )
+    if torch.device(device).type == "cpu":
+        lines += _generator_lines(games)
+    return "\n".join(lines) + "\n"
+
+
+def _generator_lines(games: list[str]) -> list[str]:
+    from gvgai_pcg.generators import registered_generators
+    from gvgai_pcg.generators.speed import levels_per_second
+
+    lines = [
+        "",
+        "### Level generation (one core, d = 1)",
+        "",
+        "| game | levels/s | GVGAIEnv resets/s with a generating source (B = 64) |",
+        "|---|---:|---:|",
+    ]
+    for game in games:
+        if game in registered_generators():
+            rate = levels_per_second(game, 1.0, count=600)
+            lines.append(f"| {game} | {rate:,.0f} | {measure_generating_resets(game):,.0f} |")
+    return lines
+
+
+def write_section(path: Path, device_kind: str, body: str) -> None:
+    """Replace (or append) the section between this device kind's markers in ``path``."""
+    start, end = f"<!-- bench:{device_kind}:start -->", f"<!-- bench:{device_kind}:end -->"
+    text = path.read_text() if path.exists() else "# Benchmarks\n"
+    block = f"{start}\n{body}{end}"
+    if start in text and end in text:
+        text = text[: text.index(start)] + block + text[text.index(end) + len(end) :]
+    else:
+        text = text.rstrip("\n") + f"\n\n## {device_kind.upper()}\n\n{block}\n"
+    path.write_text(text)

@@ -1,0 +1,39 @@
+"""``gvgai-pcg bench``: measure throughput and write it into docs/benchmarks.md."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import torch
+
+from gvgai_pcg.benchmark import BATCH_SIZES, OBSERVATIONS, run_benchmarks, write_section
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--output", type=Path, help="Markdown file to update (default: print only)")
+    parser.add_argument("--device", default=None, help="cpu, cuda, or both when left out and CUDA exists")
+    parser.add_argument("--games", help="comma-separated games (default: all registered)")
+    parser.add_argument("--batch-sizes", default=",".join(map(str, BATCH_SIZES)))
+    parser.add_argument("--obs", default=",".join(OBSERVATIONS))
+    parser.add_argument("--seconds", type=float, default=2.0, help="minimum timed seconds per configuration")
+    parser.add_argument("--threads", type=int, default=None, help="torch CPU threads (default: torch's)")
+
+
+def run(args: argparse.Namespace) -> int:
+    if args.threads:
+        torch.set_num_threads(args.threads)
+    devices = [args.device] if args.device else ["cpu"] + (["cuda"] if torch.cuda.is_available() else [])
+    for device in devices:
+        body = run_benchmarks(
+            device=device,
+            games=args.games.split(",") if args.games else None,
+            batch_sizes=tuple(int(b) for b in args.batch_sizes.split(",")),
+            observations=tuple(args.obs.split(",")),
+            min_seconds=args.seconds,
+        )
+        print(body)
+        if args.output:
+            write_section(args.output, torch.device(device).type, body)
+            print(f"updated {args.output}")
+    return 0
