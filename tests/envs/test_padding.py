@@ -5,7 +5,7 @@ import pytest
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.games import registered_games
 from gvgai_pcg.games.base import pad_level
-from gvgai_pcg.levels import Level, human_level
+from gvgai_pcg.levels import Level
 
 
 def test_pad_level_adds_wall_rows_and_columns():
