@@ -43,6 +43,12 @@ def scatter_figure(analysis: LevelDistribution, path: Path, by: str = "cluster")
         _draw_clusters(ax, analysis)
     else:
         _draw_difficulties(ax, analysis, coords[generated])
+    if analysis.humans:
+        ax.update_datalim(
+            np.array([human.coords for human in analysis.humans])
+        )  # annotations do not autoscale
+        ax.margins(0.06)
+        ax.autoscale_view()
     for human in analysis.humans:
         ax.annotate(
             str(human.index),
