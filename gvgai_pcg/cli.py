@@ -32,10 +32,8 @@ def available_commands() -> dict[str, str]:
     """The commands whose module is installed (a command may be added by a later release)."""
     found = {}
     for name, help_text in COMMANDS.items():
-        try:
-            importlib.util.find_spec(f"gvgai_pcg.commands.{name}") and found.setdefault(name, help_text)
-        except ModuleNotFoundError:
-            continue
+        if importlib.util.find_spec(f"gvgai_pcg.commands.{name}") is not None:
+            found[name] = help_text
     return found
 
 
@@ -44,11 +42,16 @@ def main(argv: list[str] | None = None) -> int:
     commands = available_commands()
     if argv and argv[0] in RAW_ARGUMENT_COMMANDS and argv[0] in commands:
         return int(_command_module(argv[0]).run_raw(argv[1:]) or 0)
-    parser = argparse.ArgumentParser(prog="gvgai-pcg", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(
+        prog="gvgai-pcg", description="Batched GVGAI games, level generators, training and evaluation."
+    )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    # Only the chosen command's module is imported (they pull in torch, hydra, ...); a bare
+    # `gvgai-pcg` or an unknown command lists them all without importing any.
+    chosen = argv[0] if argv and argv[0] in commands else None
     for name, help_text in commands.items():
         sub_parser = sub.add_parser(name, help=help_text, description=help_text)
-        if name not in RAW_ARGUMENT_COMMANDS:
+        if name == chosen and name not in RAW_ARGUMENT_COMMANDS:
             _command_module(name).add_arguments(sub_parser)
     args = parser.parse_args(argv)
     return int(_command_module(args.command).run(args) or 0)
