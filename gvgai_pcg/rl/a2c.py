@@ -1,0 +1,213 @@
+"""A2C training, as the study ran it (GENERATORS.md §3), on one natively batched env.
+
+The loop reads like the algorithm: collect ``n_steps`` steps of all envs (the rollout),
+compute n-step returns and the three losses (``A2CLoss``), take one RMSprop step with the
+gradient norm clipped, then log and checkpoint. Every number comes from the config
+(``conf/algo/a2c.yaml``). A run lives in one directory and continues from its checkpoint when
+started again: same frame count, same difficulty, the log cut back to the checkpoint.
+"""
+
+from __future__ import annotations
+
+import functools
+import logging
+import math
+import random
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import torch
+from omegaconf import DictConfig, OmegaConf
+from tensordict.nn import TensorDictModule
+from torchrl.collectors import Collector, MultiSyncCollector
+from torchrl.modules import ProbabilisticActor
+from tqdm.auto import tqdm
+
+from gvgai_pcg.rl.a2c_loss import A2CLoss
+from gvgai_pcg.rl.checkpoint import CHECKPOINT_NAME, load_checkpoint, restore, save_checkpoint
+from gvgai_pcg.rl.curves import plot_curve
+from gvgai_pcg.rl.environment import EnvFactory, make_difficulty
+from gvgai_pcg.rl.models import make_actor_critic
+from gvgai_pcg.rl.run_log import EpisodeTracker, RunLog
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class TrainResult:
+    """Where a finished run left its outputs."""
+
+    run_dir: Path
+    frames: int
+    log_path: Path
+    checkpoint_path: Path
+    model_path: Path
+    curve_path: Path | None
+
+
+def seed_everything(seed: int) -> None:
+    random.seed(seed)
+    np.random.seed(seed)
+    torch.manual_seed(seed)
+
+
+def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
+    """Train (or continue training) the run described by ``cfg`` in ``run_dir``."""
+    run_dir.mkdir(parents=True, exist_ok=True)
+    if cfg.threads:
+        torch.set_num_threads(int(cfg.threads))
+    config = OmegaConf.to_container(cfg, resolve=True)
+    (run_dir / "config.yaml").write_text(OmegaConf.to_yaml(cfg, resolve=True))
+    checkpoint_path = run_dir / "checkpoints" / CHECKPOINT_NAME
+    saved = load_checkpoint(checkpoint_path, config) if checkpoint_path.exists() else None
+    frames = saved["frames"] if saved else 0
+    seed_everything(cfg.seed)
+
+    # --- env: one batched GVGAIEnv per collector worker, one shared difficulty ---
+    algo, workers = cfg.algo, int(cfg.collector.workers)
+    difficulty = make_difficulty(cfg.regimen, cfg.game.name)
+    make_env = EnvFactory(
+        game=cfg.game.name,
+        regimen=cfg.regimen,
+        num_envs=int(cfg.env.num_envs),
+        obs=cfg.env.obs,
+        max_steps=int(cfg.env.max_steps),
+        device=cfg.device,
+        seed=int(cfg.seed) * 1_000_003 + frames,  # a resumed run plays new episodes
+        difficulty=difficulty,
+    )
+    env = make_env()
+    obs_key = cfg.env.obs
+
+    # --- agent: shared-torso actor-critic; the policy samples actions ---
+    net = make_actor_critic(
+        cfg.model.name,
+        obs_key,
+        tuple(env.observation_spec[obs_key].shape[-3:]),
+        env.action_spec.space.n,
+        int(cfg.model.hidden),
+    ).to(cfg.device)
+    actor_critic = TensorDictModule(net, in_keys=[obs_key], out_keys=["logits", "state_value"])
+    policy = ProbabilisticActor(
+        actor_critic,
+        in_keys=["logits"],
+        out_keys=["action"],
+        distribution_class=torch.distributions.Categorical,
+        spec=env.action_spec,
+    )
+    loss_module = A2CLoss(actor_critic, algo.gamma, algo.entropy_coef, algo.value_coef)
+    optimizer = torch.optim.RMSprop(
+        net.parameters(), lr=algo.lr, alpha=algo.rmsprop_alpha, eps=algo.rmsprop_eps
+    )
+    episodes, elapsed = 0, 0.0
+    if saved:
+        restore(saved, net, optimizer, difficulty)
+        episodes, elapsed = saved["episodes"], saved["elapsed"]
+        log.info("resuming %s at %d frames (difficulty %s)", run_dir, frames, _difficulty_of(difficulty))
+
+    # --- collector: frames per batch = envs x n_steps ---
+    frames_per_batch = workers * int(cfg.env.num_envs) * int(algo.n_steps)
+    remaining = max(0, int(cfg.total_frames) - frames)
+    remaining = math.ceil(remaining / frames_per_batch) * frames_per_batch
+    if workers == 1:
+        collector = Collector(
+            env,
+            policy,
+            frames_per_batch=frames_per_batch,
+            total_frames=max(remaining, 1),
+            auto_register_policy_transforms=False,
+        )
+    else:
+        env.close()
+        collector = MultiSyncCollector(
+            [functools.partial(make_env, worker=i) for i in range(workers)],
+            policy,
+            frames_per_batch=frames_per_batch,
+            total_frames=max(remaining, 1),
+        )
+
+    run_log = RunLog(run_dir, list(cfg.log.backends), resume_frames=frames if saved else None)
+    rows_every = int(cfg.log.every_episodes or cfg.env.num_envs)
+    tracker = EpisodeTracker(workers * int(cfg.env.num_envs))
+    losses_since_row: list[torch.Tensor] = []
+    every = int(cfg.checkpoint.every_frames)
+    next_checkpoint = (frames // every + 1) * every
+    bar = tqdm(total=int(cfg.total_frames), initial=frames, unit="frame", disable=None, dynamic_ncols=True)
+    row_frames, row_time, start = frames, time.perf_counter(), time.perf_counter() - elapsed
+
+    def checkpoint() -> None:
+        state = {
+            "frames": frames,
+            "episodes": episodes,
+            "elapsed": time.perf_counter() - start,
+            "model": net.state_dict(),
+            "optimizer": optimizer.state_dict(),
+            "difficulty": difficulty.state_dict() if difficulty is not None else None,
+            "config": config,
+        }
+        save_checkpoint(checkpoint_path, state)
+
+    for rollout in collector if remaining > 0 else []:
+        rollout = rollout.reshape(-1, rollout.shape[-1])  # [envs, n_steps] (workers stacked)
+        tracker.update(rollout)
+
+        # --- update: n-step returns, losses, one clipped RMSprop step ---
+        losses = loss_module(rollout)
+        loss = losses["loss_objective"] + losses["loss_critic"] + losses["loss_entropy"]
+        optimizer.zero_grad(set_to_none=True)
+        loss.backward()
+        torch.nn.utils.clip_grad_norm_(net.parameters(), algo.max_grad_norm)
+        optimizer.step()
+        collector.update_policy_weights_()
+        frames += rollout.numel()
+        bar.update(rollout.numel())
+        losses_since_row.append(
+            torch.stack([losses["loss_objective"].detach(), losses["value_loss"], losses["entropy"]])
+        )
+
+        # --- log: a row when enough episodes have finished ---
+        if len(tracker) >= rows_every:
+            now = time.perf_counter()
+            stats = tracker.take()
+            episodes += stats["episodes"]
+            policy_loss, value_loss, entropy = torch.stack(losses_since_row).mean(0).tolist()
+            losses_since_row.clear()
+            row = {
+                **stats,
+                "frames": frames,
+                "episodes": episodes,
+                "difficulty": _difficulty_of(difficulty),
+                "policy_loss": policy_loss,
+                "value_loss": value_loss,
+                "entropy": entropy,
+                "fps": (frames - row_frames) / max(now - row_time, 1e-9),
+                "time": now - start,
+            }
+            run_log.write(row)
+            bar.set_postfix(
+                fps=f"{row['fps']:.0f}", score=f"{row['mean_score']:.2f}", d=f"{row['difficulty']:.2f}"
+            )
+            row_frames, row_time = frames, now
+
+        if frames >= next_checkpoint:
+            checkpoint()
+            next_checkpoint = (frames // every + 1) * every
+        if frames >= cfg.total_frames:
+            break
+
+    bar.close()
+    collector.shutdown()
+    run_log.close()
+    checkpoint()
+    model_path = run_dir / "model.pt"
+    torch.save({"model": net.state_dict(), "config": config, "frames": frames}, model_path)
+    curve_path = None
+    if cfg.log.curve:
+        curve_path = plot_curve(run_log.path, run_dir / "curve.png", title=cfg.run_name)
+    return TrainResult(run_dir, frames, run_log.path, checkpoint_path, model_path, curve_path)
+
+
+def _difficulty_of(difficulty) -> float:
+    return difficulty.difficulty if difficulty is not None else math.nan

@@ -1,0 +1,127 @@
+"""The study's A2C loss (OpenAI Baselines semantics) as a TorchRL ``LossModule``.
+
+What it keeps true (GENERATORS.md §3):
+
+- n-step returns are bootstrapped from the value of the observation after the rollout and cut
+  at episode ends: a real end (``terminated``) contributes no value, a step-limit end
+  (``truncated``) bootstraps from the value of its final observation;
+- advantages are ``R - V`` (no normalisation, no GAE);
+- policy loss ``mean(A * -log pi(a|s))``, value loss ``mean(1/2 (V - R)^2)``, and the total
+  ``pg - entropy_coef * entropy + value_coef * value_loss`` is the sum of the three
+  ``loss_*`` entries of the output.
+"""
+
+from __future__ import annotations
+
+import torch
+from tensordict import TensorDict, TensorDictBase
+from tensordict.nn import TensorDictModule
+from torchrl.objectives import LossModule
+
+
+def nstep_returns(
+    rewards: torch.Tensor,
+    bootstrap: torch.Tensor,
+    terminated: torch.Tensor,
+    done: torch.Tensor,
+    gamma: float,
+) -> torch.Tensor:
+    """Discounted returns of a rollout, cut at episode ends.
+
+    Args:
+        rewards: ``[B, T]`` reward of each step.
+        bootstrap: ``[B, T]`` value of the observation after each step, read only where the
+            episode ended (``done``) or at the last step ``T - 1``.
+        terminated: ``[B, T]`` bool, the episode really ended at this step (no bootstrap).
+        done: ``[B, T]`` bool, the episode ended at this step (terminated or truncated).
+        gamma: the discount.
+
+    Returns:
+        ``[B, T]``: ``R_t = r_t + gamma * (1 - terminated_t) * (R_{t+1} if the episode goes on,
+        else the bootstrap value)``.
+    """
+    returns = torch.empty_like(rewards)
+    later = bootstrap[:, -1]
+    for t in reversed(range(rewards.shape[1])):
+        following = torch.where(done[:, t], bootstrap[:, t], later)
+        later = rewards[:, t] + gamma * (~terminated[:, t]).to(rewards.dtype) * following
+        returns[:, t] = later
+    return returns
+
+
+class A2CLoss(LossModule):
+    """A2C on a rollout tensordict ``[B, T]`` from a ``Collector``.
+
+    Args:
+        actor_critic: a ``TensorDictModule`` reading the observation and writing ``"logits"``
+            ``[.., A]`` and ``"state_value"`` ``[.., 1]`` (one shared torso).
+        gamma: the discount (0.99).
+        entropy_coef: weight of the entropy bonus (0.01).
+        value_coef: weight of the value loss (0.5).
+
+    The output holds ``loss_objective`` (policy), ``loss_critic`` (weighted value loss),
+    ``loss_entropy`` (``-entropy_coef * entropy``) and, detached for logging, ``entropy``,
+    ``value_loss`` (unweighted) and ``returns_mean``.
+    """
+
+    def __init__(
+        self,
+        actor_critic: TensorDictModule,
+        gamma: float = 0.99,
+        entropy_coef: float = 0.01,
+        value_coef: float = 0.5,
+    ) -> None:
+        super().__init__()
+        self.actor_critic = actor_critic
+        self.obs_key = actor_critic.in_keys[0]
+        self.gamma, self.entropy_coef, self.value_coef = float(gamma), float(entropy_coef), float(value_coef)
+
+    def _evaluate(self, obs: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+        out = self.actor_critic(TensorDict({self.obs_key: obs}, batch_size=obs.shape[:1]))
+        return out.get("logits"), out.get("state_value").squeeze(-1)
+
+    @torch.no_grad()
+    def bootstrap_values(self, rollout: TensorDictBase, values: torch.Tensor) -> torch.Tensor:
+        """``[B, T]`` value after each step: the next step's value inside an episode, the value of
+        the final observation where an episode was truncated and at the end of the rollout."""
+        next_obs = rollout.get(("next", self.obs_key))
+        bootstrap = torch.zeros_like(values)
+        bootstrap[:, :-1] = values[:, 1:]
+        bootstrap[:, -1] = self._evaluate(next_obs[:, -1])[1]
+        truncated = rollout.get(("next", "truncated")).squeeze(-1).clone()
+        truncated[:, -1] = False
+        if truncated.any():
+            bootstrap[truncated] = self._evaluate(next_obs[truncated])[1]
+        return bootstrap
+
+    def forward(self, rollout: TensorDictBase) -> TensorDict:
+        """``rollout [B, T]`` with the observation, ``action``, and ``("next", reward | done |
+        terminated | truncated | <observation>)``."""
+        b, t = rollout.batch_size
+        obs = rollout.get(self.obs_key)
+        logits, values = self._evaluate(obs.reshape(b * t, *obs.shape[2:]))
+        logits, values = logits.reshape(b, t, -1), values.reshape(b, t)
+        with torch.no_grad():
+            returns = nstep_returns(
+                rollout.get(("next", "reward")).squeeze(-1),
+                self.bootstrap_values(rollout, values.detach()),
+                rollout.get(("next", "terminated")).squeeze(-1),
+                rollout.get(("next", "done")).squeeze(-1),
+                self.gamma,
+            )
+        advantages = returns - values.detach()
+        dist = torch.distributions.Categorical(logits=logits)
+        log_prob = dist.log_prob(rollout.get("action"))
+        entropy = dist.entropy().mean()
+        value_loss = 0.5 * (values - returns).pow(2).mean()
+        return TensorDict(
+            {
+                "loss_objective": (advantages * -log_prob).mean(),
+                "loss_critic": self.value_coef * value_loss,
+                "loss_entropy": -self.entropy_coef * entropy,
+                "entropy": entropy.detach(),
+                "value_loss": value_loss.detach(),
+                "returns_mean": returns.mean(),
+            },
+            batch_size=[],
+        )

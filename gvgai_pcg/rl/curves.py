@@ -1,0 +1,45 @@
+"""The training curve of a run: mean episode score and difficulty over frames, from ``log.csv``."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from gvgai_pcg.rl.run_log import read_log
+
+
+def smooth(values: np.ndarray, window: int) -> np.ndarray:
+    """Trailing mean over ``window`` rows (shorter at the start)."""
+    cumsum = np.cumsum(np.insert(values, 0, 0.0))
+    counts = np.minimum(np.arange(1, len(values) + 1), window)
+    return (cumsum[1:] - cumsum[np.arange(1, len(values) + 1) - counts]) / counts
+
+
+def plot_curve(log_path: Path, out_path: Path, title: str = "") -> Path:
+    """Write a PNG: mean score (raw and smoothed, left axis) and difficulty (right axis, 0-1)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rows = read_log(log_path)
+    frames = np.array([row["frames"] for row in rows])
+    score = np.array([row["mean_score"] for row in rows])
+    difficulty = np.array([row["difficulty"] for row in rows])
+    fig, ax = plt.subplots(figsize=(7, 4), dpi=120)
+    if len(rows):
+        ax.plot(frames, score, color="tab:blue", alpha=0.25, linewidth=0.8)
+        ax.plot(frames, smooth(score, max(1, len(rows) // 20)), color="tab:blue", label="mean score")
+    ax.set_xlabel("frames")
+    ax.set_ylabel("mean episode score", color="tab:blue")
+    if len(rows) and not np.isnan(difficulty).all():
+        ax2 = ax.twinx()
+        ax2.plot(frames, difficulty, color="tab:red", label="difficulty")
+        ax2.set_ylim(0.0, 1.0)
+        ax2.set_ylabel("difficulty", color="tab:red")
+    ax.set_title(title or log_path.parent.name)
+    fig.tight_layout()
+    fig.savefig(out_path)
+    plt.close(fig)
+    return out_path

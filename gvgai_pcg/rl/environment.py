@@ -1,0 +1,71 @@
+"""The training env of each regimen: one natively batched ``GVGAIEnv``, wrapped in a
+``DifficultyTransform`` for the generated-level regimens (PCG X, PPCG).
+
+Lv X and Lv 0-3 play human-designed levels; PCG X and PPCG play a new generated level every
+episode at the difficulty the transform writes into the reset tensordict.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from omegaconf import DictConfig
+from torchrl.envs import EnvBase, TransformedEnv
+
+from gvgai_pcg.envs import GVGAIEnv
+from gvgai_pcg.levels import human_level
+
+REGIMENS = ("lv", "lv0-3", "pcg", "ppcg")
+
+
+@dataclass
+class EnvFactory:
+    """A picklable recipe for the training env, so collector workers can build their own.
+
+    ``difficulty`` (a ``DifficultyTransform`` or ``None``) is shared: every env built by this
+    factory moves the same shared-memory value.
+    """
+
+    game: str
+    regimen: DictConfig
+    num_envs: int
+    obs: str
+    max_steps: int
+    device: str
+    seed: int
+    difficulty: object = None
+
+    def __call__(self, worker: int = 0) -> EnvBase:
+        name = self.regimen.name
+        seed = self.seed + 7919 * worker
+        if name in ("lv", "lv0-3"):
+            indices = [self.regimen.level] if name == "lv" else list(self.regimen.levels)
+            levels = [human_level(self.game, int(i)) for i in indices]
+            return GVGAIEnv(self.game, self.num_envs, levels, self.obs, self.max_steps, self.device, seed)
+        from gvgai_pcg.envs.level_sources import GeneratedLevels
+
+        env = GVGAIEnv(
+            self.game, self.num_envs, GeneratedLevels(self.game), self.obs, self.max_steps, self.device, seed
+        )
+        return TransformedEnv(env, self.difficulty)
+
+
+def make_difficulty(regimen: DictConfig, game: str):
+    """The ``DifficultyTransform`` of a generated-level regimen, ``None`` for Lv X / Lv 0-3."""
+    if regimen.name not in REGIMENS:
+        raise ValueError(f"unknown regimen {regimen.name!r}; valid regimens are: {', '.join(REGIMENS)}")
+    if regimen.name in ("lv", "lv0-3"):
+        return None
+    from gvgai_pcg.envs.difficulty import DifficultyTransform
+
+    if regimen.name == "pcg":
+        return DifficultyTransform(
+            "fixed", start=float(regimen.difficulty), win_rule=regimen.win_rule, game=game
+        )
+    return DifficultyTransform(
+        "progressive",
+        alpha=float(regimen.alpha),
+        start=float(regimen.start),
+        win_rule=regimen.win_rule,
+        game=game,
+    )

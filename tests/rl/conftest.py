@@ -1,0 +1,36 @@
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from hydra import compose, initialize_config_dir
+
+CONFIG_DIR = Path(__file__).resolve().parents[2] / "conf"
+
+
+def _compose(overrides: list[str]):
+    with initialize_config_dir(config_dir=str(CONFIG_DIR), version_base="1.3"):
+        return compose("config", overrides=overrides)
+
+
+@pytest.fixture
+def make_config():
+    """The training config with Hydra overrides, as ``gvgai-pcg train`` would resolve it."""
+    return _compose
+
+
+def generated_levels_available() -> bool:
+    try:
+        from gvgai_pcg.envs.difficulty import DifficultyTransform  # noqa: F401
+        from gvgai_pcg.envs.level_sources import GeneratedLevels
+
+        GeneratedLevels("zelda")
+    except (ImportError, ValueError, KeyError):
+        return False
+    return True
+
+
+needs_generated_levels = pytest.mark.skipif(
+    not generated_levels_available(),
+    reason="gvgai_pcg.envs GeneratedLevels / DifficultyTransform or the Zelda generator are not available yet",
+)
