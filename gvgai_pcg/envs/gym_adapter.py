@@ -179,7 +179,8 @@ class GVGAIGymEnv(gym.Env):
             (the text frame printed to stdout after every reset and step).
         level: the level(s) of the ``lv`` regimen.
         max_steps: the step limit that truncates an episode (2000, as in the study).
-        alpha, win_rule: the PPCG step and win rule.
+        alpha: the PPCG step per finished episode.
+        win_rule: what counts as a PPCG win (``"game"`` or ``"study"``).
         device: where the engine runs; observations are always returned as NumPy arrays.
     """
 
