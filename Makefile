@@ -30,5 +30,8 @@ lint: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/gvgai-pcg bench --output docs/benchmarks.md
 
+docs: $(STAMP)
+	$(BIN)/mkdocs build --strict
+
 clean:
 	rm -rf $(VENV) build *.egg-info
