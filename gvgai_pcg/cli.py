@@ -20,6 +20,7 @@ COMMANDS: dict[str, str] = {
     "train": "Train an agent (Hydra app: gvgai-pcg train game=zelda regimen=ppcg ...)",
     "report": "Merge run results into the results table and figures",
     "analyze": "Level-distribution analysis (PCA + DBSCAN)",
+    "replay": "Render an episode of a trained agent as an animated GIF",
 }
 RAW_ARGUMENT_COMMANDS = {"train"}
 

@@ -1,7 +1,14 @@
-"""``gvgai-pcg evaluate``: play an agent on levels and report per-level scores.
+"""``gvgai-pcg evaluate``: play agents on levels and report per-level scores.
 
-``--agent random`` is the study's uniformly random baseline. Results go to a table on stdout
-and, with ``--json PATH`` (``-`` for stdout), to a JSON file.
+Two uses:
+
+* the study's protocol (GENERATORS.md §4): ``gvgai-pcg evaluate RUN [RUN ...]`` evaluates the
+  trained runs (a run directory, or a multirun directory holding many), and
+  ``gvgai-pcg evaluate --agent random --game G --protocol`` the random baseline. Every frozen test
+  level is played ``--test-episodes`` times and every human level ``--human-episodes`` times, all
+  in one batched env; records go to ``<run>/eval/protocol-<key>.jsonl`` (random: the cache).
+* ad-hoc levels: ``--levels human|NAMES|PATHS --episodes N`` plays each listed level N times and
+  prints a table; ``--json PATH`` (``-`` for stdout) writes ``{"game", "levels": [...]}``.
 """
 
 from __future__ import annotations
@@ -9,27 +16,72 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from pathlib import Path
 
 from gvgai_pcg.evaluation import RandomAgent, evaluate_levels, format_table
+from gvgai_pcg.evaluation.checkpoints import find_runs, load_policy, run_info
+from gvgai_pcg.evaluation.evaluator import (
+    evaluate_random,
+    evaluate_run,
+    random_results_path,
+    run_results_path,
+)
+from gvgai_pcg.evaluation.protocol import Protocol
+from gvgai_pcg.evaluation.summary import format_protocol_table
 from gvgai_pcg.games import get_game, registered_games
 from gvgai_pcg.levels import Level, human_levels, resolve_level
 
-AGENTS = ("random",)
+AGENTS = ("random", "trained")
+
+
+def add_protocol_arguments(parser: argparse.ArgumentParser) -> None:
+    """The protocol's settings (shared with ``gvgai-pcg report``)."""
+    group = parser.add_argument_group("protocol")
+    group.add_argument("--test-levels", type=int, default=30, help="levels used of each frozen test set")
+    group.add_argument("--test-episodes", type=int, default=1, help="episodes per generated test level")
+    group.add_argument("--human-episodes", type=int, default=30, help="episodes per human level")
+    group.add_argument("--max-steps", type=int, default=2000, help="step limit per episode")
+    group.add_argument("--greedy", action="store_true", help="argmax actions instead of sampling")
+    group.add_argument("--seed", type=int, default=0)
+    group.add_argument("--device", default="cpu")
+    group.add_argument("--cache-dir", type=Path, help="where random-agent results are cached")
+    group.add_argument("--force", action="store_true", help="evaluate again even if results exist")
+    group.add_argument("--no-progress", action="store_true", help="hide the progress bar")
+
+
+def protocol_from(args: argparse.Namespace) -> Protocol:
+    try:
+        return Protocol(
+            test_levels=args.test_levels,
+            test_episodes=args.test_episodes,
+            human_episodes=args.human_episodes,
+            max_steps=args.max_steps,
+            greedy=args.greedy,
+            seed=args.seed,
+        )
+    except ValueError as error:
+        raise SystemExit(f"invalid protocol setting: {error}") from None
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--agent", choices=AGENTS, default="random", help="which agent plays")
-    parser.add_argument("--game", required=True, choices=registered_games())
+    parser.add_argument("runs", nargs="*", type=Path, help="run directories or multirun directories")
+    parser.add_argument("--checkpoint", type=Path, help="a chosen checkpoint file (one run only)")
     parser.add_argument(
-        "--levels", default="human", help="'human' (the five human levels) or comma-separated names/paths"
+        "--agent", choices=AGENTS, help="'random' or 'trained' (the default when RUNs are given, else random)"
     )
-    parser.add_argument("--episodes", type=int, default=30, help="episodes per level")
-    parser.add_argument("--max-steps", type=int, default=2000, help="step limit per episode")
-    parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--obs", choices=("tiles", "pixels"), default="tiles")
-    parser.add_argument("--device", default="cpu")
-    parser.add_argument("--json", metavar="PATH", help="write the results as JSON ('-' for stdout)")
-    parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
+    parser.add_argument("--game", choices=registered_games(), help="the game (random agent)")
+    parser.add_argument("--protocol", action="store_true", help="the study's protocol for the random agent")
+    parser.add_argument(
+        "--levels", help="ad-hoc levels instead of the protocol: 'human' or comma-separated names/paths"
+    )
+    parser.add_argument("--episodes", type=int, default=30, help="episodes per level (ad-hoc levels)")
+    parser.add_argument(
+        "--obs", choices=("tiles", "pixels"), default="tiles", help="observation (random agent)"
+    )
+    parser.add_argument(
+        "--json", metavar="PATH", help="ad-hoc levels: write the results as JSON ('-': stdout)"
+    )
+    add_protocol_arguments(parser)
 
 
 def _levels(spec: str, game: str) -> list[Level]:
@@ -39,29 +91,76 @@ def _levels(spec: str, game: str) -> list[Level]:
 
 
 def run(args: argparse.Namespace) -> int:
+    agent = args.agent or ("trained" if args.runs else "random")
+    if agent == "trained" and not args.runs:
+        raise SystemExit("--agent trained needs at least one RUN directory")
+    if agent == "random" and args.runs:
+        raise SystemExit("RUN directories are for trained agents; leave out --agent random")
+    if agent == "random" and not args.game:
+        raise SystemExit("--agent random needs --game")
+    if args.checkpoint and len(args.runs) != 1:
+        raise SystemExit("--checkpoint picks the checkpoint of one run; give exactly one RUN")
+    if agent == "trained" and not args.levels:
+        return _run_protocol_trained(args)
+    if agent == "random" and args.protocol:
+        return _run_protocol_random(args)
+    return _run_levels(args, agent)
+
+
+def _run_protocol_trained(args: argparse.Namespace) -> int:
+    protocol = protocol_from(args)
+    runs = find_runs(args.runs)
+    if not runs:
+        raise SystemExit(
+            f"no run directories (with config.yaml and a model) in {', '.join(map(str, args.runs))}"
+        )
+    for path in runs:
+        info = run_info(path, args.checkpoint)
+        records = evaluate_run(info, protocol, args.device, not args.no_progress, args.force)
+        print(format_protocol_table(f"{info.game}: {path} ({info.label}, {info.frames} frames)", records))
+        print(f"  -> {run_results_path(path, protocol)}\n")
+    return 0
+
+
+def _run_protocol_random(args: argparse.Namespace) -> int:
+    protocol = protocol_from(args)
+    records = evaluate_random(
+        args.game, protocol, args.cache_dir, args.device, not args.no_progress, args.force
+    )
+    print(format_protocol_table(f"{args.game}: random agent", records))
+    print(f"  -> {random_results_path(args.game, protocol, args.cache_dir)}")
+    return 0
+
+
+def _run_levels(args: argparse.Namespace, agent: str) -> int:
     if args.episodes < 1:
         raise SystemExit(f"--episodes must be at least 1, got {args.episodes}")
-    game = get_game(args.game)
-    policy = RandomAgent(game.num_actions, seed=args.seed, device=args.device)
+    if agent == "trained":
+        info = run_info(args.runs[0], args.checkpoint)
+        game, obs = info.game, info.obs
+        policy = load_policy(info, greedy=args.greedy, seed=args.seed, device=args.device)
+    else:
+        game, obs = args.game, args.obs
+        policy = RandomAgent(get_game(game).num_actions, seed=args.seed, device=args.device)
     summaries = evaluate_levels(
-        args.game,
-        _levels(args.levels, args.game),
+        game,
+        _levels(args.levels or "human", game),
         policy,
         episodes=args.episodes,
         max_steps=args.max_steps,
         seed=args.seed,
-        obs=args.obs,
+        obs=obs,
         device=args.device,
         progress=not args.no_progress,
     )
     payload = {
-        "game": args.game,
-        "agent": args.agent,
+        "game": game,
+        "agent": agent if agent == "random" else str(args.runs[0]),
         "seed": args.seed,
         "max_steps": args.max_steps,
         "levels": [s.as_dict() for s in summaries],
     }
-    table = format_table(args.game, summaries, args.agent)
+    table = format_table(game, summaries, payload["agent"])
     if args.json == "-":
         json.dump(payload, sys.stdout, indent=1)
         print(file=sys.stdout)

@@ -1,4 +1,5 @@
-"""Evaluation: play agents on levels in one batched env and summarise what they scored."""
+"""Evaluation: the study's protocol (frozen test sets, human levels, random agent, max score),
+played in one batched env per agent, with results as JSON lines."""
 
 from gvgai_pcg.evaluation.human_levels import LevelSummary, evaluate_levels, format_table
 from gvgai_pcg.evaluation.random_agent import RandomAgent

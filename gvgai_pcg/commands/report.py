@@ -1,0 +1,45 @@
+"""``gvgai-pcg report RUNS...``: the results table and training curves of trained runs.
+
+RUNS are run directories or a Hydra multirun directory. Runs without results for the protocol
+are evaluated first (``--no-evaluate`` only reads existing results), the random agent comes from
+its cache, and the report is written to ``--out`` (default: ``<first RUNS>/report``): a table per
+game as ``results.md``, ``results.csv`` and ``results.html``, and ``curves-<game>.png/.svg``.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from gvgai_pcg.commands.evaluate import add_protocol_arguments, protocol_from
+from gvgai_pcg.evaluation.checkpoints import is_run_dir
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("runs", nargs="+", type=Path, help="run directories or multirun directories")
+    parser.add_argument("--out", type=Path, help="report directory (default: <first RUNS>/report)")
+    parser.add_argument("--no-evaluate", action="store_true", help="use existing results only")
+    add_protocol_arguments(parser)
+
+
+def run(args: argparse.Namespace) -> int:
+    from gvgai_pcg.report import build_report
+    from gvgai_pcg.report.render import markdown_table
+
+    first = args.runs[0]
+    out = args.out or (first.parent if is_run_dir(first) else first) / "report"
+    report = build_report(
+        args.runs,
+        out,
+        protocol_from(args),
+        cache_dir=args.cache_dir,
+        evaluate=not args.no_evaluate,
+        device=args.device,
+        progress=not args.no_progress,
+    )
+    for table in report.tables:
+        print(f"{table.game}\n{markdown_table(table)}\n")
+    print(f"report: {report.markdown}, {report.csv}, {report.html}")
+    for paths in report.figures.values():
+        print("curves: " + ", ".join(map(str, paths)))
+    return 0

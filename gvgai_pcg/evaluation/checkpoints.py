@@ -1,0 +1,155 @@
+"""Trained agents from run directories, as the evaluator and the replays need them.
+
+A run directory (``gvgai_pcg.rl``) holds ``config.yaml`` (the resolved config), ``log.csv``,
+``checkpoints/last.pt`` and, once finished, ``model.pt``. Both ``.pt`` files are dicts with the
+network's ``model`` state dict, the resolved ``config`` and the ``frames`` trained. This module
+only reads them: it rebuilds the network with ``gvgai_pcg.rl.models.make_actor_critic`` and
+wraps it as a policy ``tensordict -> action [B]`` that samples (the study) or takes the argmax.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import torch
+from tensordict import TensorDictBase
+
+FINAL_MODEL = "model.pt"
+LAST_CHECKPOINT = Path("checkpoints") / "last.pt"
+
+# The report's row names of each regimen (the study's Table 1).
+REGIMEN_LABELS = {"lv": "Lv {level}", "lv0-3": "Lv 0-3", "pcg": "PCG {difficulty:g}", "ppcg": "PPCG"}
+
+
+@dataclass
+class RunInfo:
+    """What a run directory says about the agent in it."""
+
+    path: Path
+    config: dict = field(repr=False)
+    checkpoint: Path
+    frames: int
+
+    @property
+    def game(self) -> str:
+        return self.config["game"]["name"]
+
+    @property
+    def regimen(self) -> dict:
+        return self.config["regimen"]
+
+    @property
+    def seed(self) -> int:
+        return int(self.config.get("seed", 0))
+
+    @property
+    def obs(self) -> str:
+        return self.config["env"]["obs"]
+
+    @property
+    def label(self) -> str:
+        """The regimen as the study names it: ``Lv 0``, ``Lv 0-3``, ``PCG 1``, ``PPCG``."""
+        regimen = self.regimen
+        template = REGIMEN_LABELS.get(regimen["name"], regimen["name"])
+        return template.format(level=regimen.get("level", ""), difficulty=float(regimen.get("difficulty", 0)))
+
+    @property
+    def training_sets(self) -> tuple[str, ...]:
+        """The test-set columns this run trained on (its own human levels; generated sets are held out)."""
+        regimen = self.regimen
+        if regimen["name"] == "lv":
+            return (f"lv{int(regimen['level'])}",)
+        if regimen["name"] == "lv0-3":
+            return tuple(f"lv{int(i)}" for i in regimen["levels"])
+        return ()
+
+
+def is_run_dir(path: Path) -> bool:
+    return (path / "config.yaml").is_file() and (
+        (path / FINAL_MODEL).is_file() or (path / LAST_CHECKPOINT).is_file()
+    )
+
+
+def find_runs(paths: list[Path]) -> list[Path]:
+    """Run directories among ``paths`` and below them (a Hydra multirun directory holds many)."""
+    found: list[Path] = []
+    for path in paths:
+        if not path.exists():
+            raise FileNotFoundError(f"{path}: no such run or multirun directory")
+        candidates = [path] if is_run_dir(path) else sorted(p.parent for p in path.rglob("config.yaml"))
+        found += [p for p in candidates if is_run_dir(p) and p not in found]
+    return found
+
+
+def load_state(path: Path) -> dict:
+    try:
+        state = torch.load(path, map_location="cpu", weights_only=False)
+    except Exception as error:
+        raise ValueError(f"{path}: cannot read the checkpoint ({type(error).__name__}: {error})") from error
+    if not isinstance(state, dict) or "model" not in state or "config" not in state:
+        raise ValueError(f"{path}: not a gvgai-pcg model or checkpoint (needs 'model' and 'config' entries)")
+    return state
+
+
+def run_info(run_dir: Path, checkpoint: Path | None = None) -> RunInfo:
+    """The run in ``run_dir``, from ``checkpoint`` (default: ``model.pt``, else the last checkpoint)."""
+    run_dir = Path(run_dir)
+    if checkpoint is None:
+        checkpoint = run_dir / FINAL_MODEL if (run_dir / FINAL_MODEL).is_file() else run_dir / LAST_CHECKPOINT
+    if not Path(checkpoint).is_file():
+        raise FileNotFoundError(
+            f"{run_dir}: no model to evaluate (looked for {FINAL_MODEL} and {LAST_CHECKPOINT}); "
+            "is it a training run directory, and has it written a checkpoint?"
+        )
+    state = load_state(Path(checkpoint))
+    return RunInfo(run_dir, state["config"], Path(checkpoint), int(state.get("frames", 0)))
+
+
+class ActorCriticPolicy:
+    """The trained network as a policy: ``tensordict`` with the observation -> ``action [B]``.
+
+    Actions are sampled from the softmax of the logits with the policy's own seeded generator
+    (so an evaluation is reproducible), or the argmax when ``greedy``.
+    """
+
+    def __init__(
+        self, net: torch.nn.Module, obs_key: str, greedy: bool = False, seed: int = 0, device: str = "cpu"
+    ) -> None:
+        self.net = net.to(device).eval()
+        self.obs_key, self.greedy = obs_key, greedy
+        self.generator = torch.Generator(device=device).manual_seed(seed)
+
+    @torch.no_grad()
+    def __call__(self, tensordict: TensorDictBase) -> torch.Tensor:
+        logits, _ = self.net(tensordict.get(self.obs_key))
+        if self.greedy:
+            return logits.argmax(-1)
+        probs = torch.softmax(logits.float(), dim=-1)
+        return torch.multinomial(probs, 1, generator=self.generator).squeeze(-1)
+
+
+def observation_shape(game: str, obs: str) -> tuple[int, int, int]:
+    """``(C, H, W)`` of one observation of ``game`` (asked from a one-env GVGAIEnv)."""
+    from gvgai_pcg.envs import GVGAIEnv
+    from gvgai_pcg.levels import human_level
+
+    env = GVGAIEnv(game, 1, human_level(game, 0), obs=obs)
+    return tuple(env.observation_spec[obs].shape[-3:])
+
+
+def load_policy(info: RunInfo, greedy: bool = False, seed: int = 0, device: str = "cpu") -> ActorCriticPolicy:
+    """The policy of the run ``info`` describes, on ``device``."""
+    from gvgai_pcg.games import get_game
+    from gvgai_pcg.rl.models import make_actor_critic
+
+    model = info.config["model"]
+    net = make_actor_critic(
+        model["name"],
+        info.obs,
+        observation_shape(info.game, info.obs),
+        get_game(info.game).num_actions,
+        model["hidden"],
+    )
+    net.load_state_dict(load_state(info.checkpoint)["model"])
+    return ActorCriticPolicy(net, info.obs, greedy=greedy, seed=seed, device=device)

@@ -1,0 +1,151 @@
+"""The protocol evaluation of one agent: every test set of a game in ONE batched env, one record
+per (agent, test set, level), stored as JSON lines.
+
+A trained run's records go to ``<run>/eval/protocol-<key>.jsonl`` (``key`` names the protocol
+settings) and are reused while the run's checkpoint and frame count are unchanged; the random
+agent's go to a cache per game and protocol (``<cache>/random/<game>-<key>.jsonl``), since every
+report of a game needs the same baseline.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+from gvgai_pcg.evaluation.checkpoints import RunInfo, load_policy
+from gvgai_pcg.evaluation.max_score import level_max_score
+from gvgai_pcg.evaluation.protocol import Protocol, protocol_test_sets
+from gvgai_pcg.evaluation.random_agent import RandomAgent
+from gvgai_pcg.evaluation.runner import Policy, play_episodes
+from gvgai_pcg.games import get_game
+
+EVAL_DIR = "eval"
+
+
+@dataclass
+class LevelRecord:
+    """One JSON line: what an agent did on one level of one test set."""
+
+    agent: str  # "random" or the run directory
+    game: str
+    test_set: str  # pcg0.5, pcg1, lv0 … lv4
+    level: str
+    level_seed: int | None
+    episodes: int
+    scores: list[float]
+    lengths: list[int]
+    wins: list[bool]
+    max_score: int
+    protocol: dict = field(default_factory=dict)
+    frames: int = 0
+    checkpoint: str = ""
+
+    @property
+    def mean_score(self) -> float:
+        return sum(self.scores) / len(self.scores)
+
+    def as_dict(self) -> dict:
+        return {**asdict(self), "mean_score": self.mean_score, "win_rate": sum(self.wins) / len(self.wins)}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> LevelRecord:
+        names = cls.__dataclass_fields__
+        return cls(**{k: v for k, v in data.items() if k in names})
+
+
+def evaluate_policy(
+    game: str,
+    policy: Policy,
+    protocol: Protocol,
+    agent: str,
+    obs: str = "tiles",
+    device: str = "cpu",
+    progress: bool = True,
+) -> list[LevelRecord]:
+    """Play every (test set, level, episode) of the protocol at once; one record per level."""
+    sets = protocol_test_sets(game, protocol)
+    batch = [level for s in sets for level in s.levels for _ in range(s.episodes)]
+    results = play_episodes(game, batch, policy, protocol.max_steps, protocol.seed, obs, device, progress)
+    records, start = [], 0
+    for s in sets:
+        for level in s.levels:
+            part = slice(start, start + s.episodes)
+            start += s.episodes
+            records.append(
+                LevelRecord(
+                    agent=agent,
+                    game=game,
+                    test_set=s.name,
+                    level=level.name or "",
+                    level_seed=level.seed,
+                    episodes=s.episodes,
+                    scores=[float(v) for v in results.scores[part].tolist()],
+                    lengths=[int(v) for v in results.lengths[part].tolist()],
+                    wins=[bool(v) for v in results.wins[part].tolist()],
+                    max_score=level_max_score(level),
+                    protocol=protocol.as_dict(),
+                )
+            )
+    return records
+
+
+def write_records(path: Path, records: list[LevelRecord]) -> Path:
+    """Write ``records`` as JSON lines (atomically: a temporary file renamed over ``path``)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(".tmp")
+    tmp.write_text("".join(json.dumps(r.as_dict()) + "\n" for r in records))
+    os.replace(tmp, path)
+    return path
+
+
+def read_records(path: Path) -> list[LevelRecord]:
+    return [LevelRecord.from_dict(json.loads(line)) for line in path.read_text().splitlines() if line.strip()]
+
+
+def run_results_path(run_dir: Path, protocol: Protocol) -> Path:
+    return Path(run_dir) / EVAL_DIR / f"protocol-{protocol.key}.jsonl"
+
+
+def default_cache_dir() -> Path:
+    return Path(os.environ.get("GVGAI_PCG_CACHE", Path.home() / ".cache" / "gvgai-pcg"))
+
+
+def random_results_path(game: str, protocol: Protocol, cache_dir: Path | None = None) -> Path:
+    return (cache_dir or default_cache_dir()) / "random" / f"{game}-{protocol.key}.jsonl"
+
+
+def evaluate_run(
+    info: RunInfo, protocol: Protocol, device: str = "cpu", progress: bool = True, force: bool = False
+) -> list[LevelRecord]:
+    """The protocol's records of a trained run, from its results file when they are current."""
+    path = run_results_path(info.path, protocol)
+    if path.is_file() and not force:
+        records = read_records(path)
+        if records and all(r.frames == info.frames and r.checkpoint == str(info.checkpoint) for r in records):
+            return records
+    policy = load_policy(info, greedy=protocol.greedy, seed=protocol.seed, device=device)
+    records = evaluate_policy(info.game, policy, protocol, str(info.path), info.obs, device, progress)
+    for record in records:
+        record.frames, record.checkpoint = info.frames, str(info.checkpoint)
+    write_records(path, records)
+    return records
+
+
+def evaluate_random(
+    game: str,
+    protocol: Protocol,
+    cache_dir: Path | None = None,
+    device: str = "cpu",
+    progress: bool = True,
+    force: bool = False,
+) -> list[LevelRecord]:
+    """The random agent's records for ``game`` under ``protocol``, cached."""
+    path = random_results_path(game, protocol, cache_dir)
+    if path.is_file() and not force:
+        return read_records(path)
+    agent = RandomAgent(get_game(game).num_actions, seed=protocol.seed, device=device)
+    records = evaluate_policy(game, agent, protocol, "random", "tiles", device, progress)
+    write_records(path, records)
+    return records

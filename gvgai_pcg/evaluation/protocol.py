@@ -1,0 +1,69 @@
+"""The evaluation protocol of the study (GENERATORS.md §4), with its counts as settings.
+
+Test sets, in the report's column order: ``pcg0.5`` and ``pcg1`` (the frozen generated levels,
+each played ``test_episodes`` times, once in the study) and ``lv0`` … ``lv4`` (the human levels,
+each played ``human_episodes`` times, 30 in the study); 2000 steps per episode; actions sampled
+from the policy (``greedy`` is our addition, the study had none).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from dataclasses import asdict, dataclass
+
+from gvgai_pcg.levels import Level, human_levels
+from gvgai_pcg.levels.test_sets import TEST_DIFFICULTIES, TEST_SET_SIZE, frozen_test_set, set_name
+
+HUMAN_SETS = tuple(f"lv{i}" for i in range(5))
+TEST_SETS = tuple(set_name(d) for d in TEST_DIFFICULTIES) + HUMAN_SETS
+
+
+@dataclass(frozen=True)
+class Protocol:
+    """How many levels and episodes, how long, and how actions are chosen."""
+
+    test_levels: int = TEST_SET_SIZE  # levels used of each frozen generated test set (30)
+    test_episodes: int = 1  # episodes per generated test level
+    human_episodes: int = 30  # episodes per human level
+    max_steps: int = 2000
+    greedy: bool = False  # argmax instead of sampling (not in the study)
+    seed: int = 0  # seeds the env and the action sampling
+
+    def __post_init__(self) -> None:
+        if not 1 <= self.test_levels <= TEST_SET_SIZE:
+            raise ValueError(f"test_levels must be in 1..{TEST_SET_SIZE}, got {self.test_levels}")
+        for name in ("test_episodes", "human_episodes", "max_steps"):
+            if getattr(self, name) < 0 or (name == "max_steps" and self.max_steps < 1):
+                raise ValueError(f"{name} must be positive, got {getattr(self, name)}")
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+    @property
+    def key(self) -> str:
+        """A short stable id of these settings (names cached results and result files)."""
+        text = json.dumps(self.as_dict(), sort_keys=True)
+        return hashlib.sha256(text.encode()).hexdigest()[:10]
+
+
+@dataclass(frozen=True)
+class EvalSet:
+    """One column of the report: its levels and how often each is played."""
+
+    name: str
+    levels: tuple[Level, ...]
+    episodes: int
+
+
+def protocol_test_sets(game: str, protocol: Protocol) -> list[EvalSet]:
+    """The test sets of ``game`` in column order (a set with 0 episodes is left out)."""
+    sets = [
+        EvalSet(set_name(d), frozen_test_set(game, d)[: protocol.test_levels], protocol.test_episodes)
+        for d in TEST_DIFFICULTIES
+    ]
+    sets += [
+        EvalSet(name, (level,), protocol.human_episodes)
+        for name, level in zip(HUMAN_SETS, human_levels(game), strict=True)
+    ]
+    return [s for s in sets if s.episodes > 0]

@@ -1,0 +1,95 @@
+"""From run directories to the report: evaluate what is not evaluated yet, then write the tables
+(Markdown, CSV, HTML) and the pooled training curves of every game found."""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from gvgai_pcg.evaluation.checkpoints import RunInfo, find_runs, run_info
+from gvgai_pcg.evaluation.evaluator import (
+    evaluate_random,
+    evaluate_run,
+    random_results_path,
+    read_records,
+    run_results_path,
+)
+from gvgai_pcg.evaluation.protocol import Protocol, protocol_test_sets
+from gvgai_pcg.report.curves import plot_curves, pool_runs
+from gvgai_pcg.report.render import html_report, markdown_report, write_csv
+from gvgai_pcg.report.table import GameTable, RunResults, build_table
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class Report:
+    tables: list[GameTable]
+    markdown: Path
+    csv: Path
+    html: Path
+    figures: dict[str, list[Path]] = field(default_factory=dict)
+
+
+def run_results(
+    info: RunInfo, protocol: Protocol, evaluate: bool, device: str, progress: bool
+) -> RunResults | None:
+    """A run's protocol records (evaluating it when allowed), or ``None`` if it has none."""
+    path = run_results_path(info.path, protocol)
+    if evaluate:
+        records = evaluate_run(info, protocol, device, progress)
+    elif path.is_file():
+        records = read_records(path)
+    else:
+        log.warning(
+            "%s has no results for protocol %s; left out (run without --no-evaluate)", info.path, protocol.key
+        )
+        return None
+    return RunResults(info.label, info.frames, info.training_sets, records, str(info.path))
+
+
+def random_records(
+    game: str, protocol: Protocol, cache_dir: Path | None, evaluate: bool, device: str, progress: bool
+):
+    if evaluate:
+        return evaluate_random(game, protocol, cache_dir, device, progress)
+    path = random_results_path(game, protocol, cache_dir)
+    return read_records(path) if path.is_file() else None
+
+
+def build_report(
+    paths: Sequence[Path],
+    out_dir: Path,
+    protocol: Protocol,
+    cache_dir: Path | None = None,
+    evaluate: bool = True,
+    device: str = "cpu",
+    progress: bool = True,
+) -> Report:
+    """Find the runs under ``paths``, evaluate them (and the random agent) as needed, write the report."""
+    runs = [run_info(path) for path in find_runs([Path(p) for p in paths])]
+    if not runs:
+        raise FileNotFoundError(
+            f"no run directories (config.yaml and a model) under {', '.join(map(str, paths))}"
+        )
+    out_dir.mkdir(parents=True, exist_ok=True)
+    games = list(dict.fromkeys(info.game for info in runs))
+    tables, figures = [], {}
+    for game in games:
+        game_runs = [info for info in runs if info.game == game]
+        results = [r for info in game_runs if (r := run_results(info, protocol, evaluate, device, progress))]
+        baseline = random_records(game, protocol, cache_dir, evaluate, device, progress)
+        tables.append(build_table(game, protocol_test_sets(game, protocol), baseline, results))
+        conditions: dict[str, list[Path]] = {}
+        for info in game_runs:
+            conditions.setdefault(info.label, []).append(info.path)
+        curves = [c for label, dirs in conditions.items() if (c := pool_runs(label, dirs)) is not None]
+        if curves:
+            figures[game] = plot_curves(game, curves, out_dir / f"curves-{game}")
+    markdown = out_dir / "results.md"
+    markdown.write_text(markdown_report(tables, figures) + "\n")
+    html = out_dir / "results.html"
+    html.write_text(html_report(tables, figures) + "\n")
+    return Report(tables, markdown, write_csv(tables, out_dir / "results.csv"), html, figures)

@@ -1,0 +1,129 @@
+"""The results table of one game, shaped like the study's Table 1.
+
+Rows: Max, Random, then one row per training condition (regimen and frames trained), in the
+order Lv X, Lv 0-3, PCG X, PPCG. Columns: the test sets ``pcg0.5``, ``pcg1``, ``lv0`` … ``lv4``.
+A condition's cell is the mean over its runs (seeds) of each run's mean score on the test set,
+with the std across those run means (population std, as the study's ``calculate_mean_std.py``
+computed it with numpy). A cell on a test set the runs trained on is marked ``training``; the
+best held-out mean of each column (over the condition rows) is marked ``best``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+from gvgai_pcg.evaluation.evaluator import LevelRecord
+from gvgai_pcg.evaluation.max_score import mean_max_score
+from gvgai_pcg.evaluation.protocol import TEST_SETS, EvalSet
+
+COLUMN_LABELS = {name: name.replace("pcg", "PCG ").replace("lv", "Lv ") for name in TEST_SETS}
+_REGIMEN_ORDER = ("Lv", "Lv 0-3", "PCG", "PPCG")
+
+
+@dataclass
+class Cell:
+    mean: float
+    std: float | None = None  # across runs; None for Max and Random
+    runs: int = 1
+    training: bool = False  # the row's runs trained on this test set's levels
+    best: bool = False  # the best held-out mean of its column
+
+
+@dataclass
+class Row:
+    name: str  # "Max", "Random", "PPCG (100k)"
+    kind: str  # "max", "random" or "trained"
+    cells: dict[str, Cell]
+    regimen: str = ""
+    frames: int = 0
+    runs: list[str] = field(default_factory=list)
+
+
+@dataclass
+class RunResults:
+    """One trained run's records, with what the table needs to place them."""
+
+    label: str  # "Lv 0", "PPCG" …
+    frames: int
+    training_sets: tuple[str, ...]
+    records: list[LevelRecord]
+    path: str = ""
+
+
+@dataclass
+class GameTable:
+    game: str
+    columns: list[str]
+    rows: list[Row]
+
+
+def format_frames(frames: int) -> str:
+    """``40M``, ``1.5M``, ``200k``, ``640``."""
+    for unit, size in (("M", 1_000_000), ("k", 1_000)):
+        if frames >= size:
+            return f"{frames / size:.3g}{unit}"
+    return str(frames)
+
+
+def mean_scores(records: Sequence[LevelRecord]) -> dict[str, float]:
+    """Mean score over all episodes of each test set."""
+    scores: dict[str, list[float]] = {}
+    for record in records:
+        scores.setdefault(record.test_set, []).extend(record.scores)
+    return {name: sum(values) / len(values) for name, values in scores.items()}
+
+
+def _condition_order(row: Row) -> tuple:
+    prefix = row.regimen if row.regimen == "Lv 0-3" else row.regimen.split(" ")[0]
+    rank = _REGIMEN_ORDER.index(prefix) if prefix in _REGIMEN_ORDER else len(_REGIMEN_ORDER)
+    return (rank, row.regimen, row.frames)
+
+
+def condition_row(label: str, frames: int, runs: Sequence[RunResults], columns: Sequence[str]) -> Row:
+    """The row of the runs of one condition: mean and std across their per-run means."""
+    per_run = [mean_scores(run.records) for run in runs]
+    cells = {}
+    for column in columns:
+        values = [means[column] for means in per_run if column in means]
+        if not values:
+            continue
+        mean = sum(values) / len(values)
+        std = math.sqrt(sum((v - mean) ** 2 for v in values) / len(values))
+        cells[column] = Cell(
+            mean, std, len(values), training=any(column in run.training_sets for run in runs)
+        )
+    name = f"{label} ({format_frames(frames)})"
+    return Row(name, "trained", cells, regimen=label, frames=frames, runs=[run.path for run in runs])
+
+
+def mark_best(rows: Sequence[Row], columns: Sequence[str]) -> None:
+    """Mark, per column, the held-out cells of the trained rows that have the highest mean."""
+    for column in columns:
+        held_out = [r.cells[column] for r in rows if r.kind == "trained" and column in r.cells]
+        held_out = [cell for cell in held_out if not cell.training]
+        if held_out:
+            top = max(cell.mean for cell in held_out)
+            for cell in held_out:
+                cell.best = math.isclose(cell.mean, top, rel_tol=0, abs_tol=1e-9)
+
+
+def build_table(
+    game: str,
+    sets: Sequence[EvalSet],
+    random_records: Sequence[LevelRecord] | None,
+    runs: Sequence[RunResults],
+) -> GameTable:
+    """The table of ``game``: Max (from the levels), Random (if given), one row per condition."""
+    columns = [s.name for s in sets]
+    rows = [Row("Max", "max", {s.name: Cell(mean_max_score(s.levels)) for s in sets})]
+    if random_records:
+        rows.append(Row("Random", "random", {k: Cell(v) for k, v in mean_scores(random_records).items()}))
+    groups: dict[tuple[str, int], list[RunResults]] = {}
+    for run in runs:
+        groups.setdefault((run.label, run.frames), []).append(run)
+    conditions = [condition_row(label, frames, group, columns) for (label, frames), group in groups.items()]
+    rows += sorted(conditions, key=_condition_order)
+    mark_best(rows, columns)
+    return GameTable(game, columns, rows)
