@@ -20,7 +20,17 @@ _EXPORTS = {
     "as_level_source": "gvgai_pcg.envs.level_sources",
     "DifficultyTransform": "gvgai_pcg.envs.difficulty",
 }
-__all__ = sorted(_EXPORTS)
+__all__ = [
+    "OBSERVATION_KINDS",
+    "DifficultyTransform",
+    "FixedLevel",
+    "GVGAIEnv",
+    "GeneratedLevels",
+    "LevelPerEnv",
+    "LevelSource",
+    "UniformLevels",
+    "as_level_source",
+]
 
 if TYPE_CHECKING:
     from gvgai_pcg.envs.difficulty import DifficultyTransform
