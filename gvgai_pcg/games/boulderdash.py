@@ -1,1 +1,416 @@
-"""boulderdash: implemented in its own change (see issues)."""
+"""Boulderdash (RULES.md §7): dig, collect diamonds, dodge boulders and monsters, open the exit.
+
+The tick is RULES.md §1.3 with Boulderdash's classes and rules:
+
+* step 2, the avatar (ShootAvatar): rotate in place or move 10 px; USE puts the pickaxe (``sword``,
+  Flicker limit 1, singleton) in the faced cell;
+* step 3 in update order butterfly, crab (RandomNPC, cons 1: still at tick 0, a new direction at
+  ticks 1, 3, 5, …, one cell per tick), boulder (Missile: 2 px down per tick from tick 1), sword (age);
+* step 4, the collision rules in declaration order:
+  1 dirt × avatar kill dirt · 2 dirt × sword kill dirt · 3 diamond × avatar collectResource (+2, cap 10) ·
+  4 moving × wall stepBack · 5 moving × boulder stepBack · 6 avatar × boulder killIfFromAbove (−1) ·
+  7 avatar × butterfly kill (−1 each) · 8 avatar × crab kill (−1 each) · 9–11 boulder × dirt, wall,
+  diamond stepBack · 12 boulder × boulder stepBack · 13–14 enemy × dirt, diamond stepBack ·
+  15 crab × butterfly kill crab · 16 butterfly × crab transformTo diamond (+1) ·
+  17 exitdoor × avatar killIfOtherHasMore(diamond, 9);
+* step 5 cleanup: killed dirt, diamonds, monsters and the exit go only now, so a killed sprite still
+  acts as second sprite in every later rule of its tick (dead dirt holds a boulder for that tick);
+* step 6 termination: no avatar → LOSE, then no exitdoor → WIN.
+
+Static tiles are ``[B, H, W]`` grids (``diamond`` holds a count, since two butterflies sharing a
+cell leave two diamonds). Boulders are an entity table in level (row-major) order. They never
+appear, disappear or move sideways, so each keeps its column and its neighbour below for the
+whole episode (``below``, computed at compile time). That makes the sequential ``boulder ×
+boulder`` stepBack a single gather, see :func:`boulder_stepback`. Done in list order as §1.3
+says, that rule leaves the top boulder of a stack of three 2 px inside the middle one whenever the
+bottom one is stopped (RULES.md §7.7 says supported boulders always rest aligned; the golden traces
+have no such stack). Cleanup edits the dirt, diamond and exitdoor grids in place.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import torch
+from tensordict import TensorDict
+
+from gvgai_pcg.games import rng
+from gvgai_pcg.games.base import (
+    Game,
+    GridLayer,
+    Layer,
+    SpriteArt,
+    SpriteLayer,
+    avatar_cell,
+    char_entities,
+    char_grid,
+    common_state,
+)
+from gvgai_pcg.games.geometry import CELL, DIRECTION_NAMES, NONE, RIGHT
+from gvgai_pcg.games.registry import register_game
+from gvgai_pcg.levels import Level
+
+NIL, USE = 0, 1
+BUTTERFLY, CRAB = 0, 1  # enemy kinds, in update order (RULES.md §7.2)
+ENEMY_CHARS = {"b": BUTTERFLY, "c": CRAB}
+DIAMOND_LIMIT = 10  # the avatar holds at most 10 diamonds
+EXIT_DIAMONDS = 9  # killIfOtherHasMore limit of rule 17
+DIAMOND_SCORE, BUTTERFLY_SCORE, DEATH_SCORE = 2, 1, -1
+SWORD_LIMIT = 1
+BOULDER_FALL = 2  # px per tick: speed 0.2 of a 10-px cell
+STREAM_ENEMY_DIRECTION = 1
+# A boulder's flat key is column * _COLUMN_KEY + y: one subtraction compares column and height.
+_COLUMN_KEY = 1 << 20
+
+# Unit displacement per direction code (LEFT, RIGHT, DOWN, UP, NONE), see geometry.py.
+_DX = (-1, 1, 0, 0, 0)
+_DY = (0, 0, 1, -1, 0)
+
+
+def draw_enemy_directions(seed: torch.Tensor, draw_tick: torch.Tensor, slots: torch.Tensor) -> torch.Tensor:
+    """The direction (``[B, E]``, LEFT..UP) that enemy ``slot`` draws at ``draw_tick`` (``[B]``)."""
+    return rng.randint(seed, draw_tick, slots, STREAM_ENEMY_DIRECTION, 4)
+
+
+def enemy_directions(seed: torch.Tensor, tick: torch.Tensor, slots: torch.Tensor) -> torch.Tensor:
+    """RandomNPC with cons 1 (RULES.md §2) for sprites placed by the level, ``[B, E]``.
+
+    The counter makes the schedule a function of the tick alone: NONE at tick 0, a fresh draw at
+    every odd tick, and the previous tick's draw at every even tick. Drawing from the
+    counter-based rng at the draw tick gives the same direction on both ticks, so no ``counter``
+    or ``prev`` has to be stored. (Enemies are never spawned in Boulderdash.)
+    """
+    draw_tick = tick - (1 - tick % 2)
+    drawn = draw_enemy_directions(seed, draw_tick, slots)
+    return torch.where((tick > 0).unsqueeze(-1), drawn, torch.full_like(drawn, NONE))
+
+
+def cell_of(v: torch.Tensor) -> torch.Tensor:
+    """``v // 10`` for 0 <= v < 1029 without an integer division (slow on CPU)."""
+    return (v * 205) >> 11
+
+
+def cell_index(
+    x: torch.Tensor, y: torch.Tensor, height: int, width: int
+) -> tuple[torch.Tensor, torch.Tensor]:
+    """Flat cell index of cell-aligned sprites at ``x, y`` (any shape), clamped into the grid, and
+    whether the sprite is inside the grid at all (a level without border walls lets sprites out)."""
+    inside = (x >= 0) & (x < CELL * width) & (y >= 0) & (y < CELL * height)
+    cx = cell_of(x.clamp(0, CELL * (width - 1)))
+    cy = cell_of(y.clamp(0, CELL * (height - 1)))
+    return cy * width + cx, inside
+
+
+def boulder_cells(y: torch.Tensor, column: torch.Tensor, height: int, width: int) -> torch.Tensor:
+    """Flat indices ``[B, 2K]`` of the cells boulders at ``y`` (``[B, K]``) in ``column`` overlap:
+    boulder k's top row at ``2k``, its bottom row at ``2k + 1`` (the same cell again when it is
+    aligned). Rows below the grid map to row ``height``, which the caller's grids keep empty (a
+    boulder falls out of a level that has no bottom wall)."""
+    y = y.clamp(max=CELL * height)
+    rows = cell_of(torch.stack([y, y + (CELL - 1)], dim=-1))
+    return (rows * width + column.unsqueeze(-1)).view(y.shape[0], -1)
+
+
+def boulder_stepback(y: torch.Tensor, below: torch.Tensor, has_below: torch.Tensor) -> torch.Tensor:
+    """Rule 12, ``boulder × boulder → stepBack`` in list order: which boulders go back (``[B, K]``).
+
+    ``y`` are the positions after rules 9–11. Boulders only share a column with boulders, and list
+    order is top to bottom within a column. Boulder a, at its turn, sees the boulder below it
+    (later in the list) where rules 9–11 left it, and the boulder above it at its final place.
+    The one above never overlaps a: two boulders are never closer than 8 px (a pair can end a tick
+    2 px into each other when the lower one is stepped back by rule 12 after the upper one fell),
+    and an upper boulder that is closer than 10 px to the one below is always stepped back itself,
+    since it overlaps that one's position of rule 9–11 whether it moved or not. So only the
+    neighbour below matters, and the sequential rule is one comparison per boulder: a goes back iff
+    it overlaps its lower neighbour's position after rules 9–11. Boulders that did not move go back
+    to where they are, which changes nothing.
+    """
+    lower = torch.gather(y, 1, below)
+    return has_below & (lower - y < CELL)
+
+
+def below_neighbours(
+    x: torch.Tensor, y: torch.Tensor, alive: torch.Tensor
+) -> tuple[torch.Tensor, torch.Tensor]:
+    """For each boulder slot (``[B, K]``, row-major level order) the slot of the nearest boulder
+    below it in its column, and whether there is one."""
+    k = x.shape[1]
+    slots = torch.arange(k, device=x.device)
+    same_column = (x.unsqueeze(-1) == x.unsqueeze(-2)) & alive.unsqueeze(-1) & alive.unsqueeze(-2)
+    lower = same_column & (y.unsqueeze(-2) > y.unsqueeze(-1))
+    candidate = torch.where(lower, slots.view(1, 1, k), torch.full_like(lower, k, dtype=torch.int64))
+    nearest = candidate.min(-1).values
+    has_below = nearest < k
+    return torch.where(has_below, nearest, slots.expand_as(nearest)), has_below
+
+
+@register_game("boulderdash")
+class Boulderdash(Game):
+    actions = ("NIL", "USE", "LEFT", "RIGHT", "DOWN", "UP")
+    tile_types = ("wall", "sword", "dirt", "exitdoor", "diamond", "boulder", "crab", "butterfly", "avatar")
+    art = {
+        "background": SpriteArt((20, 20, 20)),
+        "wall": SpriteArt((110, 80, 50)),
+        "sword": SpriteArt((200, 200, 230), "bar"),
+        "dirt": SpriteArt((150, 105, 55)),
+        "exitdoor": SpriteArt((60, 170, 60), "frame"),
+        "diamond": SpriteArt((80, 220, 250), "small"),
+        "boulder": SpriteArt((150, 150, 150), "circle"),
+        "crab": SpriteArt((220, 60, 60), "diamond"),
+        "butterfly": SpriteArt((200, 120, 250), "diamond"),
+        "avatar": SpriteArt((250, 250, 250), "circle", oriented=True),
+    }
+
+    def compile(self, levels: Sequence[Level], seeds: torch.Tensor, device: torch.device) -> TensorDict:
+        batch = len(levels)
+        if max(level.height for level in levels) * CELL + CELL > 1028:
+            raise ValueError("boulderdash levels must have at most 101 rows (cell arithmetic of cell_of)")
+        ax, ay = avatar_cell(levels, "A")
+        zeros = torch.zeros(batch, dtype=torch.int64)
+        table = char_entities(levels, {"o": 0}, device, capacity=1)
+        bx, by, balive = table.get("x"), table.get("y"), table.get("alive")
+        below, has_below = below_neighbours(bx, by, balive)
+        column = cell_of(bx)
+        boulders = {  # int32: half the memory traffic of int64, and still valid gather indices
+            "x": bx.int(),
+            "y": by.int(),
+            "alive": balive,
+            "column": column.int(),
+            "key": (column * _COLUMN_KEY).int(),
+            "weight": balive.unsqueeze(-1).repeat(1, 1, 2).to(torch.uint8),
+            "below": below.int(),
+            "has_below": has_below,
+        }
+        enemies = char_entities(levels, ENEMY_CHARS, device)
+        avatar = {
+            "x": ax,
+            "y": ay,
+            "ori": torch.full((batch,), RIGHT, dtype=torch.int64),
+            "diamonds": zeros.clone(),
+            "alive": torch.ones(batch, dtype=torch.bool),
+        }
+        sword = {"x": zeros.clone(), "y": zeros.clone(), "age": zeros.clone(), "exists": zeros.bool()}
+        state = {
+            **common_state(seeds, device),
+            "wall": char_grid(levels, "w", device),
+            "dirt": char_grid(levels, ".", device),
+            "diamond": char_grid(levels, "x", device).to(torch.uint8),
+            "exitdoor": char_grid(levels, "e", device),
+            "exits": torch.tensor([level.count("e") for level in levels], dtype=torch.int64, device=device),
+            "avatar": TensorDict(avatar, batch_size=[batch]).to(device),
+            "sword": TensorDict(sword, batch_size=[batch]).to(device),
+            "boulders": TensorDict(boulders, batch_size=table.batch_size),
+            "enemies": enemies,
+        }
+        return TensorDict(state, batch_size=[batch], device=device)
+
+    def tick(self, state: TensorDict, action: torch.Tensor) -> None:
+        """RULES.md §1.3: the avatar, then butterflies, crabs, boulders and the pickaxe, then the rules."""
+        tick = state.get("tick") + 1
+        state.set("tick", tick)
+        avatar, sword = state.get("avatar"), state.get("sword")
+        enemies, boulders = state.get("enemies"), state.get("boulders")
+        dx, dy = self._unit(tick.device)
+
+        # Step 2, the avatar (ShootAvatar): a new direction only turns it, the faced one moves it 10 px;
+        # USE places the pickaxe in the faced cell unless one exists (singleton).
+        alive, ori = avatar.get("alive"), avatar.get("ori")
+        lastx, lasty = avatar.get("x"), avatar.get("y")
+        direction = torch.where(action >= 2, action - 2, torch.full_like(action, NONE))
+        pressed = alive & (direction != NONE)
+        step = (pressed & (direction == ori)).long() * CELL
+        ori = torch.where(pressed, direction, ori)
+        ax, ay = lastx + step * dx[direction], lasty + step * dy[direction]
+        exists = sword.get("exists")
+        place = alive & (action == USE) & ~exists
+        sx = torch.where(place, lastx + CELL * dx[ori], sword.get("x"))
+        sy = torch.where(place, lasty + CELL * dy[ori], sword.get("y"))
+        age = torch.where(place, torch.zeros_like(sword.get("age")), sword.get("age"))
+        exists = exists | place
+
+        # Step 3: butterflies and crabs (RandomNPC, one cell per tick), boulders (Missile, 2 px down
+        # from their second update on), the pickaxe (Flicker: killed once older than its limit).
+        elastx, elasty, present = enemies.get("x"), enemies.get("y"), enemies.get("alive")
+        heading = enemy_directions(state.get("seed"), tick, torch.arange(elastx.shape[1], device=tick.device))
+        ex, ey = elastx + CELL * dx[heading], elasty + CELL * dy[heading]
+        blasty = boulders.get("y")
+        by = blasty + (BOULDER_FALL * (tick > 0)).int().unsqueeze(-1)
+        sword_killed = exists & (age > SWORD_LIMIT)
+        age = age + exists.long()
+
+        # Step 4, the collision rules in declaration order.
+        wall, dirt, diamond, exitdoor = (state.get(k) for k in ("wall", "dirt", "diamond", "exitdoor"))
+        batch, height, width = wall.shape
+        cells = height * width
+        wall_f, dirt_f = wall.view(batch, cells), dirt.view(batch, cells)
+        diamond_f, exit_f = diamond.view(batch, cells), exitdoor.view(batch, cells)
+        score = state.get("score")
+
+        # 1 dirt × avatar, 2 dirt × sword: the dirt is killed (it stays, as second sprite, until cleanup).
+        a_cell, a_inside = cell_index(ax, ay, height, width)
+        a_here = alive & a_inside
+        s_cell, s_inside = cell_index(sx, sy, height, width)
+        dig_cells = torch.stack([a_cell, s_cell], dim=-1)
+        dig = torch.stack([a_here, exists & s_inside], dim=-1)
+
+        # 3 diamond × avatar: collectResource, one diamond at a time while the avatar holds < 10 (+2 each).
+        held = avatar.get("diamonds")
+        collected = torch.minimum(
+            diamond_f.gather(1, a_cell.unsqueeze(-1)).squeeze(-1).long(), DIAMOND_LIMIT - held
+        )
+        collected = collected * a_here
+        held = held + collected
+        score = score + DIAMOND_SCORE * collected
+
+        # 4 moving × wall, 5 moving × boulder: stepBack, against the boulders where step 3 moved them.
+        padded = cells + width  # one empty row under the grid for boulders that fell out of it
+        b_cells = boulder_cells(by, boulders.get("column"), height, width)
+        covered = torch.zeros(batch, padded, dtype=torch.uint8, device=tick.device)
+        covered.scatter_add_(1, b_cells, boulders.get("weight").view(batch, -1))
+        a_index = a_cell.unsqueeze(-1)
+        blocked = wall_f.gather(1, a_index) | (covered.gather(1, a_index) > 0)
+        back = a_here & blocked.squeeze(-1)
+        ax, ay = torch.where(back, lastx, ax), torch.where(back, lasty, ay)
+        e_cell, e_inside = cell_index(ex, ey, height, width)
+        back = present & e_inside & (wall_f.gather(1, e_cell) | (covered.gather(1, e_cell) > 0))
+        ex, ey = torch.where(back, elastx, ex), torch.where(back, elasty, ey)
+
+        # 6 avatar × boulder: killIfFromAbove, −1 if a boulder that was > 5 px higher moved down onto it.
+        # An avatar that moved and stayed overlaps no boulder (rule 5), so only one at its start-of-tick
+        # place can die. Every boulder moved 2 px in step 3 (from tick 1), so "was > 5 px higher and
+        # overlaps now" is: same column and by − ay in (−10, 2 − 5).
+        still = alive & (ax == lastx) & (ay == lasty) & (tick > 0)
+        offset = boulders.get("key") + by - (cell_of(ax) * _COLUMN_KEY + ay).int().unsqueeze(-1)
+        from_above = (offset > -CELL) & (offset < BOULDER_FALL - 5) & boulders.get("alive")
+        crushed = still & from_above.any(-1)
+        score = score + DEATH_SCORE * crushed.long()
+        # 7 avatar × butterfly, 8 avatar × crab: kill, −1 per monster (everything here is cell-aligned;
+        # a disabled avatar still collides for the rest of the tick).
+        touching = present & (ex == ax.unsqueeze(-1)) & (ey == ay.unsqueeze(-1)) & alive.unsqueeze(-1)
+        score = score + DEATH_SCORE * touching.sum(-1)
+        disabled = crushed | touching.any(-1)
+
+        # 9-11 boulder × dirt, wall, diamond: stepBack (dead dirt and collected diamonds still count).
+        solid = torch.zeros(batch, padded, dtype=torch.bool, device=tick.device)
+        torch.logical_or(dirt_f | wall_f, diamond_f, out=solid[:, :cells])
+        hit = solid.gather(1, b_cells).view(batch, -1, 2)
+        hit = hit[..., 0] | hit[..., 1]
+        by = torch.where(hit, blasty, by)
+        # 12 boulder × boulder: stepBack, in list order (see boulder_stepback).
+        by = torch.where(boulder_stepback(by, boulders.get("below"), boulders.get("has_below")), blasty, by)
+
+        # 13-14 enemy × dirt, diamond: stepBack (an enemy is never inside a wall by now).
+        e_cell, e_inside = cell_index(ex, ey, height, width)
+        back = present & e_inside & solid.gather(1, e_cell)
+        ex, ey = torch.where(back, elastx, ex), torch.where(back, elasty, ey)
+
+        # 15 crab × butterfly: kill the crab. 16 butterfly × crab: transformTo diamond, +1 per butterfly
+        # (a crab killed by rule 15 still counts as second sprite).
+        kind = enemies.get("kind")
+        crab, butterfly = present & (kind == CRAB), present & (kind == BUTTERFLY)
+        meet = (ex.unsqueeze(-1) == ex.unsqueeze(-2)) & (ey.unsqueeze(-1) == ey.unsqueeze(-2))
+        crab_dies = crab & (meet & butterfly.unsqueeze(-2)).any(-1)
+        turns = butterfly & (meet & crab.unsqueeze(-2)).any(-1)
+        score = score + BUTTERFLY_SCORE * turns.sum(-1)
+
+        # 17 exitdoor × avatar: killIfOtherHasMore, the exit goes if the avatar holds >= 9 diamonds.
+        a_cell, a_inside = cell_index(ax, ay, height, width)
+        exit_here = exit_f.gather(1, a_cell.unsqueeze(-1)).squeeze(-1)
+        opens = alive & a_inside & exit_here & (held >= EXIT_DIAMONDS)
+
+        # Step 5, cleanup: killed sprites go now; the new diamonds stay.
+        dirt_f.scatter_reduce_(1, dig_cells, ~dig, reduce="amin")
+        diamond_f.scatter_add_(1, dig_cells[:, :1], (-collected).to(torch.uint8).unsqueeze(-1))
+        e_cell, e_inside = cell_index(ex, ey, height, width)
+        diamond_f.scatter_add_(1, e_cell, (turns & e_inside).to(torch.uint8))
+        exit_f.scatter_(1, a_cell.unsqueeze(-1), (exit_here & ~opens).unsqueeze(-1))
+        exits = state.get("exits") - opens.long()
+        alive = alive & ~disabled
+        avatar.update({"x": ax, "y": ay, "ori": ori, "alive": alive, "diamonds": held})
+        sword.update({"x": sx, "y": sy, "age": age, "exists": exists & ~sword_killed})
+        enemies.update({"x": ex, "y": ey, "alive": present & ~crab_dies & ~turns})
+        boulders.set("y", by)
+        # Step 6, termination in declaration order: no avatar → LOSE, then no exitdoor → WIN.
+        lost = ~alive
+        won = ~lost & (exits == 0)
+        state.update(
+            {"exits": exits, "score": score, "won": state.get("won") | won, "lost": state.get("lost") | lost}
+        )
+
+    @staticmethod
+    def _unit(device: torch.device) -> tuple[torch.Tensor, torch.Tensor]:
+        return (
+            torch.tensor(_DX, dtype=torch.int64, device=device),
+            torch.tensor(_DY, dtype=torch.int64, device=device),
+        )
+
+    def layers(self, state: TensorDict) -> list[Layer]:
+        avatar, sword = state.get("avatar"), state.get("sword")
+        boulders, enemies = state.get("boulders"), state.get("enemies")
+        wall = state.get("wall")
+        one = lambda t: t.unsqueeze(-1)  # noqa: E731 - [B] -> [B, 1]
+        ex, ey, present, kind = enemies.get("x"), enemies.get("y"), enemies.get("alive"), enemies.get("kind")
+        return [
+            GridLayer("background", ~wall),
+            GridLayer("wall", wall),
+            SpriteLayer("sword", one(sword.get("x")), one(sword.get("y")), one(sword.get("exists"))),
+            GridLayer("dirt", state.get("dirt")),
+            GridLayer("exitdoor", state.get("exitdoor")),
+            GridLayer("diamond", state.get("diamond") > 0),
+            SpriteLayer("boulder", boulders.get("x"), boulders.get("y"), boulders.get("alive")),
+            SpriteLayer("crab", ex, ey, present & (kind == CRAB)),
+            SpriteLayer("butterfly", ex, ey, present & (kind == BUTTERFLY)),
+            SpriteLayer(
+                "avatar",
+                one(avatar.get("x")),
+                one(avatar.get("y")),
+                one(avatar.get("alive")),
+                one(avatar.get("ori")),
+            ),
+        ]
+
+    def snapshot(self, state: TensorDict, index: int) -> dict:
+        s = state[index]
+        avatar = None
+        if s.get(("avatar", "alive")).item():
+            held = s.get(("avatar", "diamonds")).item()
+            avatar = {
+                "type": "avatar",
+                "x": s.get(("avatar", "x")).item(),
+                "y": s.get(("avatar", "y")).item(),
+                "orientation": DIRECTION_NAMES[s.get(("avatar", "ori")).item()],
+                "resources": {"diamond": held} if held else {},
+            }
+        sprites = []
+        for name in ("dirt", "exitdoor"):
+            sprites += [[name, CELL * c, CELL * r] for r, c in s.get(name).nonzero().tolist()]
+        diamond = s.get("diamond")
+        for r, c in diamond.nonzero().tolist():
+            sprites += [["diamond", CELL * c, CELL * r]] * int(diamond[r, c])
+        if s.get(("sword", "exists")).item():
+            sprites.append(["sword", s.get(("sword", "x")).item(), s.get(("sword", "y")).item()])
+        boulders = s.get("boulders")
+        for k in boulders.get("alive").nonzero().flatten().tolist():
+            sprites.append(["boulder", boulders.get("x")[k].item(), boulders.get("y")[k].item()])
+        enemies = s.get("enemies")
+        for k in enemies.get("alive").nonzero().flatten().tolist():
+            name = "crab" if enemies.get("kind")[k].item() == CRAB else "butterfly"
+            sprites.append([name, enemies.get("x")[k].item(), enemies.get("y")[k].item()])
+        sprites.sort(key=lambda item: (item[0], item[2], item[1]))
+        return {
+            "tick": s.get("tick").item(),
+            "score": s.get("score").item(),
+            "status": "win" if s.get("won").item() else "lose" if s.get("lost").item() else "running",
+            "avatar": avatar,
+            "sprites": sprites,
+        }
+
+    def max_score(self, level: Level) -> int:
+        """+2 per diamond collected, at most 10 ever (the count never drops), from the level's diamonds
+        and the one each butterfly leaves when a crab meets it (+1 each; needs a crab). Opening the
+        exit scores 0, and a level without an exit is won at the reset tick (score 0)."""
+        if level.count("e") == 0:
+            return 0
+        butterflies = level.count("b") if level.count("c") > 0 else 0
+        diamonds = min(DIAMOND_LIMIT, level.count("x") + butterflies)
+        return DIAMOND_SCORE * diamonds + BUTTERFLY_SCORE * butterflies
