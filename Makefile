@@ -16,7 +16,7 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 run: $(STAMP)
-	$(BIN)/gvgai-pcg evaluate --agent random --game zelda --levels human --episodes 30 --seed 0
+	$(BIN)/gvgai-pcg train game=zelda regimen=ppcg env.obs=tiles model=compact device=cpu total_frames=1000000
 
 test: $(STAMP)
 	$(BIN)/ruff check gvgai_pcg tests

@@ -14,7 +14,7 @@ import logging
 import math
 import random
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -28,7 +28,7 @@ from tqdm.auto import tqdm
 from gvgai_pcg.rl.a2c_loss import A2CLoss
 from gvgai_pcg.rl.checkpoint import CHECKPOINT_NAME, load_checkpoint, restore, save_checkpoint
 from gvgai_pcg.rl.curves import plot_curve
-from gvgai_pcg.rl.environment import EnvFactory, make_difficulty
+from gvgai_pcg.rl.environment import EnvFactory, make_difficulty, share_through_files
 from gvgai_pcg.rl.models import make_actor_critic
 from gvgai_pcg.rl.run_log import EpisodeTracker, RunLog
 
@@ -45,6 +45,7 @@ class TrainResult:
     checkpoint_path: Path
     model_path: Path
     curve_path: Path | None
+    fps: float  # steady-state frames/s of this session (from the end of its first batch)
 
 
 def seed_everything(seed: int) -> None:
@@ -78,7 +79,13 @@ def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
         seed=int(cfg.seed) * 1_000_003 + frames,  # a resumed run plays new episodes
         difficulty=difficulty,
     )
-    env = make_env()
+    # worker processes attach the shared transform themselves; the main process probes the specs
+    # on an env of its own so that the shared transform reaches them without a parent
+    env = (
+        make_env()
+        if workers == 1
+        else replace(make_env, difficulty=make_difficulty(cfg.regimen, cfg.game.name))()
+    )
     obs_key = cfg.env.obs
 
     # --- agent: shared-torso actor-critic; the policy samples actions ---
@@ -121,6 +128,8 @@ def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
         )
     else:
         env.close()
+        if difficulty is not None:
+            share_through_files(difficulty, run_dir / "shared")
         collector = MultiSyncCollector(
             [functools.partial(make_env, worker=i) for i in range(workers)],
             policy,
@@ -149,6 +158,7 @@ def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
         }
         save_checkpoint(checkpoint_path, state)
 
+    steady_frames, steady_start = frames, None
     for rollout in collector if remaining > 0 else []:
         rollout = rollout.reshape(-1, rollout.shape[-1])  # [envs, n_steps] (workers stacked)
         tracker.update(rollout)
@@ -191,12 +201,15 @@ def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
             )
             row_frames, row_time = frames, now
 
+        if steady_start is None:
+            steady_frames, steady_start = frames, time.perf_counter()
         if frames >= next_checkpoint:
             checkpoint()
             next_checkpoint = (frames // every + 1) * every
         if frames >= cfg.total_frames:
             break
 
+    fps = (frames - steady_frames) / (time.perf_counter() - steady_start) if steady_start else math.nan
     bar.close()
     collector.shutdown()
     run_log.close()
@@ -206,7 +219,7 @@ def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
     curve_path = None
     if cfg.log.curve:
         curve_path = plot_curve(run_log.path, run_dir / "curve.png", title=cfg.run_name)
-    return TrainResult(run_dir, frames, run_log.path, checkpoint_path, model_path, curve_path)
+    return TrainResult(run_dir, frames, run_log.path, checkpoint_path, model_path, curve_path, fps)
 
 
 def _difficulty_of(difficulty) -> float:

@@ -8,6 +8,7 @@ episode at the difficulty the transform writes into the reset tensordict.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 from omegaconf import DictConfig
 from torchrl.envs import EnvBase, TransformedEnv
@@ -69,3 +70,16 @@ def make_difficulty(regimen: DictConfig, game: str):
         win_rule=regimen.win_rule,
         game=game,
     )
+
+
+def share_through_files(difficulty, directory: Path) -> None:
+    """Back the transform's buffers by memory-mapped files in ``directory``, so collector worker
+    processes (which receive a pickled copy of the factory) read and move the very same
+    difficulty as the main process; in-process shared memory does not survive that pickling."""
+    from tensordict import MemoryMappedTensor
+
+    directory.mkdir(parents=True, exist_ok=True)
+    for name, buffer in list(difficulty.named_buffers()):
+        setattr(
+            difficulty, name, MemoryMappedTensor.from_tensor(buffer, filename=directory / f"{name}.memmap")
+        )

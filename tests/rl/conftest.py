@@ -3,6 +3,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+import torch
 from hydra import compose, initialize_config_dir
 
 CONFIG_DIR = Path(__file__).resolve().parents[2] / "conf"
@@ -32,5 +33,15 @@ def generated_levels_available() -> bool:
 
 needs_generated_levels = pytest.mark.skipif(
     not generated_levels_available(),
-    reason="gvgai_pcg.envs GeneratedLevels / DifficultyTransform or the Zelda generator are not available yet",
+    reason="GeneratedLevels / DifficultyTransform (gvgai_pcg.envs) or the Zelda generator are not there yet",
 )
+
+
+@pytest.fixture(autouse=True)
+def one_torch_thread():
+    """Training tests use one intra-op thread (as the runs do): two threads on a shared two-core
+    machine spin against each other and can be many times slower."""
+    threads = torch.get_num_threads()
+    torch.set_num_threads(1)
+    yield
+    torch.set_num_threads(threads)

@@ -115,3 +115,17 @@ def test_a_killed_run_resumes_at_its_checkpoint(tmp_path):
     assert all(a["frames"] < b["frames"] for a, b in zip(rows, rows[1:], strict=False))
     assert all(a["episodes"] < b["episodes"] for a, b in zip(rows, rows[1:], strict=False))
     assert torch.load(checkpoint, weights_only=False)["frames"] == 6400
+
+
+@pytest.mark.slow  # spawning two worker processes costs most of a minute on a loaded 2-core machine
+@needs_generated_levels
+def test_collector_workers_move_one_difficulty(make_config, tmp_path):
+    # 2 workers x 8 envs, every episode times out after 20 steps (a win under the study's rule):
+    # each batch of 2 x 8 x 5 steps ends 16 episodes every 20 steps, all moving the one d
+    overrides = ["regimen=ppcg", "regimen.win_rule=study", "collector.workers=2", "env.num_envs=8"]
+    cfg = make_config(
+        [*overrides, "env.max_steps=20", "total_frames=1600", "log.curve=false", f"out_dir={tmp_path}"]
+    )
+    train(cfg, tmp_path / "run")
+    saved = torch.load(tmp_path / "run" / "checkpoints" / "last.pt", weights_only=False)
+    assert float(saved["difficulty"]["shared_difficulty"][0]) == pytest.approx(0.16 * 5, abs=1e-6)

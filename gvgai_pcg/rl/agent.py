@@ -1,0 +1,48 @@
+"""A trained agent as a policy for the evaluation runner: ``model.pt`` in, actions out."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import torch
+from tensordict import TensorDictBase
+
+from gvgai_pcg.games import get_game
+from gvgai_pcg.games.geometry import CELL
+from gvgai_pcg.levels import level_format
+from gvgai_pcg.rl.models import ActorCritic, make_actor_critic
+
+
+class TrainedAgent:
+    """Samples actions from a trained actor-critic (``greedy=True``: the most likely action).
+
+    Args:
+        path: a run's ``model.pt`` (or ``checkpoints/last.pt``).
+        seed: seeds the sampling generator.
+    """
+
+    def __init__(self, path: Path | str, seed: int = 0, greedy: bool = False, device: str = "cpu") -> None:
+        saved = torch.load(path, map_location=device, weights_only=False)
+        config = saved["config"]
+        game = get_game(config["game"]["name"])
+        self.obs_key = config["env"]["obs"]
+        fmt = level_format(game.name)
+        shape = (
+            (len(game.tile_types), fmt.height, fmt.width)
+            if self.obs_key == "tiles"
+            else (3, fmt.height * CELL, fmt.width * CELL)
+        )
+        self.net: ActorCritic = make_actor_critic(
+            config["model"]["name"], self.obs_key, shape, game.num_actions, config["model"]["hidden"]
+        ).to(device)
+        self.net.load_state_dict(saved["model"])
+        self.net.eval()
+        self.greedy = greedy
+        self.generator = torch.Generator(device=device).manual_seed(seed)
+
+    @torch.no_grad()
+    def __call__(self, tensordict: TensorDictBase) -> torch.Tensor:
+        logits, _ = self.net(tensordict.get(self.obs_key))
+        if self.greedy:
+            return logits.argmax(-1)
+        return torch.multinomial(logits.softmax(-1), 1, generator=self.generator).squeeze(-1)
