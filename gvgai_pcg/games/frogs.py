@@ -22,6 +22,7 @@ order; no rule depends on it (see ``_apply_rules``, rule 2b).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from functools import cache
 
 import torch
 from tensordict import TensorDict
@@ -71,6 +72,12 @@ NIL = 0
 # Frog actions 1..4 are LEFT, RIGHT, DOWN, UP: unit moves indexed by the action.
 ACTION_DX = (0, -1, 1, 0, 0)
 ACTION_DY = (0, 0, 0, 1, -1)
+
+
+@cache
+def _constant(values: tuple, dtype: torch.dtype, device: torch.device) -> torch.Tensor:
+    """A small lookup table (per-kind or per-action constants) on ``device``, made once."""
+    return torch.tensor(values, dtype=dtype, device=device)
 
 
 def spawner_ring_size(x: torch.Tensor, cooldown: torch.Tensor) -> torch.Tensor:
@@ -166,8 +173,8 @@ class Frogs(Game):
     def _update_avatar(
         action: torch.Tensor, pressed: torch.Tensor, x: torch.Tensor, y: torch.Tensor
     ) -> tuple[torch.Tensor, torch.Tensor]:
-        dx = torch.tensor(ACTION_DX, dtype=x.dtype, device=x.device)[action]
-        dy = torch.tensor(ACTION_DY, dtype=y.dtype, device=y.device)[action]
+        dx = _constant(ACTION_DX, x.dtype, x.device)[action]
+        dy = _constant(ACTION_DY, y.dtype, y.device)[action]
         return x + pressed * CELL * dx, y + pressed * CELL * dy
 
     # --- step 3: trucks, logs (Missiles, first update skipped), then spawners ---
@@ -195,8 +202,8 @@ class Frogs(Game):
         probability prob, written to the spawner's ring slot (never occupied, checked)."""
         spawners, logs = state.get("spawners"), state.get("logs")
         kind, sx, sy = spawners.get("kind"), spawners.get("x"), spawners.get("y")
-        cooldown = torch.tensor(SPAWN_COOLDOWN, dtype=torch.int64, device=kind.device)[kind]
-        prob = torch.tensor(SPAWN_PROB, dtype=torch.float64, device=kind.device)[kind]
+        cooldown = _constant(SPAWN_COOLDOWN, torch.int64, kind.device)[kind]
+        prob = _constant(SPAWN_PROB, torch.float64, kind.device)[kind]
         now = tick.unsqueeze(-1)
         draw = rng.uniform(state.get("seed"), tick, sy * SLOT_ROW_STRIDE + sx, STREAM_LOG_SPAWN)
         spawn = spawners.get("alive") & (now % cooldown == 0) & (draw < prob)
@@ -286,7 +293,7 @@ class Frogs(Game):
         drowned = ~shielded & (grid_count(water, x, y) > 0)
         killed = alive & (hit_truck | drowned)
 
-        state.set("avatar", TensorDict({"x": x, "y": y, "alive": alive & ~killed}, batch_size=x.shape))
+        state.get("avatar").update({"x": x, "y": y, "alive": alive & ~killed})
         state.update({"score": score, "goal": goal})
 
     # --- step 5: cleanup (logs killed by EOS at x < 0 are removed) ---
