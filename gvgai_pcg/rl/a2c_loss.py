@@ -110,7 +110,7 @@ class A2CLoss(LossModule):
                 self.gamma,
             )
         advantages = returns - values.detach()
-        dist = torch.distributions.Categorical(logits=logits)
+        dist = torch.distributions.Categorical(logits=logits, validate_args=False)
         log_prob = dist.log_prob(rollout.get("action"))
         entropy = dist.entropy().mean()
         value_loss = 0.5 * (values - returns).pow(2).mean()

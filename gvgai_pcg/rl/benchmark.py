@@ -22,8 +22,9 @@ from gvgai_pcg.rl.environment import EnvFactory, make_difficulty
 from gvgai_pcg.rl.models import make_actor_critic
 
 
-def model_limit_fps(cfg: DictConfig, seconds: float = 5.0) -> float:
-    """Frames/s of forward+backward (the A2C loss's work) on one batch of real observations."""
+def model_limit_fps(cfg: DictConfig, seconds: float = 5.0) -> tuple[float, float]:
+    """Frames/s of forward+backward (the A2C loss's work) on one batch of real observations,
+    per second of wall time and per second of CPU time."""
     if cfg.threads:
         torch.set_num_threads(int(cfg.threads))
     env = EnvFactory(
@@ -57,22 +58,26 @@ def model_limit_fps(cfg: DictConfig, seconds: float = 5.0) -> float:
         optimizer.step()
 
     update()  # warm-up
-    count, start = 0, time.perf_counter()
+    count, start, cpu = 0, time.perf_counter(), time.process_time()
     while time.perf_counter() - start < seconds:
         update()
         count += 1
-    return count * batch.shape[0] / (time.perf_counter() - start)
+    frames = count * batch.shape[0]
+    return frames / (time.perf_counter() - start), frames / (time.process_time() - cpu)
 
 
 def benchmark(cfg: DictConfig) -> dict[str, float]:
-    """``{"end_to_end_fps", "model_limit_fps", "ratio", "frames_per_batch", "load"}`` for ``cfg``."""
+    """End-to-end and model-only frames/s for ``cfg``, per wall and per CPU second, and their ratios."""
     with tempfile.TemporaryDirectory() as tmp:
         result = train(cfg, Path(tmp) / "run")
-    limit = model_limit_fps(cfg)
+    limit, cpu_limit = model_limit_fps(cfg)
     return {
         "end_to_end_fps": result.fps,
         "model_limit_fps": limit,
         "ratio": result.fps / limit,
+        "end_to_end_cpu_fps": result.cpu_fps,
+        "model_limit_cpu_fps": cpu_limit,
+        "cpu_ratio": result.cpu_fps / cpu_limit,
         "frames_per_batch": int(cfg.env.num_envs) * int(cfg.algo.n_steps),
         "load": os.getloadavg()[0],
     }
@@ -89,7 +94,9 @@ def main(argv: list[str]) -> int:
     print(
         f"{cfg.run_name}: end-to-end {numbers['end_to_end_fps']:.0f} frames/s, model fwd+bwd limit "
         f"{numbers['model_limit_fps']:.0f} frames/s ({numbers['ratio']:.0%}), batch "
-        f"{numbers['frames_per_batch']} frames, load {numbers['load']:.1f}"
+        f"{numbers['frames_per_batch']} frames, load {numbers['load']:.1f}\n"
+        f"  per CPU second: end-to-end {numbers['end_to_end_cpu_fps']:.0f}, model "
+        f"{numbers['model_limit_cpu_fps']:.0f} ({numbers['cpu_ratio']:.0%})"
     )
     return 0
 
