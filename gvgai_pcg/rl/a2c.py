@@ -140,7 +140,7 @@ def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
         )
 
     run_log = RunLog(run_dir, list(cfg.log.backends), resume_frames=frames if saved else None)
-    rows_every = int(cfg.log.every_episodes or cfg.env.num_envs)
+    rows_every = int(cfg.log.every_episodes)
     tracker = EpisodeTracker(workers * int(cfg.env.num_envs))
     losses_since_row: list[torch.Tensor] = []
     every = int(cfg.checkpoint.every_frames)
