@@ -94,7 +94,7 @@ def load_state(path: Path) -> dict:
 
 def run_info(run_dir: Path, checkpoint: Path | None = None) -> RunInfo:
     """The run in ``run_dir``, from ``checkpoint`` (default: ``model.pt``, else the last checkpoint)."""
-    run_dir = Path(run_dir)
+    run_dir = Path(run_dir).resolve()
     if checkpoint is None:
         checkpoint = run_dir / FINAL_MODEL if (run_dir / FINAL_MODEL).is_file() else run_dir / LAST_CHECKPOINT
     if not Path(checkpoint).is_file():
@@ -102,8 +102,9 @@ def run_info(run_dir: Path, checkpoint: Path | None = None) -> RunInfo:
             f"{run_dir}: no model to evaluate (looked for {FINAL_MODEL} and {LAST_CHECKPOINT}); "
             "is it a training run directory, and has it written a checkpoint?"
         )
-    state = load_state(Path(checkpoint))
-    return RunInfo(run_dir, state["config"], Path(checkpoint), int(state.get("frames", 0)))
+    checkpoint = Path(checkpoint).resolve()
+    state = load_state(checkpoint)
+    return RunInfo(run_dir, state["config"], checkpoint, int(state.get("frames", 0)))
 
 
 class ActorCriticPolicy:

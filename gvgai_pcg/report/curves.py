@@ -61,16 +61,18 @@ def plot_curves(game: str, curves: Sequence[PooledCurve], out_stem: Path) -> lis
 
     fig, axes = plt.subplots(1, max(1, len(curves)), figsize=(4.5 * max(1, len(curves)), 3.6), squeeze=False)
     for ax, curve in zip(axes[0], curves, strict=False):
-        ax.plot(curve.frames, curve.mean, color="tab:blue", label="score")
+        marker = "o" if len(curve.frames) < 3 else None  # a run too short for a line still shows
+        ax.plot(curve.frames, curve.mean, color="tab:blue", marker=marker, label="score")
         ax.fill_between(
             curve.frames, curve.mean - curve.std, curve.mean + curve.std, color="tab:blue", alpha=0.25
         )
         ax.set_title(f"{game}: {curve.label} ({curve.runs} run{'s' if curve.runs != 1 else ''})")
+        ax.set_xlim(left=0)
         ax.set_xlabel("frames")
         ax.set_ylabel("mean episode score", color="tab:blue")
         if not np.isnan(curve.difficulty).all():
             twin = ax.twinx()
-            twin.plot(curve.frames, curve.difficulty, color="tab:red")
+            twin.plot(curve.frames, curve.difficulty, color="tab:red", marker=marker)
             twin.set_ylim(0.0, 1.0)
             twin.set_ylabel("difficulty", color="tab:red")
     fig.tight_layout()
