@@ -36,6 +36,7 @@ def run(args: argparse.Namespace) -> int:
         evaluate=not args.no_evaluate,
         device=args.device,
         progress=not args.no_progress,
+        force=args.force,
     )
     for table in report.tables:
         print(f"{table.game}\n{markdown_table(table)}\n")

@@ -34,12 +34,12 @@ class Report:
 
 
 def run_results(
-    info: RunInfo, protocol: Protocol, evaluate: bool, device: str, progress: bool
+    info: RunInfo, protocol: Protocol, evaluate: bool, device: str, progress: bool, force: bool = False
 ) -> RunResults | None:
     """A run's protocol records (evaluating it when allowed), or ``None`` if it has none."""
     path = run_results_path(info.path, protocol)
     if evaluate:
-        records = evaluate_run(info, protocol, device, progress)
+        records = evaluate_run(info, protocol, device, progress, force)
     elif path.is_file():
         records = read_records(path)
     else:
@@ -51,10 +51,16 @@ def run_results(
 
 
 def random_records(
-    game: str, protocol: Protocol, cache_dir: Path | None, evaluate: bool, device: str, progress: bool
+    game: str,
+    protocol: Protocol,
+    cache_dir: Path | None,
+    evaluate: bool,
+    device: str,
+    progress: bool,
+    force: bool,
 ):
     if evaluate:
-        return evaluate_random(game, protocol, cache_dir, device, progress)
+        return evaluate_random(game, protocol, cache_dir, device, progress, force)
     path = random_results_path(game, protocol, cache_dir)
     return read_records(path) if path.is_file() else None
 
@@ -67,8 +73,11 @@ def build_report(
     evaluate: bool = True,
     device: str = "cpu",
     progress: bool = True,
+    force: bool = False,
 ) -> Report:
-    """Find the runs under ``paths``, evaluate them (and the random agent) as needed, write the report."""
+    """Find the runs under ``paths``, evaluate them (and the random agent) as needed, write the report.
+
+    ``force`` evaluates again even where current results exist."""
     runs = [run_info(path) for path in find_runs([Path(p) for p in paths])]
     if not runs:
         raise FileNotFoundError(
@@ -79,8 +88,10 @@ def build_report(
     tables, figures = [], {}
     for game in games:
         game_runs = [info for info in runs if info.game == game]
-        results = [r for info in game_runs if (r := run_results(info, protocol, evaluate, device, progress))]
-        baseline = random_records(game, protocol, cache_dir, evaluate, device, progress)
+        results = [
+            r for info in game_runs if (r := run_results(info, protocol, evaluate, device, progress, force))
+        ]
+        baseline = random_records(game, protocol, cache_dir, evaluate, device, progress, force)
         tables.append(build_table(game, protocol_test_sets(game, protocol), baseline, results))
         conditions: dict[str, list[Path]] = {}
         for info in game_runs:
