@@ -97,6 +97,19 @@ class Game(ABC):
         """The highest score the rules allow on ``level`` (RULES.md §4.6, 5.8, 6.6, 7.6)."""
 
 
+def golden_record(state: TensorDict, avatar: dict | None, sprites: list[list]) -> dict:
+    """One env's snapshot in the golden-trace format: ``state`` is that env's (unbatched) state;
+    ``sprites`` (``[type, x, y]`` entries) are sorted by type name, then y, then x."""
+    status = "win" if state.get("won").item() else "lose" if state.get("lost").item() else "running"
+    return {
+        "tick": state.get("tick").item(),
+        "score": state.get("score").item(),
+        "status": status,
+        "avatar": avatar,
+        "sprites": sorted(sprites, key=lambda item: (item[0], item[2], item[1])),
+    }
+
+
 def common_state(seeds: torch.Tensor, device: torch.device) -> dict[str, torch.Tensor]:
     """The entries every game state has, for a fresh episode (the reset tick makes ``tick`` 0)."""
     batch = seeds.shape[0]

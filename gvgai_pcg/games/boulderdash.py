@@ -45,6 +45,7 @@ from gvgai_pcg.games.base import (
     char_entities,
     char_grid,
     common_state,
+    golden_record,
 )
 from gvgai_pcg.games.geometry import CELL, DIRECTION_NAMES, NONE, RIGHT
 from gvgai_pcg.games.registry import register_game
@@ -396,14 +397,7 @@ class Boulderdash(Game):
         for k in enemies.get("alive").nonzero().flatten().tolist():
             name = "crab" if enemies.get("kind")[k].item() == CRAB else "butterfly"
             sprites.append([name, enemies.get("x")[k].item(), enemies.get("y")[k].item()])
-        sprites.sort(key=lambda item: (item[0], item[2], item[1]))
-        return {
-            "tick": s.get("tick").item(),
-            "score": s.get("score").item(),
-            "status": "win" if s.get("won").item() else "lose" if s.get("lost").item() else "running",
-            "avatar": avatar,
-            "sprites": sprites,
-        }
+        return golden_record(s, avatar, sprites)
 
     def max_score(self, level: Level) -> int:
         """+2 per diamond collected, at most 10 ever (the count never drops), from the level's diamonds

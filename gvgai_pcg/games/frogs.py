@@ -37,6 +37,7 @@ from gvgai_pcg.games.base import (
     char_entities,
     char_grid,
     common_state,
+    golden_record,
     pad_level,
 )
 from gvgai_pcg.games.geometry import CELL, cell_mask, grid_count, grid_hits
@@ -342,14 +343,7 @@ class Frogs(Game):
             table = s.get(key)
             for k in table.get("alive").nonzero().flatten().tolist():
                 sprites.append([name, table.get("x")[k].item(), table.get("y")[k].item()])
-        sprites.sort(key=lambda item: (item[0], item[2], item[1]))
-        return {
-            "tick": s.get("tick").item(),
-            "score": s.get("score").item(),
-            "status": "win" if s.get("won").item() else "lose" if s.get("lost").item() else "running",
-            "avatar": avatar,
-            "sprites": sprites,
-        }
+        return golden_record(s, avatar, sprites)
 
     def max_score(self, level: Level) -> int:
         """+1 per goal (rule 1 is the only score change); the game is won when none is left."""

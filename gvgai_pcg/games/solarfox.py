@@ -41,6 +41,7 @@ from gvgai_pcg.games.base import (
     char_entities,
     char_grid,
     common_state,
+    golden_record,
 )
 from gvgai_pcg.games.geometry import CELL, DIRECTION_NAMES, DOWN, LEFT, NONE, RIGHT, UP, overlaps
 from gvgai_pcg.games.registry import register_game
@@ -362,14 +363,7 @@ class Solarfox(Game):
         for k in shots.get("alive").nonzero().flatten().tolist():
             name = "upshot" if shots.get("dy")[k].item() < 0 else "downshot"
             sprites.append([name, shots.get("x")[k].item(), shots.get("y")[k].item()])
-        sprites.sort(key=lambda item: (item[0], item[2], item[1]))
-        return {
-            "tick": s.get("tick").item(),
-            "score": s.get("score").item(),
-            "status": "win" if s.get("won").item() else "lose" if s.get("lost").item() else "running",
-            "avatar": avatar,
-            "sprites": sprites,
-        }
+        return golden_record(s, avatar, sprites)
 
     def max_score(self, level: Level) -> int:
         """+1 per blib and +2 per powerblib (its blib is worth 1 and eating its powerblib 1, §5.6),

@@ -26,6 +26,7 @@ from gvgai_pcg.games.base import (
     char_entities,
     char_grid,
     common_state,
+    golden_record,
 )
 from gvgai_pcg.games.geometry import (
     CELL,
@@ -63,7 +64,7 @@ def random_npc_directions(
 ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
     """RandomNPC direction schedule (RULES.md §2): hold ``prev`` for ``cons`` updates, then draw.
 
-    Returns (direction, new counter, new prev), all ``[B, K]``.
+    Returns (direction, new counter), both ``[B, K]``; the direction is also the new ``prev``.
     """
     monsters = state.get(table)
     counter, prev = monsters.get("counter"), monsters.get("prev")
@@ -72,7 +73,7 @@ def random_npc_directions(
     draw = counter >= cons
     prev = torch.where(draw, drawn, prev)
     counter = torch.where(draw, torch.zeros_like(counter), counter + 1)
-    return prev, counter, prev
+    return prev, counter
 
 
 @register_game("zelda")
@@ -172,7 +173,7 @@ class Zelda(Game):
         kind, alive = monsters.get("kind"), monsters.get("alive")
         cons = torch.tensor(MONSTER_CONS, device=kind.device)[kind]
         cooldown = torch.tensor(MONSTER_COOLDOWN, device=kind.device)[kind]
-        direction, counter, prev = random_npc_directions(state, "monsters", cons, STREAM_MONSTER_DIRECTION)
+        direction, counter = random_npc_directions(state, "monsters", cons, STREAM_MONSTER_DIRECTION)
         lastmove = monsters.get("lastmove") + 1
         move = alive & (direction != NONE) & (lastmove >= cooldown)
         x, y = monsters.get("x"), monsters.get("y")
@@ -184,7 +185,7 @@ class Zelda(Game):
                 "y": y + move * CELL * direction_dy(direction),
                 "lastmove": torch.where(move, torch.zeros_like(lastmove), lastmove),
                 "counter": torch.where(alive, counter, monsters.get("counter")),
-                "prev": torch.where(alive, prev, monsters.get("prev")),
+                "prev": torch.where(alive, direction, monsters.get("prev")),
             }
         )
 
@@ -307,14 +308,7 @@ class Zelda(Game):
         for k in monsters.get("alive").nonzero().flatten().tolist():
             name = MONSTER_TYPES[monsters.get("kind")[k].item()]
             sprites.append([name, monsters.get("x")[k].item(), monsters.get("y")[k].item()])
-        sprites.sort(key=lambda item: (item[0], item[2], item[1]))
-        return {
-            "tick": s.get("tick").item(),
-            "score": s.get("score").item(),
-            "status": "win" if s.get("won").item() else "lose" if s.get("lost").item() else "running",
-            "avatar": avatar,
-            "sprites": sprites,
-        }
+        return golden_record(s, avatar, sprites)
 
     def max_score(self, level: Level) -> int:
         monsters = sum(level.count(ch) for ch in MONSTER_CHARS)
