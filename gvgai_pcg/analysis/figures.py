@@ -113,16 +113,10 @@ def _draw_difficulties(ax: plt.Axes, analysis: LevelDistribution, coords: np.nda
 
 
 def level_images(levels: list[Level]) -> np.ndarray:
-    """``[N, 10H, 10W, 3]`` uint8 RGB pictures of levels of one game, from the game's renderer."""
-    import torch
+    """``[N, 10H, 10W, 3]`` uint8 RGB pictures of levels of one game, padded to the game's full size."""
+    from gvgai_pcg.games.render import level_pictures
 
-    from gvgai_pcg.games import get_game
-    from gvgai_pcg.games.render import render_pixels
-
-    game = get_game(levels[0].game)
-    full = [Level(level.game, tuple(padded_rows(level)), name=level.name) for level in levels]
-    state = game.compile(full, torch.zeros(len(full), dtype=torch.int64), torch.device("cpu"))
-    return render_pixels(game, state).permute(0, 2, 3, 1).numpy()
+    return level_pictures([Level(level.game, tuple(padded_rows(level)), name=level.name) for level in levels])
 
 
 def representatives_figure(analysis: LevelDistribution, path: Path) -> Path:

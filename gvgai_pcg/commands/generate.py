@@ -1,8 +1,8 @@
 """``gvgai-pcg generate``: levels from the constructive generators, printed or written as files.
 
 ``--difficulty`` takes one value or a sweep ``start:stop:step`` (stop included); for each
-difficulty, ``--count`` levels with seeds ``seed .. seed+count-1``. Writing goes through
-``write_level`` so another output format (e.g. PNG) can be added next to the text one.
+difficulty, ``--count`` levels with seeds ``seed .. seed+count-1``. With ``--out`` the levels are
+written as text files, and with ``--png`` also as pictures drawn with the game's tile art.
 """
 
 from __future__ import annotations
@@ -52,6 +52,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--count", type=int, default=1, help="levels per difficulty (default 1)")
     parser.add_argument("--seed", type=int, default=0, help="first seed; level i uses seed+i (default 0)")
     parser.add_argument("--out", type=Path, help="write <name>.txt files here instead of printing")
+    parser.add_argument("--png", action="store_true", help="with --out, also write <name>.png pictures")
 
 
 def write_level(level: Level, out: Path) -> Path:
@@ -65,6 +66,9 @@ def run(args: argparse.Namespace) -> int:
     if args.count < 1 or args.seed < 0:
         print("--count must be >= 1 and --seed >= 0", file=sys.stderr)
         return 2
+    if args.png and args.out is None:
+        print("--png needs --out DIR", file=sys.stderr)
+        return 2
     if args.out is not None:
         args.out.mkdir(parents=True, exist_ok=True)
     for difficulty in args.difficulty:
@@ -75,4 +79,8 @@ def run(args: argparse.Namespace) -> int:
                 print(level, end="")
             else:
                 print(write_level(level, args.out))
+                if args.png:
+                    from gvgai_pcg.generators.pictures import write_png
+
+                    print(write_png(level, args.out / f"{level.name}.png"))
     return 0

@@ -9,11 +9,13 @@ from __future__ import annotations
 
 from functools import cache
 
+import numpy as np
 import torch
 from tensordict import TensorDict
 
 from gvgai_pcg.games.base import Game, GridLayer, SpriteArt, SpriteLayer
 from gvgai_pcg.games.geometry import CELL, DOWN, LEFT, RIGHT, UP
+from gvgai_pcg.levels import Level
 
 
 def _shape_mask(shape: str) -> torch.Tensor:
@@ -173,6 +175,19 @@ def render_pixels(game: Game, state: TensorDict) -> torch.Tensor:
             drawn_any = True
     rgba = canvas[:, :-1].contiguous().view(torch.uint8).view(batch, ph, pw, 4)
     return rgba[..., :3].permute(0, 3, 1, 2).contiguous()
+
+
+def level_pictures(levels: list[Level]) -> np.ndarray:
+    """``[N, 10H, 10W, 3]`` uint8 RGB pictures of levels of one game as they start (before the
+    reset tick), padded to the batch's largest grid like the env pads them."""
+    from gvgai_pcg.games.base import pad_level
+    from gvgai_pcg.games.registry import get_game
+
+    game = get_game(levels[0].game)
+    height, width = max(lv.height for lv in levels), max(lv.width for lv in levels)
+    padded = [pad_level(level, height, width, game.pad_char) for level in levels]
+    state = game.compile(padded, torch.zeros(len(padded), dtype=torch.int64), torch.device("cpu"))
+    return render_pixels(game, state).permute(0, 2, 3, 1).numpy()
 
 
 def ascii_frame(game: Game, state: TensorDict, index: int = 0) -> str:
