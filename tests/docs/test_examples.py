@@ -53,8 +53,21 @@ def test_the_extractor_sees_fences_and_the_marker() -> None:
     assert python_blocks(text) == [(2, "a = 1", True), (6, "raise SystemExit", False), (9, "b = 2", True)]
 
 
+@pytest.fixture
+def isolated_registries():
+    """A page may register its own generator or game; keep that out of the other tests."""
+    from gvgai_pcg.games import registry as game_registry
+    from gvgai_pcg.generators import registry as generator_registry
+
+    saved = dict(game_registry._GAMES), dict(generator_registry._GENERATORS)
+    yield
+    for registry, before in zip((game_registry._GAMES, generator_registry._GENERATORS), saved, strict=True):
+        registry.clear()
+        registry.update(before)
+
+
 @pytest.mark.parametrize("page", pages(), ids=lambda path: str(path.relative_to(DOCS)))
-def test_page_examples_run(page: Path, tmp_path: Path) -> None:
+def test_page_examples_run(page: Path, tmp_path: Path, isolated_registries) -> None:
     namespace: dict[str, object] = {"__name__": f"docs_{page.stem}"}
     cwd = os.getcwd()
     os.chdir(tmp_path)
