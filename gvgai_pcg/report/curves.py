@@ -58,6 +58,9 @@ def plot_curves(game: str, curves: Sequence[PooledCurve], out_stem: Path) -> lis
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import FuncFormatter
+
+    from gvgai_pcg.report.table import format_frames
 
     fig, axes = plt.subplots(1, max(1, len(curves)), figsize=(4.5 * max(1, len(curves)), 3.6), squeeze=False)
     for ax, curve in zip(axes[0], curves, strict=False):
@@ -68,6 +71,7 @@ def plot_curves(game: str, curves: Sequence[PooledCurve], out_stem: Path) -> lis
         )
         ax.set_title(f"{game}: {curve.label} ({curve.runs} run{'s' if curve.runs != 1 else ''})")
         ax.set_xlim(left=0)
+        ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: format_frames(int(x))))
         ax.set_xlabel("frames")
         ax.set_ylabel("mean episode score", color="tab:blue")
         if not np.isnan(curve.difficulty).all():
