@@ -104,77 +104,80 @@ def render_tiles(game: Game, state: TensorDict) -> torch.Tensor:
     return tiles.view(batch, len(game.tile_types), height, width)
 
 
-def _packed_images(game: Game, type_name: str, device: torch.device) -> torch.Tensor:
-    """``[V, 10, 10]`` int32: each RGBA pixel packed in one int (R in the low byte), 0 = transparent."""
+def _depth_images(game: Game, type_name: str, depth: int, device: torch.device) -> torch.Tensor:
+    """``[V, 10, 10]`` int32 pixels ``depth << 24 | B << 16 | G << 8 | R``; transparent pixels are 0."""
     rgba = _images(game.name, type_name, str(device)).to(torch.int32)  # [V, 4, 10, 10]
-    packed = rgba[:, 0] | (rgba[:, 1] << 8) | (rgba[:, 2] << 16) | (rgba[:, 3] << 24)
+    packed = (depth << 24) | rgba[:, 0] | (rgba[:, 1] << 8) | (rgba[:, 2] << 16)
     return torch.where(rgba[:, 3] > 0, packed, 0)
 
 
-def _composite_grid_run(canvas: torch.Tensor, run: list[GridLayer], game: Game, first: bool) -> None:
-    """Draw consecutive grid layers in one pass: pick each cell's top image, expand it to pixels."""
-    batch, height, width = run[0].cells.shape
-    device = canvas.device
-    atlas = torch.cat(
-        [torch.zeros(1, CELL, CELL, dtype=torch.int32, device=device)]
-        + [_packed_images(game, layer.name, device)[:1] for layer in run]
-    )  # [1 + len(run), 10, 10], index 0 = nothing
-    top = torch.zeros(batch, height, width, dtype=torch.int64, device=device)
-    for i, layer in enumerate(run, start=1):
-        top = torch.where(layer.cells, i, top)
-    pixels = atlas.view(len(run) + 1, CELL * CELL).index_select(0, top.view(-1))
-    pixels = (
-        pixels.view(batch, height, width, CELL, CELL).transpose(2, 3).reshape(batch, -1)
-    )  # [B, 10H * 10W]
-    if first:
-        canvas[:, :-1] = pixels
-    else:
-        canvas[:, :-1] = torch.where(pixels != 0, pixels, canvas[:, :-1])
+@cache
+def _grid_atlas(game_name: str, grid_layers: tuple[tuple[str, int], ...], device: str) -> torch.Tensor:
+    """``[2^n, 100]`` depth-packed pictures of every combination of the n grid layers, composited
+    in drawing order (bit i set = layer i present in the cell)."""
+    from gvgai_pcg.games.registry import get_game
+
+    game = get_game(game_name)
+    images = [
+        _depth_images(game, name, depth, torch.device(device))[0].view(-1) for name, depth in grid_layers
+    ]
+    atlas = torch.zeros(1 << len(images), CELL * CELL, dtype=torch.int32, device=device)
+    for combo in range(1 << len(images)):
+        for i, image in enumerate(images):
+            if combo >> i & 1:
+                atlas[combo] = torch.where(image != 0, image, atlas[combo])
+    return atlas
 
 
-def _draw_sprites(canvas: torch.Tensor, layer: SpriteLayer, game: Game, height: int, width: int) -> None:
+def _draw_grids(layers: list, game: Game, batch: int, height: int, width: int) -> torch.Tensor:
+    """``[B, 10H * 10W]`` depth-packed canvas of all grid layers, drawn in one gather: each cell's
+    set of grid sprites indexes a precomposited picture."""
+    grids = [(depth, layer) for depth, layer in enumerate(layers, start=1) if isinstance(layer, GridLayer)]
+    device = grids[0][1].cells.device
+    combo = torch.zeros(batch, height, width, dtype=torch.int64, device=device)
+    for bit, (_, layer) in enumerate(grids):
+        combo |= layer.cells.to(torch.int64) << bit
+    key = tuple((layer.name, depth) for depth, layer in grids)
+    pixels = _grid_atlas(game.name, key, str(device)).index_select(0, combo.view(-1))
+    return pixels.view(batch, height, width, CELL, CELL).transpose(2, 3).reshape(batch, -1)
+
+
+def _draw_sprites(
+    canvas: torch.Tensor, layer: SpriteLayer, depth: int, game: Game, height: int, width: int
+) -> None:
+    """Scatter a sprite layer into the depth-packed canvas: a pixel keeps the highest depth, so the
+    result is the drawing order's whatever order the scatter runs in."""
     batch, k = layer.x.shape
     device = canvas.device
     ph, pw = height * CELL, width * CELL
-    images = _packed_images(game, layer.name, device)
-    offsets = torch.arange(CELL, device=device)
-    px = layer.x.view(batch, k, 1, 1) + offsets.view(1, 1, 1, CELL)  # [B, K, 1, 10]
-    py = layer.y.view(batch, k, 1, 1) + offsets.view(1, 1, CELL, 1)  # [B, K, 10, 1]
+    images = _depth_images(game, layer.name, depth, device)
+    offsets = torch.arange(CELL, device=device, dtype=torch.int32)
+    px = layer.x.to(torch.int32).view(batch, k, 1, 1) + offsets.view(1, 1, 1, CELL)  # [B, K, 1, 10]
+    py = layer.y.to(torch.int32).view(batch, k, 1, 1) + offsets.view(1, 1, CELL, 1)  # [B, K, 10, 1]
     variant = layer.variant if layer.variant is not None else torch.zeros_like(layer.x)
     image = images[variant.clamp(0, images.shape[0] - 1)]  # [B, K, 10, 10]
-    visible = (
-        layer.present.view(batch, k, 1, 1) & (px >= 0) & (px < pw) & (py >= 0) & (py < ph) & (image != 0)
-    )
-    index = torch.where(visible, py * pw + px, ph * pw).reshape(batch, -1)
-    canvas.scatter_(1, index, image.reshape(batch, -1))
+    inside = layer.present.view(batch, k, 1, 1) & (px >= 0) & (px < pw) & (py >= 0) & (py < ph)
+    index = torch.where(inside, py * pw + px, 0).reshape(batch, -1).long()
+    canvas.scatter_reduce_(1, index, torch.where(inside, image, 0).reshape(batch, -1), reduce="amax")
 
 
 def render_pixels(game: Game, state: TensorDict) -> torch.Tensor:
     """``[B, 3, 10H, 10W]`` uint8 RGB frame; uncovered pixels are black (GVGAI has no background).
 
-    Layers are drawn in the game's drawing order on a canvas of packed RGBA ints: runs of
-    consecutive grid layers are composited in one pass, sprites are scattered at their exact
-    pixel positions.
+    A z-buffer keeps the drawing order: every pixel is an int ``depth << 24 | RGB`` where depth is
+    the layer's place in the drawing order. The grid layers are drawn in one gather (each cell's
+    combination of grid sprites picks a precomposited picture), then each sprite layer is
+    scattered with ``amax``, so a sprite shows exactly where no later-drawn layer covers it.
     """
     layers = game.layers(state)
     grid = next(layer.cells for layer in layers if isinstance(layer, GridLayer))
     batch, height, width = grid.shape
-    ph, pw = height * CELL, width * CELL
-    canvas = torch.zeros(batch, ph * pw + 1, dtype=torch.int32, device=grid.device)  # last pixel: a dump
-    run: list[GridLayer] = []
-    drawn_any = False
-    for layer in [*layers, None]:
-        if isinstance(layer, GridLayer):
-            run.append(layer)
-            continue
-        if run:
-            _composite_grid_run(canvas, run, game, first=not drawn_any)
-            run, drawn_any = [], True
-        if layer is not None:
-            _draw_sprites(canvas, layer, game, height, width)
-            drawn_any = True
-    rgba = canvas[:, :-1].contiguous().view(torch.uint8).view(batch, ph, pw, 4)
-    return rgba[..., :3].permute(0, 3, 1, 2).contiguous()
+    canvas = _draw_grids(layers, game, batch, height, width)
+    for depth, layer in enumerate(layers, start=1):
+        if isinstance(layer, SpriteLayer):
+            _draw_sprites(canvas, layer, depth, game, height, width)
+    rgb = canvas.view(torch.uint8).view(batch, height * CELL, width * CELL, 4)[..., :3]
+    return rgb.permute(0, 3, 1, 2).contiguous()
 
 
 def level_pictures(levels: list[Level]) -> np.ndarray:
