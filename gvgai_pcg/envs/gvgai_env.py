@@ -8,6 +8,7 @@ mask) recompile only the masked envs, each with the next level from its level so
 
 from __future__ import annotations
 
+from collections import OrderedDict
 from collections.abc import Sequence
 
 import numpy as np
@@ -18,13 +19,14 @@ from torchrl.envs import EnvBase
 
 from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
 from gvgai_pcg.games import get_game
-from gvgai_pcg.games.base import merge_states, pad_level
+from gvgai_pcg.games.base import concatenate_states, merge_states, pad_level
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.games.render import ascii_frame, render_pixels, render_tiles
 from gvgai_pcg.games.rng import derive_seeds, mix64
 from gvgai_pcg.levels import Level
 
 OBSERVATION_KINDS = ("tiles", "pixels")
+COMPILED_LEVEL_CACHE = 64  # distinct levels whose compiled initial state an env keeps
 
 
 class GVGAIEnv(EnvBase):
@@ -78,6 +80,7 @@ class GVGAIEnv(EnvBase):
             (num_envs,), self._default_difficulty, dtype=torch.float32, device=self.device
         )
         self._levels: list[Level | None] = [None] * num_envs
+        self._compiled: OrderedDict[Level, TensorDict] = OrderedDict()
         self._level_seeds = torch.full((num_envs,), -1, dtype=torch.int64)
         self._make_specs()
 
@@ -145,28 +148,59 @@ class GVGAIEnv(EnvBase):
         if tensordict is not None and "difficulty" in tensordict.keys():
             requested = tensordict.get("difficulty").reshape(self.num_envs).to(self.device, torch.float32)
             self._difficulty = requested if reset_all else torch.where(mask, requested, self._difficulty)
-        if len(index) > 0:
-            self._start_episodes(index)
-        return self._observation(torch.zeros(self.num_envs, dtype=torch.bool, device=self.device), reset=True)
+        if reset_all or len(index) == 0:
+            if reset_all:
+                self._start_episodes(index)
+            return self._observation(self.state, index=None, reset=True)
+        # Only the reset envs' rows of a partial reset's output are read (TorchRL merges them by
+        # the mask), so only the fresh envs are rendered; the other rows stay zero.
+        fresh = self._start_episodes(index)
+        return self._observation(fresh, index=index.to(self.device), reset=True)
 
-    def _start_episodes(self, index: torch.Tensor) -> None:
+    def _start_episodes(self, index: torch.Tensor) -> TensorDict:
+        """Start a new episode in envs ``index`` (CPU, sorted); returns their fresh states."""
         episode_seeds = mix64(self._env_seeds[index] ^ mix64(self._episodes[index]))
         self._episodes[index] += 1
         difficulties = self._difficulty[index.to(self.device)].cpu()
         levels = self.level_source.next_levels(index, episode_seeds, difficulties)
         for i, level in zip(index.tolist(), levels, strict=True):
             self._levels[i] = level
-        padded = [pad_level(level, self.grid_height, self.grid_width, self.game.pad_char) for level in levels]
-        fresh = self.game.compile(padded, episode_seeds, self.device)
-        self.game.tick(
-            fresh, torch.zeros(len(index), dtype=torch.int64, device=self.device)
-        )  # the reset tick
+        fresh = self._compile(levels, episode_seeds)
+        self.game.tick(fresh, torch.zeros(len(index), dtype=torch.int64, device=self.device))  # reset tick
         if self._state is None or len(index) == self.num_envs:
             self._state = fresh
         else:
             self._state = merge_states(self._state, fresh, index.to(self.device))
         self._steps[index.to(self.device)] = 0
         self._level_seeds[index] = torch.tensor([lv.seed if lv.seed is not None else -1 for lv in levels])
+        return fresh
+
+    def _compile(self, levels: list[Level], episode_seeds: torch.Tensor) -> TensorDict:
+        """The initial states of ``levels``. Levels that recur (human levels, a fixed list) are
+        compiled once and kept, so their resets cost a copy, not a parse; a batch of mostly new
+        levels (generated ones) is compiled in one call."""
+        groups: dict[Level, list[int]] = {}
+        for i, level in enumerate(levels):
+            groups.setdefault(level, []).append(i)
+        if len(groups) > max(1, len(levels) // 2):
+            padded = [pad_level(lv, self.grid_height, self.grid_width, self.game.pad_char) for lv in levels]
+            return self.game.compile(padded, episode_seeds, self.device)
+        parts = [self._compiled_level(level).expand(len(rows)) for level, rows in groups.items()]
+        order = torch.tensor([i for rows in groups.values() for i in rows])
+        batch = concatenate_states(parts)[torch.argsort(order).to(self.device)]
+        batch.set("seed", episode_seeds.to(self.device))
+        return batch
+
+    def _compiled_level(self, level: Level) -> TensorDict:
+        """The initial state of one level (batch ``[1]``), from a small LRU cache."""
+        row = self._compiled.pop(level, None)
+        if row is None:
+            padded = pad_level(level, self.grid_height, self.grid_width, self.game.pad_char)
+            row = self.game.compile([padded], torch.zeros(1, dtype=torch.int64), self.device)
+        self._compiled[level] = row  # most recently used last
+        while len(self._compiled) > COMPILED_LEVEL_CACHE:
+            self._compiled.pop(next(iter(self._compiled)))
+        return row
 
     def _step(self, tensordict: TensorDictBase) -> TensorDict:
         state = self.state
@@ -174,33 +208,32 @@ class GVGAIEnv(EnvBase):
         before = state.get("score")
         self.game.tick(state, action)
         self._steps += 1
-        reward = (state.get("score") - before).to(torch.float32).unsqueeze(-1)
-        truncated = (self._steps >= self.max_steps) & ~(state.get("won") | state.get("lost"))
-        out = self._observation(truncated, reset=False)
-        out.set("reward", reward)
+        out = self._observation(state, index=None, reset=False)
+        out.set("reward", (state.get("score") - before).to(torch.float32).unsqueeze(-1))
         return out
 
-    def _observation(self, truncated: torch.Tensor, reset: bool) -> TensorDict:
-        state = self.state
-        terminated = state.get("won") | state.get("lost")
-        if reset:
-            terminated = torch.zeros_like(terminated)
+    def _observation(self, state: TensorDict, index: torch.Tensor | None, reset: bool) -> TensorDict:
+        """The output of ``state`` (all envs, or the envs ``index`` placed in a full-size output)."""
+        rows = slice(None) if index is None else index
+        terminated = torch.zeros_like(state.get("won")) if reset else state.get("won") | state.get("lost")
+        truncated = (self._steps[rows] >= self.max_steps) & ~terminated
         render = render_tiles if self.obs_kind == "tiles" else render_pixels
-        b = self.num_envs
-        return TensorDict(
-            {
-                self.obs_kind: render(self.game, state),
-                "score": state.get("score").to(torch.float32).unsqueeze(-1),
-                "won": state.get("won").unsqueeze(-1).clone(),
-                "difficulty": self._difficulty.unsqueeze(-1).clone(),
-                "level_seed": self._level_seeds.to(self.device).unsqueeze(-1).clone(),
-                "terminated": terminated.unsqueeze(-1),
-                "truncated": truncated.unsqueeze(-1),
-                "done": (terminated | truncated).unsqueeze(-1),
-            },
-            batch_size=[b],
-            device=self.device,
-        )
+        values = {
+            self.obs_kind: render(self.game, state),
+            "score": state.get("score").to(torch.float32).unsqueeze(-1),
+            "won": state.get("won").unsqueeze(-1).clone(),
+            "difficulty": self._difficulty[rows].unsqueeze(-1).clone(),
+            "level_seed": self._level_seeds.to(self.device)[rows].unsqueeze(-1).clone(),
+            "terminated": terminated.unsqueeze(-1),
+            "truncated": truncated.unsqueeze(-1),
+            "done": (terminated | truncated).unsqueeze(-1),
+        }
+        out = TensorDict(values, batch_size=[state.batch_size[0]], device=self.device)
+        if index is None:
+            return out
+        full = out.apply(lambda v: v.new_zeros((self.num_envs, *v.shape[1:])), batch_size=[self.num_envs])
+        full[index] = out
+        return full
 
     def _set_seed(self, seed: int | None) -> int | None:
         if seed is not None:

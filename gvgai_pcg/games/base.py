@@ -206,3 +206,12 @@ def merge_states(state: TensorDict, fresh: TensorDict, index: torch.Tensor) -> T
     fresh = pad_entity_tables(fresh, sizes)
     state[index] = fresh
     return state
+
+
+def concatenate_states(states: Sequence[TensorDict]) -> TensorDict:
+    """One batch of the envs of ``states`` (in order); entity tables are grown to the largest."""
+    sizes: dict[str, int] = {}
+    for state in states:
+        for key, size in entity_capacities(state).items():
+            sizes[key] = max(size, sizes.get(key, 0))
+    return torch.cat([pad_entity_tables(state.clone(False), sizes) for state in states], dim=0)
