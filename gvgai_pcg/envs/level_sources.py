@@ -28,6 +28,16 @@ class LevelSource(Protocol):
         ...
 
 
+def single_game(levels: Sequence[Level]) -> str:
+    """The one game all ``levels`` are of; an empty or mixed list is refused."""
+    if not levels:
+        raise ValueError("a level source needs at least one level")
+    games = {level.game for level in levels}
+    if len(games) != 1:
+        raise ValueError(f"all levels of a source must be of one game, got {sorted(games)}")
+    return games.pop()
+
+
 class FixedLevel:
     """The same level every episode (the study's Lv X)."""
 
@@ -48,12 +58,7 @@ class UniformLevels:
     episode seed so that the choice is reproducible per env."""
 
     def __init__(self, levels: Sequence[Level]) -> None:
-        if not levels:
-            raise ValueError("UniformLevels needs at least one level")
-        games = {level.game for level in levels}
-        if len(games) != 1:
-            raise ValueError(f"all levels of a source must be of one game, got {sorted(games)}")
-        self.game, self.levels = games.pop(), list(levels)
+        self.game, self.levels = single_game(levels), list(levels)
 
     def next_levels(
         self, env_indices: torch.Tensor, episode_seeds: torch.Tensor, difficulties: torch.Tensor
@@ -69,10 +74,7 @@ class LevelPerEnv:
     """Env i always plays ``levels[i]`` (evaluation: every env of the batch has its own level)."""
 
     def __init__(self, levels: Sequence[Level]) -> None:
-        games = {level.game for level in levels}
-        if len(games) != 1:
-            raise ValueError(f"all levels of a source must be of one game, got {sorted(games)}")
-        self.game, self.levels = games.pop(), list(levels)
+        self.game, self.levels = single_game(levels), list(levels)
 
     def next_levels(
         self, env_indices: torch.Tensor, episode_seeds: torch.Tensor, difficulties: torch.Tensor

@@ -123,11 +123,9 @@ class ActorCriticPolicy:
 
     @torch.no_grad()
     def __call__(self, tensordict: TensorDictBase) -> torch.Tensor:
-        logits, _ = self.net(tensordict.get(self.obs_key))
-        if self.greedy:
-            return logits.argmax(-1)
-        probs = torch.softmax(logits.float(), dim=-1)
-        return torch.multinomial(probs, 1, generator=self.generator).squeeze(-1)
+        from gvgai_pcg.rl.agent import policy_actions
+
+        return policy_actions(self.net, tensordict.get(self.obs_key), self.greedy, self.generator)
 
 
 def observation_shape(game: str, obs: str) -> tuple[int, int, int]:

@@ -13,6 +13,16 @@ from gvgai_pcg.levels import level_format
 from gvgai_pcg.rl.models import ActorCritic, make_actor_critic
 
 
+def policy_actions(
+    net: ActorCritic, observation: torch.Tensor, greedy: bool, generator: torch.Generator
+) -> torch.Tensor:
+    """``[B]`` actions of an actor-critic: sampled from its softmax with ``generator``, or the argmax."""
+    logits, _ = net(observation)
+    if greedy:
+        return logits.argmax(-1)
+    return torch.multinomial(logits.float().softmax(-1), 1, generator=generator).squeeze(-1)
+
+
 class TrainedAgent:
     """Samples actions from a trained actor-critic (``greedy=True``: the most likely action).
 
@@ -42,7 +52,4 @@ class TrainedAgent:
 
     @torch.no_grad()
     def __call__(self, tensordict: TensorDictBase) -> torch.Tensor:
-        logits, _ = self.net(tensordict.get(self.obs_key))
-        if self.greedy:
-            return logits.argmax(-1)
-        return torch.multinomial(logits.softmax(-1), 1, generator=self.generator).squeeze(-1)
+        return policy_actions(self.net, tensordict.get(self.obs_key), self.greedy, self.generator)
