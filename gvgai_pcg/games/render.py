@@ -14,7 +14,7 @@ import torch
 from tensordict import TensorDict
 
 from gvgai_pcg.games.base import Game, GridLayer, SpriteArt, SpriteLayer
-from gvgai_pcg.games.geometry import CELL, DOWN, LEFT, RIGHT, UP
+from gvgai_pcg.games.geometry import CELL, DOWN, LEFT, RIGHT, UP, cell_of_int32
 from gvgai_pcg.levels import Level
 
 
@@ -72,36 +72,29 @@ def _images(game_name: str, type_name: str, device: str) -> torch.Tensor:
     return sprite_images(get_game(game_name).art[type_name]).to(device)
 
 
-def centre_cell(position: torch.Tensor) -> torch.Tensor:
-    """The cell holding a sprite's centre along one axis, ``floor((p + 5) / 10)``, as int32.
-
-    Exact for centres in [0, 1029) px (every screen here is smaller); a centre left of or above
-    the screen gives a negative cell. A multiply and a shift, because integer division is slow on
-    the CPU.
-    """
-    return ((position.to(torch.int32) + CELL // 2) * 205) >> 11
-
-
 def render_tiles(game: Game, state: TensorDict) -> torch.Tensor:
-    """``[B, C, H, W]`` uint8, channel c = ``game.tile_types[c]``."""
+    """``[B, C, H, W]`` uint8, channel c = ``game.tile_types[c]``; a sprite is marked in the cell
+    that holds its centre."""
     layers = game.layers(state)
     grid = next(layer.cells for layer in layers if isinstance(layer, GridLayer))
     batch, height, width = grid.shape
+    cells = height * width
     channel_of = {name: c for c, name in enumerate(game.tile_types)}
-    tiles = torch.zeros(batch, len(game.tile_types), height * width, dtype=torch.uint8, device=grid.device)
+    # One spare cell per channel takes the marks of sprites that are absent or off the grid, so
+    # sprites are marked with a plain scatter of ones.
+    tiles = torch.zeros(batch, len(game.tile_types), cells + 1, dtype=torch.uint8, device=grid.device)
     for layer in layers:
         channel = channel_of.get(layer.name)
         if channel is None:
             continue
-        plane = tiles[:, channel]
         if isinstance(layer, GridLayer):
-            plane |= layer.cells.reshape(batch, -1).to(torch.uint8)
+            tiles[:, channel, :cells] |= layer.cells.reshape(batch, cells).to(torch.uint8)
             continue
-        cx, cy = centre_cell(layer.x), centre_cell(layer.y)
+        cx, cy = cell_of_int32(layer.x + CELL // 2), cell_of_int32(layer.y + CELL // 2)
         inside = layer.present & (cx >= 0) & (cx < width) & (cy >= 0) & (cy < height)
-        index = torch.where(inside, cy * width + cx, 0).reshape(batch, -1).long()
-        plane.scatter_reduce_(1, index, inside.reshape(batch, -1).to(torch.uint8), reduce="amax")
-    return tiles.view(batch, len(game.tile_types), height, width)
+        index = torch.where(inside, cy * width + cx, cells).reshape(batch, -1)
+        tiles[:, channel].scatter_(1, index.long(), 1)
+    return tiles[:, :, :cells].reshape(batch, len(game.tile_types), height, width)
 
 
 def _depth_images(game: Game, type_name: str, depth: int, device: torch.device) -> torch.Tensor:
