@@ -14,7 +14,7 @@ import torch
 from tensordict import TensorDict
 
 from gvgai_pcg.games.base import Game, GridLayer, SpriteArt, SpriteLayer
-from gvgai_pcg.games.geometry import CELL, DOWN, LEFT, RIGHT, UP, cell_of_int32
+from gvgai_pcg.games.geometry import CELL, DOWN, LEFT, RIGHT, UP
 from gvgai_pcg.levels import Level
 
 
@@ -74,27 +74,59 @@ def _images(game_name: str, type_name: str, device: str) -> torch.Tensor:
 
 def render_tiles(game: Game, state: TensorDict) -> torch.Tensor:
     """``[B, C, H, W]`` uint8, channel c = ``game.tile_types[c]``; a sprite is marked in the cell
-    that holds its centre."""
+    that holds its centre.
+
+    Each channel has one spare cell after its grid that takes the marks of sprites that are absent
+    or off the grid, so every sprite layer is one plain scatter of ones. Bool grids are copied as
+    uint8 views (no conversion).
+    """
     layers = game.layers(state)
     grid = next(layer.cells for layer in layers if isinstance(layer, GridLayer))
     batch, height, width = grid.shape
-    cells = height * width
+    cells, channels = height * width, len(game.tile_types)
     channel_of = {name: c for c, name in enumerate(game.tile_types)}
-    # One spare cell per channel takes the marks of sprites that are absent or off the grid, so
-    # sprites are marked with a plain scatter of ones.
-    tiles = torch.zeros(batch, len(game.tile_types), cells + 1, dtype=torch.uint8, device=grid.device)
+    tiles = torch.empty(batch, channels, cells + 1, dtype=torch.uint8, device=grid.device)
+    grids: dict[int, list[torch.Tensor]] = {}
+    for layer in layers:
+        if isinstance(layer, GridLayer) and layer.name in channel_of:
+            grids.setdefault(channel_of[layer.name], []).append(
+                layer.cells.reshape(batch, cells).view(torch.uint8)
+            )
+    for channel in range(channels):
+        drawn = grids.get(channel)
+        if drawn is None:
+            tiles[:, channel].zero_()
+            continue
+        tiles[:, channel, :cells].copy_(drawn[0])
+        for more in drawn[1:]:
+            tiles[:, channel, :cells].bitwise_or_(more)
+    # Sprites are marked by a flat ``put_`` (cheaper than a scatter along dim 1); each index
+    # carries its env's row start, and the cell offset of 100 (see _centre_cell) folds into it.
+    rows = torch.arange(batch, device=grid.device).unsqueeze(-1) * (channels * (cells + 1))
+    flat = tiles.view(-1)
     for layer in layers:
         channel = channel_of.get(layer.name)
-        if channel is None:
+        if channel is None or not isinstance(layer, SpriteLayer):
             continue
-        if isinstance(layer, GridLayer):
-            tiles[:, channel, :cells] |= layer.cells.reshape(batch, cells).to(torch.uint8)
-            continue
-        cx, cy = cell_of_int32(layer.x + CELL // 2), cell_of_int32(layer.y + CELL // 2)
-        inside = layer.present & (cx >= 0) & (cx < width) & (cy >= 0) & (cy < height)
-        index = torch.where(inside, cy * width + cx, cells).reshape(batch, -1)
-        tiles[:, channel].scatter_(1, index.long(), 1)
-    return tiles[:, :, :cells].reshape(batch, len(game.tile_types), height, width)
+        column, row = _centre_cell(layer.x), _centre_cell(layer.y)
+        column_in, row_in = column.clamp(100, width + 99), row.clamp(100, height + 99)
+        shown = layer.present & (column_in == column) & (row_in == row)
+        first = rows + channel * (cells + 1)
+        index = torch.where(shown, row * width + column + (first - 100 * width - 100), first + cells)
+        flat.put_(index.view(-1).long(), _one(tiles.device).expand(index.numel()))
+    return tiles[:, :, :cells].reshape(batch, channels, height, width)
+
+
+@cache
+def _one(device: torch.device) -> torch.Tensor:
+    return torch.ones((), dtype=torch.uint8, device=device)
+
+
+def _centre_cell(position: torch.Tensor) -> torch.Tensor:
+    """``floor((p + 5) / 10) + 100``: the cell holding the centre of sprites at ``p``, offset by 100.
+    Integer division by multiply-and-shift as in :func:`geometry.cell_of_int32` (exact for
+    p in [-1005, 14995), monotonic beyond), in int32."""
+    return ((position.to(torch.int32) + (CELL // 2 + 1000)) * 6554) >> 16
 
 
 def _depth_images(game: Game, type_name: str, depth: int, device: torch.device) -> torch.Tensor:

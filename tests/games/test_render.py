@@ -1,5 +1,6 @@
 """Observations drawn from layers: the tiles view and the z-buffered pixels."""
 
+import pytest
 import torch
 
 from gvgai_pcg.games import get_game
@@ -53,3 +54,48 @@ def test_tiles_mark_the_cell_holding_a_sprite_centre():
     tiles = render_tiles(game, state)[0, game.tile_types.index("avatar")]
     assert state.get("avatar").get("x").item() == 25
     assert tiles.nonzero().tolist() == [[1, 3]]  # centre at x = 30: column 3
+
+
+def reference_tiles(game, state, index: int) -> torch.Tensor:
+    """Env ``index``'s tiles marked one sprite at a time in Python: the meaning render_tiles must keep."""
+    layers = game.layers(state)
+    height, width = next(layer.cells for layer in layers if hasattr(layer, "cells")).shape[1:]
+    tiles = torch.zeros(len(game.tile_types), height, width, dtype=torch.uint8)
+    for layer in layers:
+        if layer.name not in game.tile_types:
+            continue
+        channel = game.tile_types.index(layer.name)
+        if hasattr(layer, "cells"):
+            tiles[channel] |= layer.cells[index].to(torch.uint8)
+            continue
+        for x, y, present in zip(layer.x[index], layer.y[index], layer.present[index], strict=True):
+            column, row = (int(x) + 5) // 10, (int(y) + 5) // 10
+            if present and 0 <= column < width and 0 <= row < height:
+                tiles[channel, row, column] = 1
+    return tiles
+
+
+@pytest.mark.parametrize("name", ["zelda", "solarfox", "frogs", "boulderdash"])
+def test_tiles_equal_marking_each_sprite_on_its_own(name):
+    from gvgai_pcg.levels import human_levels
+
+    game = get_game(name)
+    levels = [human_levels(name)[i % 5] for i in range(10)]
+    state = game.compile(levels, torch.arange(10), torch.device("cpu"))
+    generator = torch.Generator().manual_seed(1)
+    for tick in range(120):
+        game.tick(state, torch.randint(0, game.num_actions, (10,), generator=generator))
+        if tick % 20 == 19:
+            tiles = render_tiles(game, state)
+            for index in range(10):
+                assert torch.equal(tiles[index], reference_tiles(game, state, index))
+
+
+def test_tiles_leave_sprites_off_the_grid_unmarked():
+    game, state = compiled("solarfox", ("w....w", "w+A++w", "w++++w", "w....w"))
+    avatar = state.get("avatar")
+    for x, y in ((-6, 10), (55, 10), (10, -6), (10, 35), (-500, -500), (9000, 10)):
+        avatar.update({"x": torch.tensor([x]), "y": torch.tensor([y])})
+        assert render_tiles(game, state)[0, game.tile_types.index("avatar")].sum() == 0, (x, y)
+    avatar.update({"x": torch.tensor([-5]), "y": torch.tensor([34])})  # centre (0, 39): cell (0, 3)
+    assert render_tiles(game, state)[0, game.tile_types.index("avatar")].nonzero().tolist() == [[3, 0]]
