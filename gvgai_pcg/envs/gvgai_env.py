@@ -18,6 +18,7 @@ from torchrl.data import Bounded, Categorical, Composite, Unbounded
 from torchrl.envs import EnvBase
 
 from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
+from gvgai_pcg.envs.shards import ShardedStepper, default_shards
 from gvgai_pcg.games import get_game
 from gvgai_pcg.games.base import concatenate_states, merge_states, pad_level
 from gvgai_pcg.games.geometry import CELL
@@ -42,6 +43,9 @@ class GVGAIEnv(EnvBase):
         device: where the state and every output tensor live.
         seed: an int (per-env seeds are derived from it) or one seed per env. Env i's episode k
             uses the seed ``mix(env_seed[i], k)``, whatever else shares the batch.
+        shards: on the CPU, a step ticks and renders this many slices of the batch on as many
+            threads (see ``gvgai_pcg.envs.shards``); the default is one per torch thread when
+            every slice keeps 512+ envs. The results do not depend on it.
     """
 
     batch_locked = True
@@ -56,6 +60,7 @@ class GVGAIEnv(EnvBase):
         device: torch.device | str = "cpu",
         seed: int | Sequence[int] = 0,
         difficulty: float = 0.0,
+        shards: int | None = None,
     ) -> None:
         if obs not in OBSERVATION_KINDS:
             raise ValueError(
@@ -82,6 +87,9 @@ class GVGAIEnv(EnvBase):
         self._levels: list[Level | None] = [None] * num_envs
         self._compiled: OrderedDict[Level, TensorDict] = OrderedDict()
         self._level_seeds = torch.full((num_envs,), -1, dtype=torch.int64)
+        self._stepper = ShardedStepper(
+            num_envs, default_shards(num_envs, self.device) if shards is None else shards
+        )
         self._make_specs()
 
     # --- specs ---
@@ -205,21 +213,37 @@ class GVGAIEnv(EnvBase):
     def _step(self, tensordict: TensorDictBase) -> TensorDict:
         state = self.state
         action = tensordict.get("action").reshape(self.num_envs).to(self.device, torch.int64)
-        before = state.get("score")
-        self.game.tick(state, action)
+        before = state.get("score").clone()  # a sharded step writes the new score into it
         self._steps += 1
-        out = self._observation(state, index=None, reset=False)
+        out = self._observation(
+            state, index=None, reset=False, observed=self._stepper(self._tick, state, action)
+        )
         out.set("reward", (state.get("score") - before).to(torch.float32).unsqueeze(-1))
         return out
 
-    def _observation(self, state: TensorDict, index: torch.Tensor | None, reset: bool) -> TensorDict:
-        """The output of ``state`` (all envs, or the envs ``index`` placed in a full-size output)."""
+    def _tick(self, state: TensorDict, action: torch.Tensor) -> torch.Tensor:
+        """One tick of ``state``, then its observation (the work of one shard)."""
+        self.game.tick(state, action)
+        return self._render(state)
+
+    def _render(self, state: TensorDict) -> torch.Tensor:
+        render = render_tiles if self.obs_kind == "tiles" else render_pixels
+        return render(self.game, state)
+
+    def _observation(
+        self,
+        state: TensorDict,
+        index: torch.Tensor | None,
+        reset: bool,
+        observed: torch.Tensor | None = None,
+    ) -> TensorDict:
+        """The output of ``state`` (all envs, or the envs ``index`` placed in a full-size output);
+        ``observed`` is its already rendered observation, if any."""
         rows = slice(None) if index is None else index
         terminated = torch.zeros_like(state.get("won")) if reset else state.get("won") | state.get("lost")
         truncated = (self._steps[rows] >= self.max_steps) & ~terminated
-        render = render_tiles if self.obs_kind == "tiles" else render_pixels
         values = {
-            self.obs_kind: render(self.game, state),
+            self.obs_kind: self._render(state) if observed is None else observed,
             "score": state.get("score").to(torch.float32).unsqueeze(-1),
             "won": state.get("won").unsqueeze(-1).clone(),
             "difficulty": self._difficulty[rows].unsqueeze(-1).clone(),

@@ -1,0 +1,63 @@
+"""A sharded step (slices of the batch on several threads) gives exactly an unsharded step."""
+
+import pytest
+import torch
+
+from gvgai_pcg.envs import GVGAIEnv
+from gvgai_pcg.envs.shards import MIN_SHARD, ShardedStepper, default_shards
+
+
+@pytest.mark.parametrize("game", ["zelda", "solarfox", "frogs", "boulderdash"])
+def test_sharded_steps_equal_unsharded_steps_across_resets(game):
+    envs = [GVGAIEnv(game, num_envs=7, levels="human", seed=3, shards=shards) for shards in (1, 3)]
+    assert [env._stepper.shards for env in envs] == [1, 3]
+    tds = [env.reset() for env in envs]
+    generator = torch.Generator().manual_seed(0)
+    for _ in range(60):
+        action = torch.randint(0, envs[0].game.num_actions, (7,), generator=generator)
+        outs = []
+        for i, env in enumerate(envs):
+            tds[i].set("action", action.clone())
+            stepped, tds[i] = env.step_and_maybe_reset(tds[i])
+            outs.append(stepped)
+        assert (outs[0] == outs[1]).all()
+        assert (envs[0].state == envs[1].state).all()
+
+
+def test_shards_cover_the_batch_in_order():
+    stepper = ShardedStepper(10, 3)
+    assert [(s.start, s.stop) for s in stepper.slices] == [(0, 3), (3, 6), (6, 10)]
+    assert ShardedStepper(2, 5).shards == 2
+
+
+def test_the_callers_torch_threads_are_restored():
+    threads = torch.get_num_threads()
+    env = GVGAIEnv("zelda", num_envs=4, shards=2)
+    td = env.reset()
+    td.set("action", torch.zeros(4, dtype=torch.int64))
+    env.step(td)
+    assert torch.get_num_threads() == threads
+
+
+def test_default_shards_follow_torch_threads_and_batch_size():
+    cpu = torch.device("cpu")
+    threads = torch.get_num_threads()
+    assert default_shards(MIN_SHARD - 1, cpu) == 1
+    assert default_shards(64 * MIN_SHARD, cpu) == threads
+    assert default_shards(64 * MIN_SHARD, torch.device("meta")) == 1
+
+
+def test_shards_must_be_positive():
+    with pytest.raises(ValueError, match="at least 1"):
+        ShardedStepper(4, 0)
+
+
+@pytest.mark.parametrize("game", ["zelda", "solarfox", "frogs", "boulderdash"])
+def test_no_two_state_entries_share_memory_after_a_reset(game):
+    """A shard writes its replaced entries back into the full state, so no entry may alias another."""
+    env = GVGAIEnv(game, num_envs=5, levels="human")
+    env.reset()
+    owners: dict[int, object] = {}
+    for key, value in env.state.items(True, True):
+        if value.numel():
+            assert owners.setdefault(value.untyped_storage().data_ptr(), key) == key
