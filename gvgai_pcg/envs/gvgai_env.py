@@ -8,7 +8,6 @@ mask) recompile only the masked envs, each with the next level from its level so
 
 from __future__ import annotations
 
-from collections import OrderedDict
 from collections.abc import Sequence
 
 import numpy as np
@@ -17,10 +16,11 @@ from tensordict import TensorDict, TensorDictBase
 from torchrl.data import Bounded, Categorical, Composite, Unbounded
 from torchrl.envs import EnvBase
 
+from gvgai_pcg.envs.level_bank import CompiledLevelBank
 from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
 from gvgai_pcg.envs.shards import ShardedStepper, default_shards
 from gvgai_pcg.games import get_game
-from gvgai_pcg.games.base import concatenate_states, merge_states, pad_level
+from gvgai_pcg.games.base import merge_states, pad_level
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.games.render import ascii_frame, render_pixels, render_tiles
 from gvgai_pcg.games.rng import derive_seeds, mix64
@@ -85,7 +85,9 @@ class GVGAIEnv(EnvBase):
             (num_envs,), self._default_difficulty, dtype=torch.float32, device=self.device
         )
         self._levels: list[Level | None] = [None] * num_envs
-        self._compiled: OrderedDict[Level, TensorDict] = OrderedDict()
+        self._bank = CompiledLevelBank(
+            self.game, self.grid_height, self.grid_width, self.device, COMPILED_LEVEL_CACHE
+        )
         self._level_seeds = torch.full((num_envs,), -1, dtype=torch.int64)
         self._stepper = ShardedStepper(
             num_envs, default_shards(num_envs, self.device) if shards is None else shards
@@ -161,7 +163,8 @@ class GVGAIEnv(EnvBase):
                 self._start_episodes(index)
             return self._observation(self.state, index=None, reset=True)
         # Only the reset envs' rows of a partial reset's output are read (TorchRL merges them by
-        # the mask), so only the fresh envs are rendered; the other rows stay zero.
+        # the mask), so only the fresh envs are rendered, and the other rows are left unset
+        # (uninitialised memory: no pass over the whole batch).
         fresh = self._start_episodes(index)
         return self._observation(fresh, index=index.to(self.device), reset=True)
 
@@ -184,31 +187,13 @@ class GVGAIEnv(EnvBase):
         return fresh
 
     def _compile(self, levels: list[Level], episode_seeds: torch.Tensor) -> TensorDict:
-        """The initial states of ``levels``. Levels that recur (human levels, a fixed list) are
-        compiled once and kept, so their resets cost a copy, not a parse; a batch of mostly new
-        levels (generated ones) is compiled in one call."""
-        groups: dict[Level, list[int]] = {}
-        for i, level in enumerate(levels):
-            groups.setdefault(level, []).append(i)
-        if len(groups) > max(1, len(levels) // 2):
+        """The initial states of ``levels``. Levels that recur (human levels, a fixed list) come
+        from the bank of compiled levels, so their resets cost a gather, not a parse; a batch of
+        mostly new levels (generated ones) is compiled in one call."""
+        if len(set(levels)) > max(1, len(levels) // 2):
             padded = [pad_level(lv, self.grid_height, self.grid_width, self.game.pad_char) for lv in levels]
             return self.game.compile(padded, episode_seeds, self.device)
-        parts = [self._compiled_level(level).expand(len(rows)) for level, rows in groups.items()]
-        order = torch.tensor([i for rows in groups.values() for i in rows])
-        batch = concatenate_states(parts)[torch.argsort(order).to(self.device)]
-        batch.set("seed", episode_seeds.to(self.device))
-        return batch
-
-    def _compiled_level(self, level: Level) -> TensorDict:
-        """The initial state of one level (batch ``[1]``), from a small LRU cache."""
-        row = self._compiled.pop(level, None)
-        if row is None:
-            padded = pad_level(level, self.grid_height, self.grid_width, self.game.pad_char)
-            row = self.game.compile([padded], torch.zeros(1, dtype=torch.int64), self.device)
-        self._compiled[level] = row  # most recently used last
-        while len(self._compiled) > COMPILED_LEVEL_CACHE:
-            self._compiled.pop(next(iter(self._compiled)))
-        return row
+        return self._bank.initial_states(levels, episode_seeds)
 
     def _step(self, tensordict: TensorDictBase) -> TensorDict:
         state = self.state
@@ -255,7 +240,7 @@ class GVGAIEnv(EnvBase):
         out = TensorDict(values, batch_size=[state.batch_size[0]], device=self.device)
         if index is None:
             return out
-        full = out.apply(lambda v: v.new_zeros((self.num_envs, *v.shape[1:])), batch_size=[self.num_envs])
+        full = out.apply(lambda v: v.new_empty((self.num_envs, *v.shape[1:])), batch_size=[self.num_envs])
         full[index] = out
         return full
 

@@ -1,0 +1,62 @@
+"""The compiled initial states of recurring levels, stacked so that a reset gathers them.
+
+Human levels and fixed level lists come back episode after episode; parsing and compiling them
+again at every reset would cost more than the tick. The bank compiles each level once and keeps
+all of them as the rows of one batched state, so the fresh states of any number of resets are
+one gather per state entry.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import torch
+from tensordict import TensorDict
+
+from gvgai_pcg.games.base import Game, concatenate_states, pad_level
+from gvgai_pcg.levels import Level
+
+
+class CompiledLevelBank:
+    """At most ``capacity`` compiled levels; the least recently used one goes first."""
+
+    def __init__(self, game: Game, height: int, width: int, device: torch.device, capacity: int) -> None:
+        self.game, self.height, self.width, self.device = game, height, width, device
+        self.capacity = capacity
+        self._rows: dict[Level, int] = {}
+        self._states: list[TensorDict] = []
+        self._last_used: dict[Level, int] = {}
+        self._uses = 0
+        self._bank: TensorDict | None = None
+
+    def __len__(self) -> int:
+        return len(self._rows)
+
+    def initial_states(self, levels: Sequence[Level], seeds: torch.Tensor) -> TensorDict:
+        """The states of ``levels`` before their reset tick, with episode ``seeds``."""
+        self._uses += 1
+        for level in dict.fromkeys(levels):
+            self._last_used[level] = self._uses
+        missing = [level for level in dict.fromkeys(levels) if level not in self._rows]
+        if missing:
+            self._add(missing, keep=set(levels))
+        rows = torch.tensor([self._rows[level] for level in levels], device=self.device)
+        states = self._bank[rows]
+        states.set("seed", seeds.to(self.device))
+        return states
+
+    def _add(self, levels: list[Level], keep: set[Level]) -> None:
+        for level in levels:
+            padded = pad_level(level, self.height, self.width, self.game.pad_char)
+            self._rows[level] = len(self._states)
+            self._states.append(self.game.compile([padded], torch.zeros(1, dtype=torch.int64), self.device))
+        while len(self._rows) > self.capacity:
+            stale = min(
+                (lv for lv in self._rows if lv not in keep), key=self._last_used.__getitem__, default=None
+            )
+            if stale is None:
+                break  # every level is needed by this very reset
+            self._states.pop(self._rows.pop(stale))
+            del self._last_used[stale]
+            self._rows = {level: row for row, level in enumerate(self._rows)}
+        self._bank = concatenate_states(self._states)

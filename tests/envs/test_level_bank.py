@@ -1,0 +1,59 @@
+"""The bank of compiled recurring levels: the same states as compiling, each level compiled once."""
+
+import torch
+
+from gvgai_pcg.envs.level_bank import CompiledLevelBank
+from gvgai_pcg.games import get_game
+from gvgai_pcg.games.base import pad_level
+from gvgai_pcg.levels import human_levels
+
+
+def bank(game: str, capacity: int = 8) -> CompiledLevelBank:
+    levels = human_levels(game)
+    height, width = max(lv.height for lv in levels), max(lv.width for lv in levels)
+    return CompiledLevelBank(get_game(game), height, width, torch.device("cpu"), capacity)
+
+
+def test_banked_states_equal_compiled_states():
+    store = bank("frogs")  # level 4 is padded to the others' size
+    levels = [human_levels("frogs")[i] for i in (4, 0, 4, 2, 1, 3)]
+    seeds = torch.arange(6) * 7
+    got = store.initial_states(levels, seeds)
+    game = get_game("frogs")
+    padded = [pad_level(lv, 11, 28, game.pad_char) for lv in levels]
+    want = game.compile(padded, seeds, torch.device("cpu"))
+    for state in (got, want):
+        game.tick(state, torch.zeros(6, dtype=torch.int64))
+    for index in range(6):
+        assert game.snapshot(got, index) == game.snapshot(want, index)
+
+
+def test_each_level_is_compiled_once(monkeypatch):
+    store = bank("zelda")
+    calls = []
+    game = store.game
+    compile_level = game.compile
+    monkeypatch.setattr(game, "compile", lambda *a: calls.append(1) or compile_level(*a))
+    levels = human_levels("zelda")
+    for _ in range(3):
+        store.initial_states([levels[0], levels[1], levels[0]], torch.zeros(3, dtype=torch.int64))
+    assert len(calls) == 2
+
+
+def test_the_least_recently_used_level_goes_first():
+    store = bank("zelda", capacity=2)
+    a, b, c = human_levels("zelda")[:3]
+    zero = torch.zeros(1, dtype=torch.int64)
+    store.initial_states([a], zero)
+    store.initial_states([b], zero)
+    store.initial_states([a], zero)
+    store.initial_states([c], zero)  # evicts b, used longest ago
+    assert set(store._rows) == {a, c}
+    assert len(store) == 2
+
+
+def test_a_reset_that_needs_more_levels_than_the_capacity_keeps_them_all():
+    store = bank("zelda", capacity=2)
+    levels = human_levels("zelda")
+    states = store.initial_states(levels, torch.arange(5))
+    assert states.batch_size[0] == 5 and len(store) == 5
