@@ -17,12 +17,16 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import torch
+from tensordict import TensorDict
 from tqdm.auto import tqdm
 
 from gvgai_pcg.envs import GVGAIEnv
+from gvgai_pcg.envs.shards import default_shards
 from gvgai_pcg.games import registered_games
+from gvgai_pcg.games.base import pad_level
 
 BATCH_SIZES = (1, 64, 1024, 4096)
+ENGINE_BATCH = 4096
 OBSERVATIONS = ("tiles", "pixels")
 
 
@@ -59,6 +63,38 @@ def measure_env(
     _sync(device)
     elapsed = time.perf_counter() - begin
     return StepResult(game, obs, batch, warmup, steps * batch / elapsed, resets)
+
+
+def measure_engine(
+    game: str, batch: int = 4096, shards: int | None = None, min_seconds: float = 2.0
+) -> float:
+    """Steps/s of the engine alone: ``game.tick`` then ``render_tiles``, no resets (human levels 0-4
+    in turn, random actions), sliced into ``shards`` as ``GVGAIEnv`` does on the CPU."""
+    from gvgai_pcg.envs.shards import ShardedStepper
+    from gvgai_pcg.games import get_game
+    from gvgai_pcg.games.render import render_tiles
+    from gvgai_pcg.levels import human_levels
+
+    engine = get_game(game)
+    levels = [human_levels(game)[i % 5] for i in range(batch)]
+    height, width = max(lv.height for lv in levels), max(lv.width for lv in levels)
+    levels = [pad_level(lv, height, width, engine.pad_char) for lv in levels]
+    state = engine.compile(levels, torch.arange(batch), torch.device("cpu"))
+    stepper = ShardedStepper(batch, default_shards(batch, torch.device("cpu")) if shards is None else shards)
+    generator = torch.Generator().manual_seed(0)
+
+    def step(part: TensorDict, action: torch.Tensor) -> torch.Tensor:
+        engine.tick(part, action)
+        return render_tiles(engine, part)
+
+    actions = [torch.randint(0, engine.num_actions, (batch,), generator=generator) for _ in range(64)]
+    for action in actions[:3]:
+        stepper(step, state, action)
+    steps, begin = 0, time.perf_counter()
+    while steps < 5 or time.perf_counter() - begin < min_seconds:
+        stepper(step, state, actions[steps % len(actions)])
+        steps += 1
+    return steps * batch / (time.perf_counter() - begin)
 
 
 def measure_generating_resets(game: str, batch: int = 64, rounds: int = 5) -> float:
@@ -120,8 +156,30 @@ def run_benchmarks(
             f"| {r.game} | {r.obs} | {r.batch} | {r.steps_per_s:,.0f} | {r.warmup_s:.2f} | {r.resets} |"
         )
     if torch.device(device).type == "cpu":
+        lines += _engine_lines(games, min_seconds, progress)
         lines += _generator_lines(games)
     return "\n".join(lines) + "\n"
+
+
+def _engine_lines(games: list[str], min_seconds: float, progress: bool) -> list[str]:
+    shards = default_shards(ENGINE_BATCH, torch.device("cpu"))
+    lines = [
+        "",
+        f"### Engine alone: tick + tiles at B = {ENGINE_BATCH:,} (no resets)",
+        "",
+        f"| game | steps/s, {shards} shard(s) (as GVGAIEnv) | steps/s, 1 thread |",
+        "|---|---:|---:|",
+    ]
+    for game in tqdm(games, desc="engine throughput", disable=not progress):
+        threads = torch.get_num_threads()
+        sharded = measure_engine(game, ENGINE_BATCH, shards, min_seconds)
+        torch.set_num_threads(1)
+        try:
+            single = measure_engine(game, ENGINE_BATCH, 1, min_seconds)
+        finally:
+            torch.set_num_threads(threads)
+        lines.append(f"| {game} | {sharded:,.0f} | {single:,.0f} |")
+    return lines
 
 
 def _generator_lines(games: list[str]) -> list[str]:

@@ -1,0 +1,19 @@
+"""The benchmark harness runs and reports (its numbers are for `make bench`, never asserted)."""
+
+import torch
+
+from gvgai_pcg import benchmark
+
+
+def test_the_engine_measure_steps_every_game_with_and_without_shards():
+    for game in ("zelda", "frogs"):  # frogs: mixed grid sizes are padded like the env pads them
+        for shards in (1, 2):
+            assert benchmark.measure_engine(game, batch=6, shards=shards, min_seconds=0.0) > 0
+
+
+def test_the_engine_table_has_a_row_per_game(monkeypatch):
+    monkeypatch.setattr(benchmark, "ENGINE_BATCH", 8)
+    threads = torch.get_num_threads()
+    lines = benchmark._engine_lines(["solarfox", "boulderdash"], min_seconds=0.0, progress=False)
+    assert torch.get_num_threads() == threads
+    assert lines[-2].startswith("| solarfox | ") and lines[-1].startswith("| boulderdash | ")
