@@ -35,7 +35,9 @@ class SpriteLayer:
     """Moving sprites of one type at pixel positions ``x, y`` (``[B, K]``) where ``present``.
 
     ``variant`` (``[B, K]`` int, optional) picks one of the type's images, e.g. the facing of an
-    oriented avatar.
+    oriented avatar. ``row`` (``[B, K]`` int32, optional) is the grid row of every slot, for
+    sprites that stay cell-aligned in y inside the grid (lanes): ``tiles`` then reads it instead
+    of working the row out from ``y``.
     """
 
     name: str
@@ -43,6 +45,7 @@ class SpriteLayer:
     y: torch.Tensor
     present: torch.Tensor
     variant: torch.Tensor | None = None
+    row: torch.Tensor | None = None
 
 
 Layer = GridLayer | SpriteLayer

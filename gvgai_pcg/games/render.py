@@ -108,11 +108,16 @@ def render_tiles(game: Game, state: TensorDict) -> torch.Tensor:
         channel = channel_of.get(layer.name)
         if channel is None or not isinstance(layer, SpriteLayer):
             continue
-        column, row = _centre_cell(layer.x), _centre_cell(layer.y)
-        column_in, row_in = column.clamp(100, width + 99), row.clamp(100, height + 99)
-        shown = layer.present & (column_in == column) & (row_in == row)
         first = rows + channel * (cells + 1)
-        index = torch.where(shown, row * width + column + (first - 100 * width - 100), first + cells)
+        column = _centre_cell(layer.x)
+        shown = layer.present & (column.clamp(100, width + 99) == column)
+        if layer.row is None:
+            row = _centre_cell(layer.y)
+            shown &= row.clamp(100, height + 99) == row
+            start = first - 100 * width
+        else:
+            row, start = layer.row, first
+        index = torch.where(shown, row * width + column + (start - 100), first + cells)
         flat.put_(index.view(-1).long(), _one(tiles.device).expand(index.numel()))
     return tiles[:, :, :cells].reshape(batch, channels, height, width)
 

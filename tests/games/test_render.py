@@ -99,3 +99,24 @@ def test_tiles_leave_sprites_off_the_grid_unmarked():
         assert render_tiles(game, state)[0, game.tile_types.index("avatar")].sum() == 0, (x, y)
     avatar.update({"x": torch.tensor([-5]), "y": torch.tensor([34])})  # centre (0, 39): cell (0, 3)
     assert render_tiles(game, state)[0, game.tile_types.index("avatar")].nonzero().tolist() == [[3, 0]]
+
+
+def test_a_layer_that_gives_its_rows_renders_as_one_that_does_not(monkeypatch):
+    from dataclasses import replace
+
+    from gvgai_pcg.games.base import SpriteLayer
+    from gvgai_pcg.levels import human_levels
+
+    game = get_game("zelda")
+    state = game.compile(list(human_levels("zelda")), torch.arange(5), torch.device("cpu"))
+    generator = torch.Generator().manual_seed(0)
+    for _ in range(30):
+        game.tick(state, torch.randint(0, game.num_actions, (5,), generator=generator))
+    plain = render_tiles(game, state)
+    layers = game.layers(state)
+    with_rows = [
+        replace(layer, row=(layer.y // 10).to(torch.int32)) if isinstance(layer, SpriteLayer) else layer
+        for layer in layers
+    ]
+    monkeypatch.setattr(game, "layers", lambda _: with_rows)
+    assert torch.equal(render_tiles(game, state), plain)
