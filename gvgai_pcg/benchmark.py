@@ -21,7 +21,7 @@ from tensordict import TensorDict
 from tqdm.auto import tqdm
 
 from gvgai_pcg.envs import GVGAIEnv
-from gvgai_pcg.envs.shards import default_shards
+from gvgai_pcg.envs.shards import ShardedStepper, default_shards
 from gvgai_pcg.games import registered_games
 from gvgai_pcg.games.base import pad_level
 
@@ -70,7 +70,6 @@ def measure_engine(
 ) -> float:
     """Steps/s of the engine alone: ``game.tick`` then ``render_tiles``, no resets (human levels 0-4
     in turn, random actions), sliced into ``shards`` as ``GVGAIEnv`` does on the CPU."""
-    from gvgai_pcg.envs.shards import ShardedStepper
     from gvgai_pcg.games import get_game
     from gvgai_pcg.games.render import render_tiles
     from gvgai_pcg.levels import human_levels
@@ -80,7 +79,8 @@ def measure_engine(
     height, width = max(lv.height for lv in levels), max(lv.width for lv in levels)
     levels = [pad_level(lv, height, width, engine.pad_char) for lv in levels]
     state = engine.compile(levels, torch.arange(batch), torch.device("cpu"))
-    stepper = ShardedStepper(batch, default_shards(batch, torch.device("cpu")) if shards is None else shards)
+    cpu = torch.device("cpu")
+    stepper = ShardedStepper(default_shards(cpu)) if shards is None else ShardedStepper(shards, min_shard=1)
     generator = torch.Generator().manual_seed(0)
 
     def step(part: TensorDict, action: torch.Tensor) -> torch.Tensor:
@@ -162,7 +162,7 @@ def run_benchmarks(
 
 
 def _engine_lines(games: list[str], min_seconds: float, progress: bool) -> list[str]:
-    shards = default_shards(ENGINE_BATCH, torch.device("cpu"))
+    shards = len(ShardedStepper(default_shards(torch.device("cpu"))).slices(ENGINE_BATCH))
     lines = [
         "",
         f"### Engine alone: tick + tiles at B = {ENGINE_BATCH:,} (no resets)",
@@ -172,7 +172,7 @@ def _engine_lines(games: list[str], min_seconds: float, progress: bool) -> list[
     ]
     for game in tqdm(games, desc="engine throughput", disable=not progress):
         threads = torch.get_num_threads()
-        sharded = measure_engine(game, ENGINE_BATCH, shards, min_seconds)
+        sharded = measure_engine(game, ENGINE_BATCH, None, min_seconds)
         torch.set_num_threads(1)
         try:
             single = measure_engine(game, ENGINE_BATCH, 1, min_seconds)

@@ -43,9 +43,9 @@ class GVGAIEnv(EnvBase):
         device: where the state and every output tensor live.
         seed: an int (per-env seeds are derived from it) or one seed per env. Env i's episode k
             uses the seed ``mix(env_seed[i], k)``, whatever else shares the batch.
-        shards: on the CPU, a step ticks and renders this many slices of the batch on as many
-            threads (see ``gvgai_pcg.envs.shards``); the default is one per torch thread when
-            every slice keeps 512+ envs. The results do not depend on it.
+        shards: a step (and the reset tick of a reset) ticks and renders this many slices of the
+            batch on as many threads (see ``gvgai_pcg.envs.shards``). The default is one per
+            torch thread on the CPU, for slices of 256+ envs. The results do not depend on it.
     """
 
     batch_locked = True
@@ -89,9 +89,10 @@ class GVGAIEnv(EnvBase):
             self.game, self.grid_height, self.grid_width, self.device, COMPILED_LEVEL_CACHE
         )
         self._level_seeds = torch.full((num_envs,), -1, dtype=torch.int64)
-        self._stepper = ShardedStepper(
-            num_envs, default_shards(num_envs, self.device) if shards is None else shards
-        )
+        if shards is None:
+            self._stepper = ShardedStepper(default_shards(self.device))
+        else:
+            self._stepper = ShardedStepper(shards, min_shard=1)
         self._make_specs()
 
     # --- specs ---
@@ -158,18 +159,19 @@ class GVGAIEnv(EnvBase):
         if tensordict is not None and "difficulty" in tensordict.keys():
             requested = tensordict.get("difficulty").reshape(self.num_envs).to(self.device, torch.float32)
             self._difficulty = requested if reset_all else torch.where(mask, requested, self._difficulty)
-        if reset_all or len(index) == 0:
-            if reset_all:
-                self._start_episodes(index)
+        if len(index) == 0:
             return self._observation(self.state, index=None, reset=True)
+        fresh, observed = self._start_episodes(index)
+        if reset_all:
+            return self._observation(self.state, index=None, reset=True, observed=observed)
         # Only the reset envs' rows of a partial reset's output are read (TorchRL merges them by
         # the mask), so only the fresh envs are rendered, and the other rows are left unset
         # (uninitialised memory: no pass over the whole batch).
-        fresh = self._start_episodes(index)
-        return self._observation(fresh, index=index.to(self.device), reset=True)
+        return self._observation(fresh, index=index.to(self.device), reset=True, observed=observed)
 
-    def _start_episodes(self, index: torch.Tensor) -> TensorDict:
-        """Start a new episode in envs ``index`` (CPU, sorted); returns their fresh states."""
+    def _start_episodes(self, index: torch.Tensor) -> tuple[TensorDict, torch.Tensor]:
+        """Start a new episode in envs ``index`` (CPU, sorted); returns their fresh states after
+        the reset tick, and their observations."""
         episode_seeds = mix64(self._env_seeds[index] ^ mix64(self._episodes[index]))
         self._episodes[index] += 1
         difficulties = self._difficulty[index.to(self.device)].cpu()
@@ -177,14 +179,15 @@ class GVGAIEnv(EnvBase):
         for i, level in zip(index.tolist(), levels, strict=True):
             self._levels[i] = level
         fresh = self._compile(levels, episode_seeds)
-        self.game.tick(fresh, torch.zeros(len(index), dtype=torch.int64, device=self.device))  # reset tick
+        nil = torch.zeros(len(index), dtype=torch.int64, device=self.device)
+        observed = self._stepper(self._tick, fresh, nil)  # the reset tick
         if self._state is None or len(index) == self.num_envs:
             self._state = fresh
         else:
             self._state = merge_states(self._state, fresh, index.to(self.device))
         self._steps[index.to(self.device)] = 0
         self._level_seeds[index] = torch.tensor([lv.seed if lv.seed is not None else -1 for lv in levels])
-        return fresh
+        return fresh, observed
 
     def _compile(self, levels: list[Level], episode_seeds: torch.Tensor) -> TensorDict:
         """The initial states of ``levels``. Levels that recur (human levels, a fixed list) come

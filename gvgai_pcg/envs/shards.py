@@ -19,43 +19,42 @@ from concurrent.futures import ThreadPoolExecutor
 import torch
 from tensordict import TensorDict
 
-MIN_SHARD = 512  # envs per shard below which the threads' overhead outweighs the gain
+MIN_SHARD = 256  # envs per shard below which the threads' overhead outweighs the gain
 
 StepFn = Callable[[TensorDict, torch.Tensor], torch.Tensor]
 
 
-def default_shards(num_envs: int, device: torch.device) -> int:
-    """One shard per torch thread on the CPU, as long as every shard keeps ``MIN_SHARD`` envs."""
-    if device.type != "cpu":
-        return 1
-    return max(1, min(torch.get_num_threads(), num_envs // MIN_SHARD))
+def default_shards(device: torch.device) -> int:
+    """One shard per torch thread on the CPU; one on other devices."""
+    return torch.get_num_threads() if device.type == "cpu" else 1
 
 
 class ShardedStepper:
-    """Runs ``step(state, action) -> observation`` on ``shards`` contiguous slices of the batch.
+    """Runs ``step(state, action) -> observation`` on up to ``shards`` contiguous slices of a
+    batch, each of at least ``min_shard`` envs (a smaller batch is stepped whole).
 
     ``step`` may replace the entries of the state it is given (games ``update`` them); each
     shard's replaced entries are copied back into the full state by its own thread, so no two
     entries of the full state may share memory (tested for every game).
     """
 
-    def __init__(self, num_envs: int, shards: int) -> None:
+    def __init__(self, shards: int, min_shard: int = MIN_SHARD) -> None:
         if shards < 1:
             raise ValueError(f"shards must be at least 1, got {shards}")
-        shards = min(shards, num_envs)
-        bounds = [num_envs * k // shards for k in range(shards + 1)]
-        self.slices = [slice(a, b) for a, b in zip(bounds[:-1], bounds[1:], strict=True)]
+        self.shards, self.min_shard = shards, max(1, min_shard)
         self._pool = None
         if shards > 1:
             self._pool = ThreadPoolExecutor(shards, thread_name_prefix="gvgai-shard")
             weakref.finalize(self, self._pool.shutdown, wait=False)
 
-    @property
-    def shards(self) -> int:
-        return len(self.slices)
+    def slices(self, num_envs: int) -> list[slice]:
+        count = max(1, min(self.shards, num_envs // self.min_shard))
+        bounds = [num_envs * k // count for k in range(count + 1)]
+        return [slice(a, b) for a, b in zip(bounds[:-1], bounds[1:], strict=True)]
 
     def __call__(self, step: StepFn, state: TensorDict, action: torch.Tensor) -> torch.Tensor:
-        if self._pool is None:
+        slices = self.slices(state.batch_size[0])
+        if len(slices) == 1:
             return step(state, action)
         threads = torch.get_num_threads()
 
@@ -70,7 +69,7 @@ class ShardedStepper:
             return observation
 
         try:
-            observations = list(self._pool.map(run, self.slices))
+            observations = list(self._pool.map(run, slices))
         finally:
             torch.set_num_threads(threads)
         return torch.cat(observations)

@@ -120,9 +120,9 @@ class Zelda(Game):
         }
         sword = {
             "x": zeros,
-            "y": zeros,
-            "ori": zeros,
-            "age": zeros,
+            "y": zeros.clone(),
+            "ori": zeros.clone(),
+            "age": zeros.clone(),
             "exists": zeros.bool(),
             "killed": zeros.bool(),
         }

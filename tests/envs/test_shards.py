@@ -5,12 +5,14 @@ import torch
 
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.shards import MIN_SHARD, ShardedStepper, default_shards
+from gvgai_pcg.games import get_game
+from gvgai_pcg.levels import human_levels
 
 
 @pytest.mark.parametrize("game", ["zelda", "solarfox", "frogs", "boulderdash"])
 def test_sharded_steps_equal_unsharded_steps_across_resets(game):
     envs = [GVGAIEnv(game, num_envs=7, levels="human", seed=3, shards=shards) for shards in (1, 3)]
-    assert [env._stepper.shards for env in envs] == [1, 3]
+    assert [len(env._stepper.slices(7)) for env in envs] == [1, 3]
     tds = [env.reset() for env in envs]
     generator = torch.Generator().manual_seed(0)
     for _ in range(60):
@@ -24,10 +26,12 @@ def test_sharded_steps_equal_unsharded_steps_across_resets(game):
         assert (envs[0].state == envs[1].state).all()
 
 
-def test_shards_cover_the_batch_in_order():
-    stepper = ShardedStepper(10, 3)
-    assert [(s.start, s.stop) for s in stepper.slices] == [(0, 3), (3, 6), (6, 10)]
-    assert ShardedStepper(2, 5).shards == 2
+def test_shards_cover_the_batch_in_order_and_keep_their_minimum_size():
+    stepper = ShardedStepper(3, min_shard=1)
+    assert [(s.start, s.stop) for s in stepper.slices(10)] == [(0, 3), (3, 6), (6, 10)]
+    assert len(stepper.slices(2)) == 2
+    assert len(ShardedStepper(2).slices(2 * MIN_SHARD - 1)) == 1
+    assert len(ShardedStepper(2).slices(2 * MIN_SHARD)) == 2
 
 
 def test_the_callers_torch_threads_are_restored():
@@ -39,25 +43,29 @@ def test_the_callers_torch_threads_are_restored():
     assert torch.get_num_threads() == threads
 
 
-def test_default_shards_follow_torch_threads_and_batch_size():
-    cpu = torch.device("cpu")
-    threads = torch.get_num_threads()
-    assert default_shards(MIN_SHARD - 1, cpu) == 1
-    assert default_shards(64 * MIN_SHARD, cpu) == threads
-    assert default_shards(64 * MIN_SHARD, torch.device("meta")) == 1
+def test_default_shards_follow_torch_threads_on_the_cpu():
+    assert default_shards(torch.device("cpu")) == torch.get_num_threads()
+    assert default_shards(torch.device("meta")) == 1
 
 
 def test_shards_must_be_positive():
     with pytest.raises(ValueError, match="at least 1"):
-        ShardedStepper(4, 0)
+        ShardedStepper(0)
+
+
+def assert_no_shared_memory(state) -> None:
+    owners: dict[int, object] = {}
+    for key, value in state.items(True, True):
+        if value.numel():
+            assert owners.setdefault(value.untyped_storage().data_ptr(), key) == key
 
 
 @pytest.mark.parametrize("game", ["zelda", "solarfox", "frogs", "boulderdash"])
-def test_no_two_state_entries_share_memory_after_a_reset(game):
-    """A shard writes its replaced entries back into the full state, so no entry may alias another."""
+def test_no_two_state_entries_share_memory(game):
+    """A shard writes its replaced entries back into the full state (after a step, and the fresh
+    states after a reset tick), so no entry may alias another: not as compiled, nor after a reset."""
+    levels = list(human_levels(game))
+    assert_no_shared_memory(get_game(game).compile(levels, torch.arange(5), torch.device("cpu")))
     env = GVGAIEnv(game, num_envs=5, levels="human")
     env.reset()
-    owners: dict[int, object] = {}
-    for key, value in env.state.items(True, True):
-        if value.numel():
-            assert owners.setdefault(value.untyped_storage().data_ptr(), key) == key
+    assert_no_shared_memory(env.state)
