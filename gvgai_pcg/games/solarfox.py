@@ -43,7 +43,7 @@ from gvgai_pcg.games.base import (
     common_state,
     golden_record,
 )
-from gvgai_pcg.games.geometry import CELL, DIRECTION_NAMES, DOWN, LEFT, NONE, RIGHT, UP, overlaps
+from gvgai_pcg.games.geometry import CELL, DIRECTION_NAMES, DOWN, LEFT, NONE, RIGHT, UP, cell_of
 from gvgai_pcg.games.registry import register_game
 from gvgai_pcg.levels import Level
 
@@ -60,6 +60,8 @@ SHOT_DY = (-1, 1)  # btm fires upshots, top fires downshots, 1 px per tick
 # shot that finds no free slot of its enemy is not created.
 SHOTS_PER_ENEMY = 16
 TURNING_LIFE = 10  # powerblibturning (Flicker, limit 8) is killed at the update of tick born + 10
+# Cells per axis of the window around the ship that holds every live powerblibturning (see _apply_rules).
+WINDOW = 4
 RES_LIMIT = 4  # the powerblib's "res" counter capacity
 BLIB_AT_RES = 2  # spawnIfHasMore limit of rule 6a
 DEATH_SCORE = -10
@@ -77,17 +79,20 @@ def _constants(device: str) -> dict[str, torch.Tensor]:
     """Small lookup tables, made once per device."""
     return {
         "action_direction": torch.tensor(ACTION_DIRECTION, device=device),
-        "dx": torch.tensor(_DX, device=device),
-        "dy": torch.tensor(_DY, device=device),
+        "dx": torch.tensor(_DX, dtype=torch.int32, device=device),
+        "dy": torch.tensor(_DY, dtype=torch.int32, device=device),
     }
 
 
-def _cell_span(pos: torch.Tensor, count: int) -> torch.Tensor:
-    """``[B, count]`` bool: the cells along one axis that a 10-px span starting at ``pos`` (``[B]``)
-    overlaps (strictly, RULES.md §1.1)."""
-    start = torch.arange(0, CELL * count, CELL, device=pos.device, dtype=pos.dtype)
-    pos = pos.unsqueeze(-1)
-    return (start < pos + CELL) & (pos < start + CELL)
+def _window_span(pos: torch.Tensor, count: int) -> tuple[torch.Tensor, torch.Tensor]:
+    """Along one axis of ``count`` cells: the ``min(4, count)`` consecutive cells from one before
+    the cell holding ``pos`` (``[B]``), shifted to lie inside the grid (``[B, n]`` int64), and which
+    of them a 10-px span starting at ``pos`` overlaps (strictly, RULES.md §1.1)."""
+    n = min(WINDOW, count)
+    first = (cell_of(pos) - 1).clamp(0, count - n)
+    cells = first.unsqueeze(-1) + torch.arange(n, device=pos.device)
+    start, pos = CELL * cells, pos.unsqueeze(-1)
+    return cells, (start < pos + CELL) & (pos < start + CELL)
 
 
 @register_game("solarfox")
@@ -128,37 +133,43 @@ class Solarfox(Game):
         kind = enemies.get("kind")
         enemies.update(
             {
-                "col": enemies.get("x") // CELL,
-                "row": enemies.get("y") // CELL,
-                "dx": torch.tensor(ENEMY_START_DX, device=device)[kind],
+                "col": (enemies.get("x") // CELL).to(torch.int32),
+                "row": (enemies.get("y") // CELL).to(torch.int32),
+                "dx": torch.tensor(ENEMY_START_DX, dtype=torch.int32, device=device)[kind],
             }
         )
         del enemies["x"], enemies["y"]
         slots = SHOTS_PER_ENEMY * kind.shape[1]
+        # Positions are int32 here and in the ship and enemy tables: the shot table is the widest.
         shots = {
-            "x": torch.zeros(batch, slots, dtype=torch.int64),
-            "y": torch.zeros(batch, slots, dtype=torch.int64),
+            "x": torch.zeros(batch, slots, dtype=torch.int32),
+            "y": torch.zeros(batch, slots, dtype=torch.int32),
             # The owner's shot direction: -1 for the upshots of btm, +1 for the downshots of top.
-            "dy": torch.tensor(SHOT_DY)[kind.cpu()].repeat_interleave(SHOTS_PER_ENEMY, dim=1),
+            "dy": torch.tensor(SHOT_DY, dtype=torch.int32)[kind.cpu()].repeat_interleave(
+                SHOTS_PER_ENEMY, dim=1
+            ),
             "alive": torch.zeros(batch, slots, dtype=torch.bool),
             "fresh": torch.zeros(batch, slots, dtype=torch.bool),  # created this tick: no move next update
         }
         avatar = {
-            "x": ax,
-            "y": ay,
+            "x": ax.to(torch.int32),
+            "y": ay.to(torch.int32),
             "ori": torch.full((batch,), RIGHT, dtype=torch.int64),
             "alive": torch.ones(batch, dtype=torch.bool),
         }
         wall = char_grid(levels, "w", device)
         ground = char_grid(levels, ".12", device)
+        blib, powerblib = char_grid(levels, "b", device), char_grid(levels, "p", device)
         state = {
             **common_state(seeds, device),
             "wall": wall,
             "enemyground": ground,
             "deadly": wall | ground,  # a cell holds a wall or an enemyground, never both
             "floor": char_grid(levels, "+bpA12", device),
-            "blib": char_grid(levels, "b", device),
-            "powerblib": char_grid(levels, "p", device),
+            "blib": blib,
+            "powerblib": powerblib,
+            # Blibs + powerblibs on the grid (never on the same cell), for the WIN check.
+            "pickups": (blib | powerblib).flatten(1).sum(-1, dtype=torch.int32),
             "res": torch.zeros(wall.shape, dtype=torch.int8, device=device),
             "turning_born": torch.full(wall.shape, NO_TURNING, dtype=torch.int32, device=device),
             "avatar": TensorDict(avatar, batch_size=[batch]).to(device),
@@ -190,57 +201,59 @@ class Solarfox(Game):
         avatar.update(
             {
                 "ori": ori,
-                "x": avatar.get("x") + step * const["dx"][ori],
-                "y": avatar.get("y") + step * const["dy"][ori],
+                "x": (avatar.get("x") + torch.where(step, const["dx"][ori], 0)).to(torch.int32),
+                "y": (avatar.get("y") + torch.where(step, const["dy"][ori], 0)).to(torch.int32),
             }
         )
 
     # --- step 3: shots, enemies (powerblibturning: see tick) ---
     def _update_shots(self, state: TensorDict) -> None:
-        """Missiles at 1 px per tick, from their second update on."""
+        """Missiles at 1 px per tick, from their second update on (``fresh`` is rewritten by
+        :meth:`_spawn_shots` later in the tick)."""
         shots = state.get("shots")
-        fresh = shots.get("fresh")
-        moving = shots.get("alive") & ~fresh
-        shots.update({"y": shots.get("y") + moving * shots.get("dy"), "fresh": torch.zeros_like(fresh)})
+        moving = shots.get("alive") & ~shots.get("fresh")
+        shots.set("y", shots.get("y") + torch.where(moving, shots.get("dy"), 0))
 
     def _update_enemies(self, state: TensorDict, tick: torch.Tensor) -> None:
         """Missiles, 10 px per move, cooldown 3. Enemies are level sprites that are never created or
         removed, so with the first-update skip at tick 0 they move exactly at ticks 2, 5, 8, …"""
         enemies = state.get("enemies")
         move = (tick % ENEMY_COOLDOWN == ENEMY_COOLDOWN - 1).unsqueeze(-1) & enemies.get("alive")
-        enemies.set("col", enemies.get("col") + move * enemies.get("dx"))
+        enemies.set("col", enemies.get("col") + torch.where(move, enemies.get("dx"), 0))
 
     # --- step 4: collision rules in declaration order ---
     def _apply_rules(self, state: TensorDict, tick: torch.Tensor) -> None:
+        """Rules 1-9 touch only the cells around the ship, so they run on a window of 4x4 cells
+        gathered from the grids and scattered back. The window spans from one cell before the
+        ship's to two after along each axis, which holds the (up to 2x2) cells the ship overlaps
+        and every live powerblibturning: a turning lives 10 ticks and sits on a cell the ship
+        overlapped when it was created, and the ship moves at most 1 px per tick."""
         avatar, enemies, shots = state.get("avatar"), state.get("enemies"), state.get("shots")
         wall = state.get("wall")
-        blib, powerblib, res, born = (
-            state.get("blib"),
-            state.get("powerblib"),
-            state.get("res"),
-            state.get("turning_born"),
-        )
         alive, ax, ay = avatar.get("alive"), avatar.get("x"), avatar.get("y")
         col, row, e_alive = enemies.get("col"), enemies.get("row"), enemies.get("alive")
         batch, height, width = wall.shape
-        grid_tick = tick.to(born.dtype).view(-1, 1, 1)
-        # The cells the ship overlaps (a ship disabled in an earlier tick collides with nothing).
-        under = _cell_span(ay, height).unsqueeze(-1) & (
-            _cell_span(ax, width) & alive.unsqueeze(-1)
-        ).unsqueeze(-2)
-        ship_x, ship_y = ax.unsqueeze(-1), ay.unsqueeze(-1)
+        flat = {key: state.get(key).view(batch, -1) for key in ("blib", "powerblib", "res", "turning_born")}
+        cols, over_x = _window_span(ax, width)
+        rows, over_y = _window_span(ay, height)
+        cells = (width * rows.unsqueeze(-1) + cols.unsqueeze(-2)).view(batch, -1)
+        # The window cells the ship overlaps (a ship disabled in an earlier tick collides with nothing).
+        under = ((over_y & alive.unsqueeze(-1)).unsqueeze(-1) & over_x.unsqueeze(-2)).view(batch, -1)
+        blib, powerblib, res, born = (torch.gather(flat[key], 1, cells) for key in flat)
+        window_tick = tick.to(born.dtype).unsqueeze(-1)
 
         # 1-4 avatar × wall, enemy, enemyground, shot: kill (disable) the ship, -10 per sprite overlapped.
-        lethal = (under & state.get("deadly")).flatten(1).sum(-1)
-        enemy_hit = e_alive & overlaps(ship_x, ship_y, CELL * col, CELL * row)
-        shot_hit = shots.get("alive") & overlaps(ship_x, ship_y, shots.get("x"), shots.get("y"))
-        lethal = lethal + alive * (enemy_hit.sum(-1) + shot_hit.sum(-1))
+        lethal = under & torch.gather(state.get("deadly").view(batch, -1), 1, cells)
+        ship_x, ship_y = ax.unsqueeze(-1), ay.unsqueeze(-1)
+        enemy_hit = e_alive & _overlap(ship_x, ship_y, CELL * col, CELL * row)
+        shot_hit = shots.get("alive") & _overlap(ship_x, ship_y, shots.get("x"), shots.get("y"))
+        lethal = lethal.sum(-1) + alive * (enemy_hit.sum(-1) + shot_hit.sum(-1))
         # 5 blib × avatar: collect, +1 each (the ship still collects in the tick it dies).
         taken = blib & under
         # 6a powerblib × powerblibturning: a blib on the powerblib once its counter is ≥ 2 (for all
         # pairs before 6b); 6b: the counter grows by 1 up to its limit. A turning is cell-aligned on
         # its powerblib's cell, and one killed by its Flicker update this tick still counts.
-        paired = powerblib & (born >= grid_tick - TURNING_LIFE)
+        paired = powerblib & (born >= window_tick - TURNING_LIFE)
         spawned = paired & (res >= BLIB_AT_RES)
         res = res + (paired & (res < RES_LIMIT)).to(res.dtype)
         # 7 powerblibturning × avatar: kill the turnings the ship overlaps.
@@ -249,15 +262,17 @@ class Solarfox(Game):
         powerblib = powerblib & ~spawned
         # 9 powerblib × avatar: a new turning on every powerblib the ship overlaps; under the ship,
         # rule 7 has killed the old one.
-        born = torch.where(under, torch.where(powerblib, grid_tick, NO_TURNING), born)
-        gained = taken.flatten(1).sum(-1) + spawned.flatten(1).sum(-1)
+        born = torch.where(under, torch.where(powerblib, window_tick, NO_TURNING), born)
+        flat["blib"].scatter_(1, cells, (blib & ~taken) | spawned)
+        flat["powerblib"].scatter_(1, cells, powerblib)
+        flat["res"].scatter_(1, cells, res)
+        flat["turning_born"].scatter_(1, cells, born)
+        # A blib of 6a replaces its powerblib (8), so only rule 5 changes the pickups left.
+        taken = taken.sum(-1)
         state.update(
             {
-                "score": state.get("score") + DEATH_SCORE * lethal + gained,
-                "blib": (blib & ~taken) | spawned,
-                "powerblib": powerblib,
-                "res": res,
-                "turning_born": born,
+                "score": state.get("score") + DEATH_SCORE * lethal + taken + spawned.sum(-1),
+                "pickups": state.get("pickups") - taken.to(torch.int32),
             }
         )
         avatar.set("alive", alive & (lethal == 0))
@@ -265,7 +280,7 @@ class Solarfox(Game):
         # 10 enemy × wall: reverse (every tick of overlap, no stepBack). 11 btm × enemyground,
         # 12 top × enemyground: with probability 0.02 a shot at the enemy's cell.
         on_grid = e_alive & (col >= 0) & (col < width) & (row >= 0) & (row < height)
-        cell = (row.clamp(0, height - 1) * width + col.clamp(0, width - 1)).view(batch, -1)
+        cell = (row.clamp(0, height - 1) * width + col.clamp(0, width - 1)).view(batch, -1).long()
         on_wall = on_grid & torch.gather(wall.view(batch, -1), 1, cell)
         enemies.set("dx", torch.where(on_wall, -enemies.get("dx"), enemies.get("dx")))
         slots = torch.arange(col.shape[1], device=col.device)
@@ -275,22 +290,25 @@ class Solarfox(Game):
 
     @staticmethod
     def _spawn_shots(shots: TensorDict, fire: torch.Tensor, enemies: TensorDict) -> None:
-        """A firing enemy (``fire`` ``[B, E]``) puts a shot into the first free slot of its own block."""
+        """A firing enemy (``fire`` ``[B, E]``) puts a shot into the first free slot of its own block.
+        Few envs fire in a tick, so only their rows of the shot table are touched."""
         batch, count = fire.shape
-        block = (batch, count, SHOTS_PER_ENEMY)
-        alive = shots.get("alive").view(block)
-        free = ~alive
-        place = free & (free.cumsum(-1) == 1) & fire.unsqueeze(-1)
-        x = torch.where(place, CELL * enemies.get("col").unsqueeze(-1), shots.get("x").view(block))
-        y = torch.where(place, CELL * enemies.get("row").unsqueeze(-1), shots.get("y").view(block))
-        shots.update(
-            {
-                "x": x.view(batch, -1),
-                "y": y.view(batch, -1),
-                "alive": (alive | place).view(batch, -1),
-                "fresh": place.view(batch, -1),
-            }
-        )
+        alive = shots.get("alive")
+        fresh = torch.zeros_like(alive)
+        envs = fire.any(-1).nonzero().squeeze(-1)
+        if len(envs) > 0:
+            block = (len(envs), count, SHOTS_PER_ENEMY)
+            free = ~alive[envs].view(block)
+            place = free & (free.cumsum(-1) == 1) & fire[envs].unsqueeze(-1)
+            x, y = shots.get("x"), shots.get("y")
+            at_x = CELL * enemies.get("col")[envs].unsqueeze(-1)
+            at_y = CELL * enemies.get("row")[envs].unsqueeze(-1)
+            x[envs] = torch.where(place, at_x, x[envs].view(block)).view(len(envs), -1)
+            y[envs] = torch.where(place, at_y, y[envs].view(block)).view(len(envs), -1)
+            place = place.view(len(envs), -1)
+            alive[envs] = alive[envs] | place
+            fresh[envs] = place
+        shots.set("fresh", fresh)
 
     # --- step 5: cleanup ---
     def _cleanup(self, state: TensorDict) -> None:
@@ -298,18 +316,23 @@ class Solarfox(Game):
         shot is dropped once it has left the screen and is at least 10 px beyond the ship along its
         flight. Both move at most 1 px per tick, so such a shot can never overlap the ship again,
         and off screen it is neither drawn nor in ``tiles``."""
-        shots, avatar = state.get("shots"), state.get("avatar")
+        shots, avatar, enemies = state.get("shots"), state.get("avatar"), state.get("enemies")
         screen_h = CELL * state.get("wall").shape[1]
-        y, dy = shots.get("y"), shots.get("dy")
-        ship_y, ship_alive = avatar.get("y").unsqueeze(-1), avatar.get("alive").unsqueeze(-1)
-        gone_up = (dy < 0) & (y + CELL <= 0) & (~ship_alive | (y + CELL <= ship_y))
-        gone_down = (dy > 0) & (y >= screen_h) & (~ship_alive | (y >= ship_y + CELL))
-        shots.set("alive", shots.get("alive") & ~(gone_up | gone_down))
+        ship_y, ship_alive = avatar.get("y"), avatar.get("alive")
+        # Along the flight (y dy, y grows downward) an upshot is gone from -y = 10 - min(0, ship_y)
+        # on, a downshot from y = max(screen_h, ship_y + 10) on; the ship's bound only while alive.
+        up = torch.where(ship_alive, (CELL - ship_y).clamp(min=CELL), CELL)
+        down = torch.where(ship_alive, (ship_y + CELL).clamp(min=screen_h), screen_h)
+        bound = torch.where(enemies.get("kind") == BTM, up.unsqueeze(-1), down.unsqueeze(-1))
+        y, alive = shots.get("y"), shots.get("alive")
+        count = bound.shape[1]
+        gone = (y * shots.get("dy")).view(-1, count, SHOTS_PER_ENEMY) >= bound.unsqueeze(-1)
+        alive &= ~gone.view(alive.shape)
 
     # --- step 6: termination, in declaration order ---
     def _check_termination(self, state: TensorDict) -> None:
         lost = ~state.get(("avatar", "alive"))
-        won = ~lost & ~(state.get("blib") | state.get("powerblib")).flatten(1).any(-1)
+        won = ~lost & (state.get("pickups") == 0)
         state.update({"won": state.get("won") | won, "lost": state.get("lost") | lost})
 
     def layers(self, state: TensorDict) -> list:
@@ -369,6 +392,11 @@ class Solarfox(Game):
         """+1 per blib and +2 per powerblib (its blib is worth 1 and eating its powerblib 1, §5.6),
         collected without dying."""
         return level.count("b") + 2 * level.count("p")
+
+
+def _overlap(ax: torch.Tensor, ay: torch.Tensor, bx: torch.Tensor, by: torch.Tensor) -> torch.Tensor:
+    """Strict overlap of 10x10 rectangles (geometry.overlaps) as two distance tests; broadcasts."""
+    return ((bx - ax).abs() < CELL) & ((by - ay).abs() < CELL)
 
 
 def turning_grid(state: TensorDict) -> torch.Tensor:
