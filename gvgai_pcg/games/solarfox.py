@@ -86,13 +86,35 @@ def _constants(device: str) -> dict[str, torch.Tensor]:
 
 def _window_span(pos: torch.Tensor, count: int) -> tuple[torch.Tensor, torch.Tensor]:
     """Along one axis of ``count`` cells: the ``min(4, count)`` consecutive cells from one before
-    the cell holding ``pos`` (``[B]``), shifted to lie inside the grid (``[B, n]`` int64), and which
+    the cell holding ``pos`` (``[N]``), shifted to lie inside the grid (``[N, n]`` int64), and which
     of them a 10-px span starting at ``pos`` overlaps (strictly, RULES.md §1.1)."""
     n = min(WINDOW, count)
     first = (cell_of(pos) - 1).clamp(0, count - n)
     cells = first.unsqueeze(-1) + torch.arange(n, device=pos.device)
     start, pos = CELL * cells, pos.unsqueeze(-1)
     return cells, (start < pos + CELL) & (pos < start + CELL)
+
+
+@cache
+def _window_tables(height: int, width: int, device: str) -> tuple[torch.Tensor, torch.Tensor]:
+    """The ship's window for every position, made once per grid size: flat cell indices ``[P, K]``
+    and which of them the ship overlaps ``[P, K]``, row ``P = (y + 2 CELL) X + x + 2 CELL`` for a
+    ship at (x, y) clamped to ``[-2 CELL, CELL * size + CELL]`` (:func:`_window_rows`); beyond those
+    bounds the window and the overlap no longer change."""
+    xs = torch.arange(-2 * CELL, CELL * width + CELL + 1)
+    ys = torch.arange(-2 * CELL, CELL * height + CELL + 1)
+    cols, over_x = _window_span(xs, width)
+    rows, over_y = _window_span(ys, height)
+    cells = width * rows[:, None, :, None] + cols[None, :, None, :]  # [Y, X, n_y, n_x]
+    under = over_y[:, None, :, None] & over_x[None, :, None, :]
+    return cells.flatten(2).flatten(0, 1).to(device), under.flatten(2).flatten(0, 1).to(device)
+
+
+def _window_rows(x: torch.Tensor, y: torch.Tensor, height: int, width: int) -> torch.Tensor:
+    """Rows of :func:`_window_tables` for ships at ``x, y`` (``[B]``)."""
+    x = x.clamp(-2 * CELL, CELL * width + CELL) + 2 * CELL
+    y = y.clamp(-2 * CELL, CELL * height + CELL) + 2 * CELL
+    return y * (CELL * width + 3 * CELL + 1) + x
 
 
 @register_game("solarfox")
@@ -172,6 +194,9 @@ class Solarfox(Game):
             "pickups": (blib | powerblib).flatten(1).sum(-1, dtype=torch.int32),
             "res": torch.zeros(wall.shape, dtype=torch.int8, device=device),
             "turning_born": torch.full(wall.shape, NO_TURNING, dtype=torch.int32, device=device),
+            # The turnings shown after the last tick: one created in tick born is killed by its
+            # Flicker update (limit 8) in tick born + 10, so it is shown after ticks born … born + 9.
+            "turning": torch.zeros(wall.shape, dtype=torch.bool, device=device),
             "avatar": TensorDict(avatar, batch_size=[batch]).to(device),
             "enemies": enemies,
             "shots": TensorDict(shots, batch_size=[batch, slots]).to(device),
@@ -234,11 +259,11 @@ class Solarfox(Game):
         col, row, e_alive = enemies.get("col"), enemies.get("row"), enemies.get("alive")
         batch, height, width = wall.shape
         flat = {key: state.get(key).view(batch, -1) for key in ("blib", "powerblib", "res", "turning_born")}
-        cols, over_x = _window_span(ax, width)
-        rows, over_y = _window_span(ay, height)
-        cells = (width * rows.unsqueeze(-1) + cols.unsqueeze(-2)).view(batch, -1)
+        window_cells, window_under = _window_tables(height, width, str(ax.device))
+        window = _window_rows(ax, ay, height, width)
+        cells = window_cells.index_select(0, window)
         # The window cells the ship overlaps (a ship disabled in an earlier tick collides with nothing).
-        under = ((over_y & alive.unsqueeze(-1)).unsqueeze(-1) & over_x.unsqueeze(-2)).view(batch, -1)
+        under = window_under.index_select(0, window) & alive.unsqueeze(-1)
         blib, powerblib, res, born = (torch.gather(flat[key], 1, cells) for key in flat)
         window_tick = tick.to(born.dtype).unsqueeze(-1)
 
@@ -267,6 +292,9 @@ class Solarfox(Game):
         flat["powerblib"].scatter_(1, cells, powerblib)
         flat["res"].scatter_(1, cells, res)
         flat["turning_born"].scatter_(1, cells, born)
+        # The window also holds every turning that expires in this tick (born = tick - 10).
+        turning = born >= window_tick - (TURNING_LIFE - 1)
+        state.get("turning").view(batch, -1).scatter_(1, cells, turning)
         # A blib of 6a replaces its powerblib (8), so only rule 5 changes the pickups left.
         taken = taken.sum(-1)
         state.update(
@@ -345,7 +373,7 @@ class Solarfox(Game):
             GridLayer("floor", state.get("floor")),
             GridLayer("enemyground", state.get("enemyground")),
             GridLayer("powerblib", state.get("powerblib")),
-            GridLayer("powerblibturning", turning_grid(state)),
+            GridLayer("powerblibturning", state.get("turning")),
             GridLayer("blib", state.get("blib")),
             SpriteLayer("top", ex, ey, e_alive & (e_kind == TOP)),
             SpriteLayer("btm", ex, ey, e_alive & (e_kind == BTM)),
@@ -375,7 +403,7 @@ class Solarfox(Game):
         grids = (
             ("blib", s.get("blib")),
             ("powerblib", s.get("powerblib")),
-            ("powerblibturning", turning_grid(s)),
+            ("powerblibturning", s.get("turning")),
         )
         sprites = [[name, CELL * c, CELL * r] for name, grid in grids for r, c in grid[0].nonzero().tolist()]
         enemies = s.get("enemies")[0]
@@ -397,11 +425,3 @@ class Solarfox(Game):
 def _overlap(ax: torch.Tensor, ay: torch.Tensor, bx: torch.Tensor, by: torch.Tensor) -> torch.Tensor:
     """Strict overlap of 10x10 rectangles (geometry.overlaps) as two distance tests; broadcasts."""
     return ((bx - ax).abs() < CELL) & ((by - ay).abs() < CELL)
-
-
-def turning_grid(state: TensorDict) -> torch.Tensor:
-    """``[B, H, W]`` bool: the powerblibturning sprites after the last tick. One created in tick
-    ``born`` is killed by its Flicker update (limit 8) in tick ``born + 10``, so it is shown after
-    ticks born … born + 9."""
-    born = state.get("turning_born")
-    return born >= (state.get("tick").to(born.dtype) - (TURNING_LIFE - 1)).view(-1, 1, 1)
