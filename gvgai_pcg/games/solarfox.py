@@ -3,8 +3,11 @@ the enemy lanes, the two enemies or their shots.
 
 The ship (OngoingAvatar) moves 1 px per tick, so its position is usually not cell-aligned; every
 other sprite is. Static and cell-aligned sprites are ``[B, H, W]`` grids (walls, enemyground,
-blibs, powerblibs with their "res" counter, powerblibturning flickers by their creation tick); the
-enemies (by cell) and their shots are entity tables. One tick is RULES.md §1.3 in this order:
+blibs, powerblibs with their "res" counter, powerblibturning flickers by their creation tick, and
+the turnings shown); the enemies (by cell) and their shots are entity tables. Rules 1-9 only
+touch cells near the ship, so the tick gathers those from the grids and scatters them back, and
+keeps the count of blibs and powerblibs left for the WIN check. One tick is RULES.md §1.3 in
+this order:
 
 * step 2, the ship: a direction sets the heading at once, then it moves 1 px (not at tick 0);
 * step 3, shots (move 1 px per tick from their second update), enemies (10 px every 3 ticks),
@@ -60,7 +63,7 @@ SHOT_DY = (-1, 1)  # btm fires upshots, top fires downshots, 1 px per tick
 # shot that finds no free slot of its enemy is not created.
 SHOTS_PER_ENEMY = 16
 TURNING_LIFE = 10  # powerblibturning (Flicker, limit 8) is killed at the update of tick born + 10
-# Cells per axis of the window around the ship that holds every live powerblibturning (see _apply_rules).
+# Cells per axis of the window around the ship that holds every live powerblibturning (_pair_turnings).
 WINDOW = 4
 RES_LIMIT = 4  # the powerblib's "res" counter capacity
 BLIB_AT_RES = 2  # spawnIfHasMore limit of rule 6a
@@ -96,22 +99,32 @@ def _window_span(pos: torch.Tensor, count: int) -> tuple[torch.Tensor, torch.Ten
 
 
 @cache
-def _window_tables(height: int, width: int, device: str) -> tuple[torch.Tensor, torch.Tensor]:
-    """The ship's window for every position, made once per grid size: flat cell indices ``[P, K]``
-    and which of them the ship overlaps ``[P, K]``, row ``P = (y + 2 CELL) X + x + 2 CELL`` for a
-    ship at (x, y) clamped to ``[-2 CELL, CELL * size + CELL]`` (:func:`_window_rows`); beyond those
-    bounds the window and the overlap no longer change."""
+def _ship_tables(height: int, width: int, device: str) -> dict[str, torch.Tensor]:
+    """Cell look-ups for every ship position, made once per grid size; row ``P = (y + 2 CELL) X +
+    x + 2 CELL`` for a ship at (x, y) clamped to ``[-2 CELL, CELL * size + CELL]``
+    (:func:`_window_rows`), beyond which nothing changes.
+
+    * ``window`` ``[P, K]``: flat indices of the window (see :meth:`Solarfox._pair_turnings`);
+    * ``under`` ``[P, 4]``: flat indices of the cells the ship overlaps, in the grid, each once
+      (``counted``) and first; the other entries repeat the first, so that a scatter of a value
+      that depends only on the cell writes every covered cell once and nothing else;
+    * ``counted`` ``[P, 4]``: which entries of ``under`` are distinct covered cells.
+    """
     xs = torch.arange(-2 * CELL, CELL * width + CELL + 1)
     ys = torch.arange(-2 * CELL, CELL * height + CELL + 1)
     cols, over_x = _window_span(xs, width)
     rows, over_y = _window_span(ys, height)
-    cells = width * rows[:, None, :, None] + cols[None, :, None, :]  # [Y, X, n_y, n_x]
-    under = over_y[:, None, :, None] & over_x[None, :, None, :]
-    return cells.flatten(2).flatten(0, 1).to(device), under.flatten(2).flatten(0, 1).to(device)
+    window = (width * rows[:, None, :, None] + cols[None, :, None, :]).flatten(2).flatten(0, 1)
+    covered = (over_y[:, None, :, None] & over_x[None, :, None, :]).flatten(2).flatten(0, 1)
+    first = torch.sort((~covered).to(torch.uint8), dim=-1, stable=True).indices[:, :4]
+    counted = covered.gather(1, first)
+    under = torch.where(counted, window.gather(1, first), window.gather(1, first[:, :1]))
+    tables = {"window": window, "under": under, "counted": counted}
+    return {key: value.to(device) for key, value in tables.items()}
 
 
 def _window_rows(x: torch.Tensor, y: torch.Tensor, height: int, width: int) -> torch.Tensor:
-    """Rows of :func:`_window_tables` for ships at ``x, y`` (``[B]``)."""
+    """Rows of :func:`_ship_tables` for ships at ``x, y`` (``[B]``)."""
     x = x.clamp(-2 * CELL, CELL * width + CELL) + 2 * CELL
     y = y.clamp(-2 * CELL, CELL * height + CELL) + 2 * CELL
     return y * (CELL * width + 3 * CELL + 1) + x
@@ -197,6 +210,8 @@ class Solarfox(Game):
             # The turnings shown after the last tick: one created in tick born is killed by its
             # Flicker update (limit 8) in tick born + 10, so it is shown after ticks born … born + 9.
             "turning": torch.zeros(wall.shape, dtype=torch.bool, device=device),
+            # The last tick in which a turning was created (rule 9): 6a/6b run where it is recent.
+            "turning_last": torch.full((batch,), NO_TURNING, dtype=torch.int32, device=device),
             "avatar": TensorDict(avatar, batch_size=[batch]).to(device),
             "enemies": enemies,
             "shots": TensorDict(shots, batch_size=[batch, slots]).to(device),
@@ -248,59 +263,58 @@ class Solarfox(Game):
 
     # --- step 4: collision rules in declaration order ---
     def _apply_rules(self, state: TensorDict, tick: torch.Tensor) -> None:
-        """Rules 1-9 touch only the cells around the ship, so they run on a window of 4x4 cells
-        gathered from the grids and scattered back. The window spans from one cell before the
-        ship's to two after along each axis, which holds the (up to 2x2) cells the ship overlaps
-        and every live powerblibturning: a turning lives 10 ticks and sits on a cell the ship
-        overlapped when it was created, and the ship moves at most 1 px per tick."""
+        """Rules 1-9 touch only cells near the ship, so they gather those cells from the grids and
+        scatter them back: the (up to 2x2) cells the ship overlaps, and for 6a/6b, in the envs where
+        a powerblibturning may live, the window of :meth:`_pair_turnings`."""
         avatar, enemies, shots = state.get("avatar"), state.get("enemies"), state.get("shots")
         wall = state.get("wall")
         alive, ax, ay = avatar.get("alive"), avatar.get("x"), avatar.get("y")
         col, row, e_alive = enemies.get("col"), enemies.get("row"), enemies.get("alive")
         batch, height, width = wall.shape
-        flat = {key: state.get(key).view(batch, -1) for key in ("blib", "powerblib", "res", "turning_born")}
-        window_cells, window_under = _window_tables(height, width, str(ax.device))
-        window = _window_rows(ax, ay, height, width)
-        cells = window_cells.index_select(0, window)
-        # The window cells the ship overlaps (a ship disabled in an earlier tick collides with nothing).
-        under = window_under.index_select(0, window) & alive.unsqueeze(-1)
-        blib, powerblib, res, born = (torch.gather(flat[key], 1, cells) for key in flat)
-        window_tick = tick.to(born.dtype).unsqueeze(-1)
+        keys = ("blib", "powerblib", "res", "turning_born", "turning")
+        flat = {key: state.get(key).view(batch, -1) for key in keys}
+        tables = _ship_tables(height, width, str(ax.device))
+        position = _window_rows(ax, ay, height, width)
+        cells = tables["under"].index_select(0, position)
+        # The cells the ship overlaps, each once (a ship disabled in an earlier tick collides with
+        # nothing); when there is one, every entry of ``cells`` is one.
+        hits = tables["counted"].index_select(0, position) & alive.unsqueeze(-1)
+        under = hits[:, :1]
 
         # 1-4 avatar × wall, enemy, enemyground, shot: kill (disable) the ship, -10 per sprite overlapped.
-        lethal = under & torch.gather(state.get("deadly").view(batch, -1), 1, cells)
+        lethal = hits & torch.gather(state.get("deadly").view(batch, -1), 1, cells)
         ship_x, ship_y = ax.unsqueeze(-1), ay.unsqueeze(-1)
         enemy_hit = e_alive & _overlap(ship_x, ship_y, CELL * col, CELL * row)
         shot_hit = shots.get("alive") & _overlap(ship_x, ship_y, shots.get("x"), shots.get("y"))
         lethal = lethal.sum(-1) + alive * (enemy_hit.sum(-1) + shot_hit.sum(-1))
         # 5 blib × avatar: collect, +1 each (the ship still collects in the tick it dies).
-        taken = blib & under
-        # 6a powerblib × powerblibturning: a blib on the powerblib once its counter is ≥ 2 (for all
-        # pairs before 6b); 6b: the counter grows by 1 up to its limit. A turning is cell-aligned on
-        # its powerblib's cell, and one killed by its Flicker update this tick still counts.
-        paired = powerblib & (born >= window_tick - TURNING_LIFE)
-        spawned = paired & (res >= BLIB_AT_RES)
-        res = res + (paired & (res < RES_LIMIT)).to(res.dtype)
-        # 7 powerblibturning × avatar: kill the turnings the ship overlaps.
-        # 8 powerblib × blib: the new blib kills its powerblib, +1 (a level blib never shares a cell
-        # with a powerblib, so only the blibs of 6a can).
-        powerblib = powerblib & ~spawned
-        # 9 powerblib × avatar: a new turning on every powerblib the ship overlaps; under the ship,
-        # rule 7 has killed the old one.
-        born = torch.where(under, torch.where(powerblib, window_tick, NO_TURNING), born)
-        flat["blib"].scatter_(1, cells, (blib & ~taken) | spawned)
-        flat["powerblib"].scatter_(1, cells, powerblib)
-        flat["res"].scatter_(1, cells, res)
+        blib = torch.gather(flat["blib"], 1, cells)
+        taken = (hits & blib).sum(-1)
+        flat["blib"].scatter_(1, cells, blib & ~under)
+        # 6a, 6b, 8 (and the turnings' expiry), only where a turning created in the last 10 ticks
+        # may still pair with its powerblib.
+        gained = taken
+        live = (state.get("turning_last") >= tick - TURNING_LIFE).nonzero().squeeze(-1)
+        if len(live) > 0:
+            spawned = self._pair_turnings(
+                flat, tables["window"].index_select(0, position[live]), tick[live], live
+            )
+            gained = gained.index_add(0, live, spawned)
+        # 7 powerblibturning × avatar: kill the turnings the ship overlaps. 9 powerblib × avatar: a
+        # new turning on every powerblib the ship overlaps (after rule 8's kills).
+        powerblib = under & torch.gather(flat["powerblib"], 1, cells)
+        born = torch.gather(flat["turning_born"], 1, cells)
+        born = torch.where(powerblib, tick.to(born.dtype).unsqueeze(-1), torch.where(under, NO_TURNING, born))
         flat["turning_born"].scatter_(1, cells, born)
-        # The window also holds every turning that expires in this tick (born = tick - 10).
-        turning = born >= window_tick - (TURNING_LIFE - 1)
-        state.get("turning").view(batch, -1).scatter_(1, cells, turning)
+        flat["turning"].scatter_(1, cells, powerblib | (~under & torch.gather(flat["turning"], 1, cells)))
         # A blib of 6a replaces its powerblib (8), so only rule 5 changes the pickups left.
-        taken = taken.sum(-1)
         state.update(
             {
-                "score": state.get("score") + DEATH_SCORE * lethal + taken + spawned.sum(-1),
+                "score": state.get("score") + DEATH_SCORE * lethal + gained,
                 "pickups": state.get("pickups") - taken.to(torch.int32),
+                "turning_last": torch.where(
+                    powerblib.any(-1), tick.to(torch.int32), state.get("turning_last")
+                ),
             }
         )
         avatar.set("alive", alive & (lethal == 0))
@@ -315,6 +329,34 @@ class Solarfox(Game):
         draw = rng.uniform(state.get("seed"), tick, slots, STREAM_SHOT)
         on_ground = on_grid & torch.gather(state.get("enemyground").view(batch, -1), 1, cell)
         self._spawn_shots(shots, on_ground & (draw < SHOT_PROBABILITY), enemies)
+
+    @staticmethod
+    def _pair_turnings(
+        flat: dict[str, torch.Tensor], window: torch.Tensor, tick: torch.Tensor, envs: torch.Tensor
+    ) -> torch.Tensor:
+        """Rules 6a, 6b and 8 in envs ``envs``, on their window ``[N, K]`` (flat cell indices): the
+        (up to) 4x4 cells from one cell before the ship's to two after along each axis. It holds
+        every turning created in the last 10 ticks: each sits on a cell the ship overlapped then,
+        and the ship moves at most 1 px per tick. Also refreshes the shown turnings there (rule 9
+        then adds this tick's). Returns the blibs created per env (+1 each, rule 8)."""
+        cells = window + (envs * flat["blib"].shape[1]).unsqueeze(-1)
+        grid = {key: value.view(-1) for key, value in flat.items()}
+        powerblib, res, born = (grid[key][cells] for key in ("powerblib", "res", "turning_born"))
+        tick = tick.to(born.dtype).unsqueeze(-1)
+        # 6a powerblib × powerblibturning: a blib on the powerblib once its counter is ≥ 2 (for all
+        # pairs before 6b); 6b: the counter grows by 1 up to its limit. A turning is cell-aligned on
+        # its powerblib's cell, and one killed by its Flicker update this tick still counts.
+        paired = powerblib & (born >= tick - TURNING_LIFE)
+        spawned = paired & (res >= BLIB_AT_RES)
+        grid["res"][cells] = res + (paired & (res < RES_LIMIT)).to(res.dtype)
+        # 8 powerblib × blib: the new blib kills its powerblib, +1 (a level blib never shares a cell
+        # with a powerblib, so only the blibs of 6a can).
+        grid["powerblib"][cells] = powerblib & ~spawned
+        grid["blib"][cells] = grid["blib"][cells] | spawned
+        # Shown after this tick: a turning created in tick born is killed by its Flicker update
+        # (limit 8) in tick born + 10.
+        grid["turning"][cells] = born >= tick - (TURNING_LIFE - 1)
+        return spawned.sum(-1)
 
     @staticmethod
     def _spawn_shots(shots: TensorDict, fire: torch.Tensor, enemies: TensorDict) -> None:
