@@ -339,23 +339,30 @@ class Solarfox(Game):
         every turning created in the last 10 ticks: each sits on a cell the ship overlapped then,
         and the ship moves at most 1 px per tick. Also refreshes the shown turnings there (rule 9
         then adds this tick's). Returns the blibs created per env (+1 each, rule 8)."""
-        cells = window + (envs * flat["blib"].shape[1]).unsqueeze(-1)
+        cells = (window + (envs * flat["blib"].shape[1]).unsqueeze(-1)).view(-1)
         grid = {key: value.view(-1) for key, value in flat.items()}
-        powerblib, res, born = (grid[key][cells] for key in ("powerblib", "res", "turning_born"))
+
+        def read(key: str) -> torch.Tensor:
+            return grid[key].index_select(0, cells).view(window.shape)
+
+        def write(key: str, value: torch.Tensor) -> None:
+            grid[key].scatter_(0, cells, value.view(-1))
+
+        powerblib, res, born = read("powerblib"), read("res"), read("turning_born")
         tick = tick.to(born.dtype).unsqueeze(-1)
         # 6a powerblib × powerblibturning: a blib on the powerblib once its counter is ≥ 2 (for all
         # pairs before 6b); 6b: the counter grows by 1 up to its limit. A turning is cell-aligned on
         # its powerblib's cell, and one killed by its Flicker update this tick still counts.
         paired = powerblib & (born >= tick - TURNING_LIFE)
         spawned = paired & (res >= BLIB_AT_RES)
-        grid["res"][cells] = res + (paired & (res < RES_LIMIT)).to(res.dtype)
+        write("res", res + (paired & (res < RES_LIMIT)).to(res.dtype))
         # 8 powerblib × blib: the new blib kills its powerblib, +1 (a level blib never shares a cell
         # with a powerblib, so only the blibs of 6a can).
-        grid["powerblib"][cells] = powerblib & ~spawned
-        grid["blib"][cells] = grid["blib"][cells] | spawned
+        write("powerblib", powerblib & ~spawned)
+        write("blib", read("blib") | spawned)
         # Shown after this tick: a turning created in tick born is killed by its Flicker update
         # (limit 8) in tick born + 10.
-        grid["turning"][cells] = born >= tick - (TURNING_LIFE - 1)
+        write("turning", born >= tick - (TURNING_LIFE - 1))
         return spawned.sum(-1)
 
     @staticmethod
