@@ -252,14 +252,14 @@ class Solarfox(Game):
         :meth:`_spawn_shots` later in the tick)."""
         shots = state.get("shots")
         moving = shots.get("alive") & ~shots.get("fresh")
-        shots.set("y", shots.get("y") + torch.where(moving, shots.get("dy"), 0))
+        shots.set("y", shots.get("y") + shots.get("dy") * moving)
 
     def _update_enemies(self, state: TensorDict, tick: torch.Tensor) -> None:
         """Missiles, 10 px per move, cooldown 3. Enemies are level sprites that are never created or
         removed, so with the first-update skip at tick 0 they move exactly at ticks 2, 5, 8, …"""
         enemies = state.get("enemies")
         move = (tick % ENEMY_COOLDOWN == ENEMY_COOLDOWN - 1).unsqueeze(-1) & enemies.get("alive")
-        enemies.set("col", enemies.get("col") + torch.where(move, enemies.get("dx"), 0))
+        enemies.set("col", enemies.get("col") + enemies.get("dx") * move)
 
     # --- step 4: collision rules in declaration order ---
     def _apply_rules(self, state: TensorDict, tick: torch.Tensor) -> None:
@@ -472,5 +472,5 @@ class Solarfox(Game):
 
 
 def _overlap(ax: torch.Tensor, ay: torch.Tensor, bx: torch.Tensor, by: torch.Tensor) -> torch.Tensor:
-    """Strict overlap of 10x10 rectangles (geometry.overlaps) as two distance tests; broadcasts."""
-    return ((bx - ax).abs() < CELL) & ((by - ay).abs() < CELL)
+    """Strict overlap of 10x10 rectangles (geometry.overlaps) as one distance test; broadcasts."""
+    return torch.maximum((bx - ax).abs(), (by - ay).abs()) < CELL
