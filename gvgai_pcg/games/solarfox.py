@@ -234,15 +234,15 @@ class Solarfox(Game):
         avatar = state.get("avatar")
         const = _constants(str(action.device))
         alive = avatar.get("alive")
-        direction = const["action_direction"][action]
+        direction = const["action_direction"].index_select(0, action)
         ori = torch.where(alive & (direction != NONE), direction, avatar.get("ori"))
         # Passive move along the heading, skipped on the first update (tick 0).
         step = alive & (tick >= 1)
         avatar.update(
             {
                 "ori": ori,
-                "x": (avatar.get("x") + torch.where(step, const["dx"][ori], 0)).to(torch.int32),
-                "y": (avatar.get("y") + torch.where(step, const["dy"][ori], 0)).to(torch.int32),
+                "x": (avatar.get("x") + const["dx"].index_select(0, ori) * step).to(torch.int32),
+                "y": (avatar.get("y") + const["dy"].index_select(0, ori) * step).to(torch.int32),
             }
         )
 
@@ -395,16 +395,15 @@ class Solarfox(Game):
         and off screen it is neither drawn nor in ``tiles``."""
         shots, avatar, enemies = state.get("shots"), state.get("avatar"), state.get("enemies")
         screen_h = CELL * state.get("wall").shape[1]
-        ship_y, ship_alive = avatar.get("y"), avatar.get("alive")
         # Along the flight (y dy, y grows downward) an upshot is gone from -y = 10 - min(0, ship_y)
-        # on, a downshot from y = max(screen_h, ship_y + 10) on; the ship's bound only while alive.
-        up = torch.where(ship_alive, (CELL - ship_y).clamp(min=CELL), CELL)
-        down = torch.where(ship_alive, (ship_y + CELL).clamp(min=screen_h), screen_h)
-        bound = torch.where(enemies.get("kind") == BTM, up.unsqueeze(-1), down.unsqueeze(-1))
-        y, alive = shots.get("y"), shots.get("alive")
-        count = bound.shape[1]
-        gone = (y * shots.get("dy")).view(-1, count, SHOTS_PER_ENEMY) >= bound.unsqueeze(-1)
-        alive &= ~gone.view(alive.shape)
+        # on, a downshot from y = max(screen_h, ship_y + 10) on; the ship's bound only while alive
+        # (a ship y of 0 leaves both at the screen's).
+        ship_y = (avatar.get("y") * avatar.get("alive")).unsqueeze(-1)
+        up, down = CELL - ship_y.clamp(max=0), (ship_y + CELL).clamp(min=screen_h)
+        bound = torch.where(enemies.get("kind") == BTM, up, down)
+        alive = shots.get("alive")
+        flight = (shots.get("y") * shots.get("dy")).view(*bound.shape, SHOTS_PER_ENEMY)
+        alive &= (flight < bound.unsqueeze(-1)).view(alive.shape)
 
     # --- step 6: termination, in declaration order ---
     def _check_termination(self, state: TensorDict) -> None:
