@@ -296,10 +296,10 @@ class Solarfox(Game):
         gained = taken
         live = (state.get("turning_last") >= tick - TURNING_LIFE).nonzero().squeeze(-1)
         if len(live) > 0:
-            spawned = self._pair_turnings(
+            at, spawned = self._pair_turnings(
                 flat, tables["window"].index_select(0, position[live]), tick[live], live
             )
-            gained = gained.index_add(0, live, spawned)
+            gained = gained.index_add(0, at, spawned.to(gained.dtype))
         # 7 powerblibturning × avatar: kill the turnings the ship overlaps. 9 powerblib × avatar: a
         # new turning on every powerblib the ship overlaps (after rule 8's kills).
         powerblib = under & torch.gather(flat["powerblib"], 1, cells)
@@ -333,37 +333,32 @@ class Solarfox(Game):
     @staticmethod
     def _pair_turnings(
         flat: dict[str, torch.Tensor], window: torch.Tensor, tick: torch.Tensor, envs: torch.Tensor
-    ) -> torch.Tensor:
-        """Rules 6a, 6b and 8 in envs ``envs``, on their window ``[N, K]`` (flat cell indices): the
+    ) -> tuple[torch.Tensor, torch.Tensor]:
+        """Rules 6a, 6b and 8 in envs ``envs``, in their window ``[N, K]`` (flat cell indices): the
         (up to) 4x4 cells from one cell before the ship's to two after along each axis. It holds
         every turning created in the last 10 ticks: each sits on a cell the ship overlapped then,
-        and the ship moves at most 1 px per tick. Also refreshes the shown turnings there (rule 9
-        then adds this tick's). Returns the blibs created per env (+1 each, rule 8)."""
-        cells = (window + (envs * flat["blib"].shape[1]).unsqueeze(-1)).view(-1)
+        and the ship moves at most 1 px per tick. Only those few cells are read further and
+        written, which also refreshes the shown turnings (rule 9 then adds this tick's). Returns
+        the env of each such cell and whether a blib was created there (+1, rule 8)."""
         grid = {key: value.view(-1) for key, value in flat.items()}
-
-        def read(key: str) -> torch.Tensor:
-            return grid[key].index_select(0, cells).view(window.shape)
-
-        def write(key: str, value: torch.Tensor) -> None:
-            grid[key].scatter_(0, cells, value.view(-1))
-
-        powerblib, res, born = read("powerblib"), read("res"), read("turning_born")
-        tick = tick.to(born.dtype).unsqueeze(-1)
+        cells = window + (envs * flat["blib"].shape[1]).unsqueeze(-1)
+        born = grid["turning_born"].index_select(0, cells.view(-1)).view(cells.shape)
+        row, column = (born >= tick.to(born.dtype).unsqueeze(-1) - TURNING_LIFE).nonzero(as_tuple=True)
+        cells, born, tick = cells[row, column], born[row, column], tick[row].to(born.dtype)
+        powerblib, res = grid["powerblib"].index_select(0, cells), grid["res"].index_select(0, cells)
         # 6a powerblib × powerblibturning: a blib on the powerblib once its counter is ≥ 2 (for all
         # pairs before 6b); 6b: the counter grows by 1 up to its limit. A turning is cell-aligned on
         # its powerblib's cell, and one killed by its Flicker update this tick still counts.
-        paired = powerblib & (born >= tick - TURNING_LIFE)
-        spawned = paired & (res >= BLIB_AT_RES)
-        write("res", res + (paired & (res < RES_LIMIT)).to(res.dtype))
+        spawned = powerblib & (res >= BLIB_AT_RES)
+        grid["res"].scatter_(0, cells, res + (powerblib & (res < RES_LIMIT)).to(res.dtype))
         # 8 powerblib × blib: the new blib kills its powerblib, +1 (a level blib never shares a cell
         # with a powerblib, so only the blibs of 6a can).
-        write("powerblib", powerblib & ~spawned)
-        write("blib", read("blib") | spawned)
+        grid["powerblib"].scatter_(0, cells, powerblib & ~spawned)
+        grid["blib"].scatter_(0, cells, grid["blib"].index_select(0, cells) | spawned)
         # Shown after this tick: a turning created in tick born is killed by its Flicker update
         # (limit 8) in tick born + 10.
-        write("turning", born >= tick - (TURNING_LIFE - 1))
-        return spawned.sum(-1)
+        grid["turning"].scatter_(0, cells, born >= tick - (TURNING_LIFE - 1))
+        return envs[row], spawned
 
     @staticmethod
     def _spawn_shots(shots: TensorDict, fire: torch.Tensor, enemies: TensorDict) -> None:
