@@ -363,23 +363,23 @@ class Solarfox(Game):
     @staticmethod
     def _spawn_shots(shots: TensorDict, fire: torch.Tensor, enemies: TensorDict) -> None:
         """A firing enemy (``fire`` ``[B, E]``) puts a shot into the first free slot of its own block.
-        Few envs fire in a tick, so only their rows of the shot table are touched."""
+        Few enemies fire in a tick, so only their blocks of the shot table are touched."""
         batch, count = fire.shape
         alive = shots.get("alive")
         fresh = torch.zeros_like(alive)
-        envs = fire.any(-1).nonzero().squeeze(-1)
-        if len(envs) > 0:
-            block = (len(envs), count, SHOTS_PER_ENEMY)
-            free = ~alive[envs].view(block)
-            place = free & (free.cumsum(-1) == 1) & fire[envs].unsqueeze(-1)
-            x, y = shots.get("x"), shots.get("y")
-            at_x = CELL * enemies.get("col")[envs].unsqueeze(-1)
-            at_y = CELL * enemies.get("row")[envs].unsqueeze(-1)
-            x[envs] = torch.where(place, at_x, x[envs].view(block)).view(len(envs), -1)
-            y[envs] = torch.where(place, at_y, y[envs].view(block)).view(len(envs), -1)
-            place = place.view(len(envs), -1)
-            alive[envs] = alive[envs] | place
-            fresh[envs] = place
+        env, enemy = fire.nonzero(as_tuple=True)
+        if len(env) > 0:
+            block = env * count + enemy
+            free = ~alive.view(-1, SHOTS_PER_ENEMY).index_select(0, block)
+            # argmax returns the first maximal index, i.e. the first free slot.
+            slot = block * SHOTS_PER_ENEMY + free.to(torch.uint8).argmax(-1)
+            room = free.any(-1)
+            slot, env, enemy = slot[room], env[room], enemy[room]
+            for key, at in (("x", "col"), ("y", "row")):
+                position = CELL * enemies.get(at)[env, enemy]
+                shots.get(key).view(-1).scatter_(0, slot, position.to(shots.get(key).dtype))
+            alive.view(-1).scatter_(0, slot, True)
+            fresh.view(-1).scatter_(0, slot, True)
         shots.set("fresh", fresh)
 
     # --- step 5: cleanup ---
