@@ -286,10 +286,10 @@ class Solarfox(Game):
         ship_x, ship_y = ax.unsqueeze(-1), ay.unsqueeze(-1)
         enemy_hit = e_alive & _overlap(ship_x, ship_y, CELL * col, CELL * row)
         shot_hit = shots.get("alive") & _overlap(ship_x, ship_y, shots.get("x"), shots.get("y"))
-        lethal = lethal.sum(-1) + alive * (enemy_hit.sum(-1) + shot_hit.sum(-1))
+        lethal = _count(lethal) + alive * (_count(enemy_hit) + _count(shot_hit))
         # 5 blib × avatar: collect, +1 each (the ship still collects in the tick it dies).
         blib = torch.gather(flat["blib"], 1, cells)
-        taken = (hits & blib).sum(-1)
+        taken = _count(hits & blib)
         flat["blib"].scatter_(1, cells, blib & ~under)
         # 6a, 6b, 8 (and the turnings' expiry), only where a turning created in the last 10 ticks
         # may still pair with its powerblib.
@@ -311,7 +311,7 @@ class Solarfox(Game):
         state.update(
             {
                 "score": state.get("score") + DEATH_SCORE * lethal + gained,
-                "pickups": state.get("pickups") - taken.to(torch.int32),
+                "pickups": state.get("pickups") - taken,
                 "turning_last": torch.where(
                     powerblib.any(-1), tick.to(torch.int32), state.get("turning_last")
                 ),
@@ -463,6 +463,11 @@ class Solarfox(Game):
         """+1 per blib and +2 per powerblib (its blib is worth 1 and eating its powerblib 1, §5.6),
         collected without dying."""
         return level.count("b") + 2 * level.count("p")
+
+
+def _count(hit: torch.Tensor) -> torch.Tensor:
+    """Set entries along the last axis, summed in int32 (cheaper than the default int64)."""
+    return hit.sum(-1, dtype=torch.int32)
 
 
 def _overlap(ax: torch.Tensor, ay: torch.Tensor, bx: torch.Tensor, by: torch.Tensor) -> torch.Tensor:
