@@ -100,15 +100,15 @@ def _window_span(pos: torch.Tensor, count: int) -> tuple[torch.Tensor, torch.Ten
 
 @cache
 def _ship_tables(height: int, width: int, device: str) -> dict[str, torch.Tensor]:
-    """Cell look-ups for every ship position, made once per grid size; row ``P = (y + 2 CELL) X +
-    x + 2 CELL`` for a ship at (x, y) clamped to ``[-2 CELL, CELL * size + CELL]``
-    (:func:`_window_rows`), beyond which nothing changes.
+    """Cell look-ups for every ship position, made once per grid size. Row ``(y + 2 CELL) X + x +
+    2 CELL`` (``X = CELL * width + 3 CELL + 1`` positions per row) is for a ship at (x, y) clamped
+    to ``[-2 CELL, CELL * size + CELL]`` (:func:`_window_rows`); beyond that nothing changes.
 
     * ``window`` ``[P, K]``: flat indices of the window (see :meth:`Solarfox._pair_turnings`);
-    * ``under`` ``[P, 4]``: flat indices of the cells the ship overlaps, in the grid, each once
-      (``counted``) and first; the other entries repeat the first, so that a scatter of a value
-      that depends only on the cell writes every covered cell once and nothing else;
-    * ``counted`` ``[P, 4]``: which entries of ``under`` are distinct covered cells.
+    * ``under`` ``[P, 4]``: flat indices of the cells of the grid the ship overlaps, each once and
+      first; the other entries repeat the first (an arbitrary cell if the ship overlaps none), so
+      a scatter of values that depend only on the cell writes exactly the overlapped cells;
+    * ``counted`` ``[P, 4]``: which entries of ``under`` are those distinct overlapped cells.
     """
     xs = torch.arange(-2 * CELL, CELL * width + CELL + 1)
     ys = torch.arange(-2 * CELL, CELL * height + CELL + 1)
