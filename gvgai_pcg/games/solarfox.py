@@ -106,8 +106,9 @@ def _ship_tables(height: int, width: int, device: str) -> dict[str, torch.Tensor
 
     * ``window`` ``[P, K]``: flat indices of the window (see :meth:`Solarfox._pair_turnings`);
     * ``under`` ``[P, 4]``: flat indices of the cells of the grid the ship overlaps, each once and
-      first; the other entries repeat the first (an arbitrary cell if the ship overlaps none), so
-      a scatter of values that depend only on the cell writes exactly the overlapped cells;
+      first; the other entries repeat the first, so a scatter of values that depend only on the
+      cell writes exactly the overlapped cells (if the ship overlaps none, all are one arbitrary
+      cell, where the callers write back its old value);
     * ``counted`` ``[P, 4]``: which entries of ``under`` are those distinct overlapped cells.
     """
     xs = torch.arange(-2 * CELL, CELL * width + CELL + 1)
