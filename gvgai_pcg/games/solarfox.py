@@ -3,8 +3,11 @@ the enemy lanes, the two enemies or their shots.
 
 The ship (OngoingAvatar) moves 1 px per tick, so its position is usually not cell-aligned; every
 other sprite is. Static and cell-aligned sprites are ``[B, H, W]`` grids (walls, enemyground,
-blibs, powerblibs with their "res" counter, powerblibturning flickers by their creation tick); the
-enemies (by cell) and their shots are entity tables. One tick is RULES.md §1.3 in this order:
+blibs, powerblibs with their "res" counter, powerblibturning flickers by their creation tick, and
+the turnings shown); the enemies (by cell) and their shots are entity tables. Rules 1-9 only
+touch cells near the ship, so the tick gathers those from the grids and scatters them back, and
+keeps the count of blibs and powerblibs left for the WIN check. One tick is RULES.md §1.3 in
+this order:
 
 * step 2, the ship: a direction sets the heading at once, then it moves 1 px (not at tick 0);
 * step 3, shots (move 1 px per tick from their second update), enemies (10 px every 3 ticks),
@@ -43,7 +46,7 @@ from gvgai_pcg.games.base import (
     common_state,
     golden_record,
 )
-from gvgai_pcg.games.geometry import CELL, DIRECTION_NAMES, DOWN, LEFT, NONE, RIGHT, UP, overlaps
+from gvgai_pcg.games.geometry import CELL, DIRECTION_NAMES, DOWN, LEFT, NONE, RIGHT, UP, cell_of
 from gvgai_pcg.games.registry import register_game
 from gvgai_pcg.levels import Level
 
@@ -60,6 +63,8 @@ SHOT_DY = (-1, 1)  # btm fires upshots, top fires downshots, 1 px per tick
 # shot that finds no free slot of its enemy is not created.
 SHOTS_PER_ENEMY = 16
 TURNING_LIFE = 10  # powerblibturning (Flicker, limit 8) is killed at the update of tick born + 10
+# Cells per axis of the window around the ship that holds every live powerblibturning (_pair_turnings).
+WINDOW = 4
 RES_LIMIT = 4  # the powerblib's "res" counter capacity
 BLIB_AT_RES = 2  # spawnIfHasMore limit of rule 6a
 DEATH_SCORE = -10
@@ -77,17 +82,53 @@ def _constants(device: str) -> dict[str, torch.Tensor]:
     """Small lookup tables, made once per device."""
     return {
         "action_direction": torch.tensor(ACTION_DIRECTION, device=device),
-        "dx": torch.tensor(_DX, device=device),
-        "dy": torch.tensor(_DY, device=device),
+        "dx": torch.tensor(_DX, dtype=torch.int32, device=device),
+        "dy": torch.tensor(_DY, dtype=torch.int32, device=device),
     }
 
 
-def _cell_span(pos: torch.Tensor, count: int) -> torch.Tensor:
-    """``[B, count]`` bool: the cells along one axis that a 10-px span starting at ``pos`` (``[B]``)
-    overlaps (strictly, RULES.md §1.1)."""
-    start = torch.arange(0, CELL * count, CELL, device=pos.device, dtype=pos.dtype)
-    pos = pos.unsqueeze(-1)
-    return (start < pos + CELL) & (pos < start + CELL)
+def _window_span(pos: torch.Tensor, count: int) -> tuple[torch.Tensor, torch.Tensor]:
+    """Along one axis of ``count`` cells: the ``min(4, count)`` consecutive cells from one before
+    the cell holding ``pos`` (``[N]``), shifted to lie inside the grid (``[N, n]`` int64), and which
+    of them a 10-px span starting at ``pos`` overlaps (strictly, RULES.md §1.1)."""
+    n = min(WINDOW, count)
+    first = (cell_of(pos) - 1).clamp(0, count - n)
+    cells = first.unsqueeze(-1) + torch.arange(n, device=pos.device)
+    start, pos = CELL * cells, pos.unsqueeze(-1)
+    return cells, (start < pos + CELL) & (pos < start + CELL)
+
+
+@cache
+def _ship_tables(height: int, width: int, device: str) -> dict[str, torch.Tensor]:
+    """Cell look-ups for every ship position, made once per grid size. Row ``(y + 2 CELL) X + x +
+    2 CELL`` (``X = CELL * width + 3 CELL + 1`` positions per row) is for a ship at (x, y) clamped
+    to ``[-2 CELL, CELL * size + CELL]`` (:func:`_window_rows`); beyond that nothing changes.
+
+    * ``window`` ``[P, K]``: flat indices of the window (see :meth:`Solarfox._pair_turnings`);
+    * ``under`` ``[P, 4]``: flat indices of the cells of the grid the ship overlaps, each once and
+      first; the other entries repeat the first, so a scatter of values that depend only on the
+      cell writes exactly the overlapped cells (if the ship overlaps none, all are one arbitrary
+      cell, where the callers write back its old value);
+    * ``counted`` ``[P, 4]``: which entries of ``under`` are those distinct overlapped cells.
+    """
+    xs = torch.arange(-2 * CELL, CELL * width + CELL + 1)
+    ys = torch.arange(-2 * CELL, CELL * height + CELL + 1)
+    cols, over_x = _window_span(xs, width)
+    rows, over_y = _window_span(ys, height)
+    window = (width * rows[:, None, :, None] + cols[None, :, None, :]).flatten(2).flatten(0, 1)
+    covered = (over_y[:, None, :, None] & over_x[None, :, None, :]).flatten(2).flatten(0, 1)
+    first = torch.sort((~covered).to(torch.uint8), dim=-1, stable=True).indices[:, :4]
+    counted = covered.gather(1, first)
+    under = torch.where(counted, window.gather(1, first), window.gather(1, first[:, :1]))
+    tables = {"window": window, "under": under, "counted": counted}
+    return {key: value.to(device) for key, value in tables.items()}
+
+
+def _window_rows(x: torch.Tensor, y: torch.Tensor, height: int, width: int) -> torch.Tensor:
+    """Rows of :func:`_ship_tables` for ships at ``x, y`` (``[B]``)."""
+    x = x.clamp(-2 * CELL, CELL * width + CELL) + 2 * CELL
+    y = y.clamp(-2 * CELL, CELL * height + CELL) + 2 * CELL
+    return y * (CELL * width + 3 * CELL + 1) + x
 
 
 @register_game("solarfox")
@@ -128,39 +169,52 @@ class Solarfox(Game):
         kind = enemies.get("kind")
         enemies.update(
             {
-                "col": enemies.get("x") // CELL,
-                "row": enemies.get("y") // CELL,
-                "dx": torch.tensor(ENEMY_START_DX, device=device)[kind],
+                "col": (enemies.get("x") // CELL).to(torch.int32),
+                "row": (enemies.get("y") // CELL).to(torch.int32),
+                "dx": torch.tensor(ENEMY_START_DX, dtype=torch.int32, device=device)[kind],
             }
         )
         del enemies["x"], enemies["y"]
         slots = SHOTS_PER_ENEMY * kind.shape[1]
+        # The shot table is the widest, so its positions are int16 (the ship's and enemies' int32):
+        # exact while they stay within +-32767 px, i.e. for over 30,000 ticks even for a shot that
+        # trails a ship off screen (episodes end at 2000 steps).
         shots = {
-            "x": torch.zeros(batch, slots, dtype=torch.int64),
-            "y": torch.zeros(batch, slots, dtype=torch.int64),
+            "x": torch.zeros(batch, slots, dtype=torch.int16),
+            "y": torch.zeros(batch, slots, dtype=torch.int16),
             # The owner's shot direction: -1 for the upshots of btm, +1 for the downshots of top.
-            "dy": torch.tensor(SHOT_DY)[kind.cpu()].repeat_interleave(SHOTS_PER_ENEMY, dim=1),
+            "dy": torch.tensor(SHOT_DY, dtype=torch.int16)[kind.cpu()].repeat_interleave(
+                SHOTS_PER_ENEMY, dim=1
+            ),
             "alive": torch.zeros(batch, slots, dtype=torch.bool),
             "fresh": torch.zeros(batch, slots, dtype=torch.bool),  # created this tick: no move next update
         }
         avatar = {
-            "x": ax,
-            "y": ay,
+            "x": ax.to(torch.int32),
+            "y": ay.to(torch.int32),
             "ori": torch.full((batch,), RIGHT, dtype=torch.int64),
             "alive": torch.ones(batch, dtype=torch.bool),
         }
         wall = char_grid(levels, "w", device)
         ground = char_grid(levels, ".12", device)
+        blib, powerblib = char_grid(levels, "b", device), char_grid(levels, "p", device)
         state = {
             **common_state(seeds, device),
             "wall": wall,
             "enemyground": ground,
             "deadly": wall | ground,  # a cell holds a wall or an enemyground, never both
             "floor": char_grid(levels, "+bpA12", device),
-            "blib": char_grid(levels, "b", device),
-            "powerblib": char_grid(levels, "p", device),
+            "blib": blib,
+            "powerblib": powerblib,
+            # Blibs + powerblibs on the grid (never on the same cell), for the WIN check.
+            "pickups": (blib | powerblib).flatten(1).sum(-1, dtype=torch.int32),
             "res": torch.zeros(wall.shape, dtype=torch.int8, device=device),
             "turning_born": torch.full(wall.shape, NO_TURNING, dtype=torch.int32, device=device),
+            # The turnings shown after the last tick: one created in tick born is killed by its
+            # Flicker update (limit 8) in tick born + 10, so it is shown after ticks born … born + 9.
+            "turning": torch.zeros(wall.shape, dtype=torch.bool, device=device),
+            # The last tick in which a turning was created (rule 9): 6a/6b run where it is recent.
+            "turning_last": torch.full((batch,), NO_TURNING, dtype=torch.int32, device=device),
             "avatar": TensorDict(avatar, batch_size=[batch]).to(device),
             "enemies": enemies,
             "shots": TensorDict(shots, batch_size=[batch, slots]).to(device),
@@ -183,81 +237,88 @@ class Solarfox(Game):
         avatar = state.get("avatar")
         const = _constants(str(action.device))
         alive = avatar.get("alive")
-        direction = const["action_direction"][action]
+        direction = const["action_direction"].index_select(0, action)
         ori = torch.where(alive & (direction != NONE), direction, avatar.get("ori"))
         # Passive move along the heading, skipped on the first update (tick 0).
         step = alive & (tick >= 1)
         avatar.update(
             {
                 "ori": ori,
-                "x": avatar.get("x") + step * const["dx"][ori],
-                "y": avatar.get("y") + step * const["dy"][ori],
+                "x": (avatar.get("x") + const["dx"].index_select(0, ori) * step).to(torch.int32),
+                "y": (avatar.get("y") + const["dy"].index_select(0, ori) * step).to(torch.int32),
             }
         )
 
     # --- step 3: shots, enemies (powerblibturning: see tick) ---
     def _update_shots(self, state: TensorDict) -> None:
-        """Missiles at 1 px per tick, from their second update on."""
+        """Missiles at 1 px per tick, from their second update on (``fresh`` is rewritten by
+        :meth:`_spawn_shots` later in the tick)."""
         shots = state.get("shots")
-        fresh = shots.get("fresh")
-        moving = shots.get("alive") & ~fresh
-        shots.update({"y": shots.get("y") + moving * shots.get("dy"), "fresh": torch.zeros_like(fresh)})
+        moving = shots.get("alive") & ~shots.get("fresh")
+        shots.set("y", shots.get("y") + shots.get("dy") * moving)
 
     def _update_enemies(self, state: TensorDict, tick: torch.Tensor) -> None:
         """Missiles, 10 px per move, cooldown 3. Enemies are level sprites that are never created or
         removed, so with the first-update skip at tick 0 they move exactly at ticks 2, 5, 8, …"""
         enemies = state.get("enemies")
         move = (tick % ENEMY_COOLDOWN == ENEMY_COOLDOWN - 1).unsqueeze(-1) & enemies.get("alive")
-        enemies.set("col", enemies.get("col") + move * enemies.get("dx"))
+        enemies.set("col", enemies.get("col") + enemies.get("dx") * move)
 
     # --- step 4: collision rules in declaration order ---
     def _apply_rules(self, state: TensorDict, tick: torch.Tensor) -> None:
+        """Rules 1-9 touch only cells near the ship, so they gather those cells from the grids and
+        scatter them back: the (up to 2x2) cells the ship overlaps, and for 6a/6b, in the envs where
+        a powerblibturning may live, the window of :meth:`_pair_turnings`."""
         avatar, enemies, shots = state.get("avatar"), state.get("enemies"), state.get("shots")
         wall = state.get("wall")
-        blib, powerblib, res, born = (
-            state.get("blib"),
-            state.get("powerblib"),
-            state.get("res"),
-            state.get("turning_born"),
-        )
         alive, ax, ay = avatar.get("alive"), avatar.get("x"), avatar.get("y")
         col, row, e_alive = enemies.get("col"), enemies.get("row"), enemies.get("alive")
         batch, height, width = wall.shape
-        grid_tick = tick.to(born.dtype).view(-1, 1, 1)
-        # The cells the ship overlaps (a ship disabled in an earlier tick collides with nothing).
-        under = _cell_span(ay, height).unsqueeze(-1) & (
-            _cell_span(ax, width) & alive.unsqueeze(-1)
-        ).unsqueeze(-2)
-        ship_x, ship_y = ax.unsqueeze(-1), ay.unsqueeze(-1)
+        keys = ("blib", "powerblib", "res", "turning_born", "turning")
+        flat = {key: state.get(key).view(batch, -1) for key in keys}
+        tables = _ship_tables(height, width, str(ax.device))
+        position = _window_rows(ax, ay, height, width)
+        cells = tables["under"].index_select(0, position)
+        # The cells the ship overlaps, each once (a ship disabled in an earlier tick collides with
+        # nothing); when there is one, every entry of ``cells`` is one.
+        hits = tables["counted"].index_select(0, position) & alive.unsqueeze(-1)
+        under = hits[:, :1]
 
         # 1-4 avatar × wall, enemy, enemyground, shot: kill (disable) the ship, -10 per sprite overlapped.
-        lethal = (under & state.get("deadly")).flatten(1).sum(-1)
-        enemy_hit = e_alive & overlaps(ship_x, ship_y, CELL * col, CELL * row)
-        shot_hit = shots.get("alive") & overlaps(ship_x, ship_y, shots.get("x"), shots.get("y"))
-        lethal = lethal + alive * (enemy_hit.sum(-1) + shot_hit.sum(-1))
+        lethal = hits & torch.gather(state.get("deadly").view(batch, -1), 1, cells)
+        ship_x, ship_y = ax.unsqueeze(-1), ay.unsqueeze(-1)
+        enemy_hit = e_alive & _overlap(ship_x, ship_y, CELL * col, CELL * row)
+        ship_x, ship_y = _short(ship_x), _short(ship_y)
+        shot_hit = shots.get("alive") & _overlap(ship_x, ship_y, shots.get("x"), shots.get("y"))
+        lethal = _count(lethal) + alive * (_count(enemy_hit) + _count(shot_hit))
         # 5 blib × avatar: collect, +1 each (the ship still collects in the tick it dies).
-        taken = blib & under
-        # 6a powerblib × powerblibturning: a blib on the powerblib once its counter is ≥ 2 (for all
-        # pairs before 6b); 6b: the counter grows by 1 up to its limit. A turning is cell-aligned on
-        # its powerblib's cell, and one killed by its Flicker update this tick still counts.
-        paired = powerblib & (born >= grid_tick - TURNING_LIFE)
-        spawned = paired & (res >= BLIB_AT_RES)
-        res = res + (paired & (res < RES_LIMIT)).to(res.dtype)
-        # 7 powerblibturning × avatar: kill the turnings the ship overlaps.
-        # 8 powerblib × blib: the new blib kills its powerblib, +1 (a level blib never shares a cell
-        # with a powerblib, so only the blibs of 6a can).
-        powerblib = powerblib & ~spawned
-        # 9 powerblib × avatar: a new turning on every powerblib the ship overlaps; under the ship,
-        # rule 7 has killed the old one.
-        born = torch.where(under, torch.where(powerblib, grid_tick, NO_TURNING), born)
-        gained = taken.flatten(1).sum(-1) + spawned.flatten(1).sum(-1)
+        blib = torch.gather(flat["blib"], 1, cells)
+        taken = _count(hits & blib)
+        flat["blib"].scatter_(1, cells, blib & ~under)
+        # 6a, 6b, 8 (and the turnings' expiry), only where a turning created in the last 10 ticks
+        # may still pair with its powerblib.
+        gained = taken
+        live = (state.get("turning_last") >= tick - TURNING_LIFE).nonzero().squeeze(-1)
+        if len(live) > 0:
+            at, spawned = self._pair_turnings(
+                flat, tables["window"].index_select(0, position[live]), tick[live], live
+            )
+            gained = gained.index_add(0, at, spawned.to(gained.dtype))
+        # 7 powerblibturning × avatar: kill the turnings the ship overlaps. 9 powerblib × avatar: a
+        # new turning on every powerblib the ship overlaps (after rule 8's kills).
+        powerblib = under & torch.gather(flat["powerblib"], 1, cells)
+        born = torch.gather(flat["turning_born"], 1, cells)
+        born = torch.where(powerblib, tick.to(born.dtype).unsqueeze(-1), torch.where(under, NO_TURNING, born))
+        flat["turning_born"].scatter_(1, cells, born)
+        flat["turning"].scatter_(1, cells, powerblib | (~under & torch.gather(flat["turning"], 1, cells)))
+        # A blib of 6a replaces its powerblib (8), so only rule 5 changes the pickups left.
         state.update(
             {
                 "score": state.get("score") + DEATH_SCORE * lethal + gained,
-                "blib": (blib & ~taken) | spawned,
-                "powerblib": powerblib,
-                "res": res,
-                "turning_born": born,
+                "pickups": state.get("pickups") - taken,
+                "turning_last": torch.where(
+                    powerblib.any(-1), tick.to(torch.int32), state.get("turning_last")
+                ),
             }
         )
         avatar.set("alive", alive & (lethal == 0))
@@ -265,7 +326,7 @@ class Solarfox(Game):
         # 10 enemy × wall: reverse (every tick of overlap, no stepBack). 11 btm × enemyground,
         # 12 top × enemyground: with probability 0.02 a shot at the enemy's cell.
         on_grid = e_alive & (col >= 0) & (col < width) & (row >= 0) & (row < height)
-        cell = (row.clamp(0, height - 1) * width + col.clamp(0, width - 1)).view(batch, -1)
+        cell = (row.clamp(0, height - 1) * width + col.clamp(0, width - 1)).view(batch, -1).long()
         on_wall = on_grid & torch.gather(wall.view(batch, -1), 1, cell)
         enemies.set("dx", torch.where(on_wall, -enemies.get("dx"), enemies.get("dx")))
         slots = torch.arange(col.shape[1], device=col.device)
@@ -274,23 +335,56 @@ class Solarfox(Game):
         self._spawn_shots(shots, on_ground & (draw < SHOT_PROBABILITY), enemies)
 
     @staticmethod
+    def _pair_turnings(
+        flat: dict[str, torch.Tensor], window: torch.Tensor, tick: torch.Tensor, envs: torch.Tensor
+    ) -> tuple[torch.Tensor, torch.Tensor]:
+        """Rules 6a, 6b and 8 in envs ``envs``, in their window ``[N, K]`` (flat cell indices): the
+        (up to) 4x4 cells from one cell before the ship's to two after along each axis. It holds
+        every turning created in the last 10 ticks: each sits on a cell the ship overlapped then,
+        and the ship moves at most 1 px per tick. Only those few cells are read further and
+        written, which also refreshes the shown turnings (rule 9 then adds this tick's). Returns
+        the env of each such cell and whether a blib was created there (+1, rule 8)."""
+        grid = {key: value.view(-1) for key, value in flat.items()}
+        cells = window + (envs * flat["blib"].shape[1]).unsqueeze(-1)
+        born = grid["turning_born"].index_select(0, cells.view(-1)).view(cells.shape)
+        row, column = (born >= tick.to(born.dtype).unsqueeze(-1) - TURNING_LIFE).nonzero(as_tuple=True)
+        cells, born, tick = cells[row, column], born[row, column], tick[row].to(born.dtype)
+        powerblib, res = grid["powerblib"].index_select(0, cells), grid["res"].index_select(0, cells)
+        # 6a powerblib × powerblibturning: a blib on the powerblib once its counter is ≥ 2 (for all
+        # pairs before 6b); 6b: the counter grows by 1 up to its limit. A turning is cell-aligned on
+        # its powerblib's cell, and one killed by its Flicker update this tick still counts.
+        spawned = powerblib & (res >= BLIB_AT_RES)
+        grid["res"].scatter_(0, cells, res + (powerblib & (res < RES_LIMIT)).to(res.dtype))
+        # 8 powerblib × blib: the new blib kills its powerblib, +1 (a level blib never shares a cell
+        # with a powerblib, so only the blibs of 6a can).
+        grid["powerblib"].scatter_(0, cells, powerblib & ~spawned)
+        grid["blib"].scatter_(0, cells, grid["blib"].index_select(0, cells) | spawned)
+        # Shown after this tick: a turning created in tick born is killed by its Flicker update
+        # (limit 8) in tick born + 10.
+        grid["turning"].scatter_(0, cells, born >= tick - (TURNING_LIFE - 1))
+        return envs[row], spawned
+
+    @staticmethod
     def _spawn_shots(shots: TensorDict, fire: torch.Tensor, enemies: TensorDict) -> None:
-        """A firing enemy (``fire`` ``[B, E]``) puts a shot into the first free slot of its own block."""
+        """A firing enemy (``fire`` ``[B, E]``) puts a shot into the first free slot of its own block.
+        Few enemies fire in a tick, so only their blocks of the shot table are touched."""
         batch, count = fire.shape
-        block = (batch, count, SHOTS_PER_ENEMY)
-        alive = shots.get("alive").view(block)
-        free = ~alive
-        place = free & (free.cumsum(-1) == 1) & fire.unsqueeze(-1)
-        x = torch.where(place, CELL * enemies.get("col").unsqueeze(-1), shots.get("x").view(block))
-        y = torch.where(place, CELL * enemies.get("row").unsqueeze(-1), shots.get("y").view(block))
-        shots.update(
-            {
-                "x": x.view(batch, -1),
-                "y": y.view(batch, -1),
-                "alive": (alive | place).view(batch, -1),
-                "fresh": place.view(batch, -1),
-            }
-        )
+        alive = shots.get("alive")
+        fresh = torch.zeros_like(alive)
+        env, enemy = fire.nonzero(as_tuple=True)
+        if len(env) > 0:
+            block = env * count + enemy
+            free = ~alive.view(-1, SHOTS_PER_ENEMY).index_select(0, block)
+            # argmax returns the first maximal index, i.e. the first free slot.
+            slot = block * SHOTS_PER_ENEMY + free.to(torch.uint8).argmax(-1)
+            room = free.any(-1)
+            slot, env, enemy = slot[room], env[room], enemy[room]
+            for key, at in (("x", "col"), ("y", "row")):
+                position = CELL * enemies.get(at)[env, enemy]
+                shots.get(key).view(-1).scatter_(0, slot, position.to(shots.get(key).dtype))
+            alive.view(-1).scatter_(0, slot, True)
+            fresh.view(-1).scatter_(0, slot, True)
+        shots.set("fresh", fresh)
 
     # --- step 5: cleanup ---
     def _cleanup(self, state: TensorDict) -> None:
@@ -298,18 +392,22 @@ class Solarfox(Game):
         shot is dropped once it has left the screen and is at least 10 px beyond the ship along its
         flight. Both move at most 1 px per tick, so such a shot can never overlap the ship again,
         and off screen it is neither drawn nor in ``tiles``."""
-        shots, avatar = state.get("shots"), state.get("avatar")
+        shots, avatar, enemies = state.get("shots"), state.get("avatar"), state.get("enemies")
         screen_h = CELL * state.get("wall").shape[1]
-        y, dy = shots.get("y"), shots.get("dy")
-        ship_y, ship_alive = avatar.get("y").unsqueeze(-1), avatar.get("alive").unsqueeze(-1)
-        gone_up = (dy < 0) & (y + CELL <= 0) & (~ship_alive | (y + CELL <= ship_y))
-        gone_down = (dy > 0) & (y >= screen_h) & (~ship_alive | (y >= ship_y + CELL))
-        shots.set("alive", shots.get("alive") & ~(gone_up | gone_down))
+        # Along the flight (y dy, y grows downward) an upshot is gone from -y = 10 - min(0, ship_y)
+        # on, a downshot from y = max(screen_h, ship_y + 10) on; the ship's bound only while alive
+        # (a ship y of 0 leaves both at the screen's).
+        ship_y = (avatar.get("y") * avatar.get("alive")).unsqueeze(-1)
+        up, down = CELL - ship_y.clamp(max=0), (ship_y + CELL).clamp(min=screen_h)
+        bound = _short(torch.where(enemies.get("kind") == BTM, up, down))
+        alive = shots.get("alive")
+        flight = (shots.get("y") * shots.get("dy")).view(*bound.shape, SHOTS_PER_ENEMY)
+        alive &= (flight < bound.unsqueeze(-1)).view(alive.shape)
 
     # --- step 6: termination, in declaration order ---
     def _check_termination(self, state: TensorDict) -> None:
         lost = ~state.get(("avatar", "alive"))
-        won = ~lost & ~(state.get("blib") | state.get("powerblib")).flatten(1).any(-1)
+        won = ~lost & (state.get("pickups") == 0)
         state.update({"won": state.get("won") | won, "lost": state.get("lost") | lost})
 
     def layers(self, state: TensorDict) -> list:
@@ -317,12 +415,14 @@ class Solarfox(Game):
         one = lambda t: t.unsqueeze(-1)  # noqa: E731 - [B] -> [B, 1]
         ex, ey = CELL * enemies.get("col"), CELL * enemies.get("row")
         e_alive, e_kind = enemies.get("alive"), enemies.get("kind")
-        sx, sy, s_alive, up = shots.get("x"), shots.get("y"), shots.get("alive"), shots.get("dy") < 0
+        # int32 positions for the renderers (render_pixels indexes with a zeros_like(x)).
+        sx, sy = shots.get("x").to(torch.int32), shots.get("y").to(torch.int32)
+        s_alive, up = shots.get("alive"), shots.get("dy") < 0
         return [
             GridLayer("floor", state.get("floor")),
             GridLayer("enemyground", state.get("enemyground")),
             GridLayer("powerblib", state.get("powerblib")),
-            GridLayer("powerblibturning", turning_grid(state)),
+            GridLayer("powerblibturning", state.get("turning")),
             GridLayer("blib", state.get("blib")),
             SpriteLayer("top", ex, ey, e_alive & (e_kind == TOP)),
             SpriteLayer("btm", ex, ey, e_alive & (e_kind == BTM)),
@@ -352,7 +452,7 @@ class Solarfox(Game):
         grids = (
             ("blib", s.get("blib")),
             ("powerblib", s.get("powerblib")),
-            ("powerblibturning", turning_grid(s)),
+            ("powerblibturning", s.get("turning")),
         )
         sprites = [[name, CELL * c, CELL * r] for name, grid in grids for r, c in grid[0].nonzero().tolist()]
         enemies = s.get("enemies")[0]
@@ -371,9 +471,16 @@ class Solarfox(Game):
         return level.count("b") + 2 * level.count("p")
 
 
-def turning_grid(state: TensorDict) -> torch.Tensor:
-    """``[B, H, W]`` bool: the powerblibturning sprites after the last tick. One created in tick
-    ``born`` is killed by its Flicker update (limit 8) in tick ``born + 10``, so it is shown after
-    ticks born … born + 9."""
-    born = state.get("turning_born")
-    return born >= (state.get("tick").to(born.dtype) - (TURNING_LIFE - 1)).view(-1, 1, 1)
+def _short(position: torch.Tensor) -> torch.Tensor:
+    """``position`` in int16, like the shot table, saturated rather than wrapped."""
+    return position.clamp(-(1 << 15), (1 << 15) - 1).to(torch.int16)
+
+
+def _count(hit: torch.Tensor) -> torch.Tensor:
+    """Set entries along the last axis, summed in int32 (cheaper than the default int64)."""
+    return hit.sum(-1, dtype=torch.int32)
+
+
+def _overlap(ax: torch.Tensor, ay: torch.Tensor, bx: torch.Tensor, by: torch.Tensor) -> torch.Tensor:
+    """Strict overlap of 10x10 rectangles (geometry.overlaps) as one distance test; broadcasts."""
+    return torch.maximum((bx - ax).abs(), (by - ay).abs()) < CELL

@@ -253,3 +253,32 @@ def test_batched_equals_single():
                 assert torch.equal(batched.get(key)[i], single.get(key)[0]), (t, i, key)
         shots += int(batched.get(("shots", "alive")).sum())
     assert shots > 0  # the random shot spawns were exercised
+
+
+def test_kept_pickups_and_shown_turnings_match_the_grids():
+    """The tick keeps the count of blibs and powerblibs left and the grid of shown turnings itself,
+    touching only cells near the ship; both must match the grids every tick, on powerblib levels
+    and on an open one (no side walls) that the ships leave and come back to."""
+    open_level = level(
+        "w2.......w",
+        *["+p+pb+pp++", "++p++p+b++", "+pp+p+A+p+", "+b+pp+p+b+", "++p+b+pp++"],
+        *["+p+pp+pb++", "++b++p+p++", "+pp+p+b+p+", "++p++p+b++"],
+        "w.......1w",
+    )
+    levels = [human_level("solarfox", 3), human_level("solarfox", 4), open_level] * 8
+    count, ticks = len(levels), 150
+    state = GAME.compile(levels, torch.arange(count), CPU)
+    gen = torch.Generator().manual_seed(5)
+    action, eaten, away = torch.zeros(count, dtype=torch.int64), 0, 0
+    for t in range(ticks):
+        turn = torch.rand(count, generator=gen) < 0.15
+        action = torch.where(turn, torch.randint(0, 5, (count,), generator=gen), action) if t else action
+        GAME.tick(state, action)
+        grids = state.get("blib") | state.get("powerblib")
+        assert torch.equal(state.get("pickups"), grids.flatten(1).sum(-1, dtype=torch.int32)), t
+        shown = state.get("turning_born") >= (state.get("tick") - 9).view(-1, 1, 1)
+        assert torch.equal(state.get("turning"), shown), t
+        eaten = max(eaten, int((state.get("res") >= 2).sum()))
+        x = state.get(("avatar", "x"))
+        away += int(((x < 0) | (x > 90)).sum())
+    assert eaten > 0 and away > 0  # powerblibs were paired, and ships flew off the grid
