@@ -415,9 +415,7 @@ class Solarfox(Game):
         one = lambda t: t.unsqueeze(-1)  # noqa: E731 - [B] -> [B, 1]
         ex, ey = CELL * enemies.get("col"), CELL * enemies.get("row")
         e_alive, e_kind = enemies.get("alive"), enemies.get("kind")
-        # int32 positions for the renderers (render_pixels indexes with a zeros_like(x)).
-        sx, sy = shots.get("x").to(torch.int32), shots.get("y").to(torch.int32)
-        s_alive, up = shots.get("alive"), shots.get("dy") < 0
+        sx, sy, s_alive, up = shots.get("x"), shots.get("y"), shots.get("alive"), shots.get("dy") < 0
         return [
             GridLayer("floor", state.get("floor")),
             GridLayer("enemyground", state.get("enemyground")),
