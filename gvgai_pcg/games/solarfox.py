@@ -176,14 +176,12 @@ class Solarfox(Game):
         )
         del enemies["x"], enemies["y"]
         slots = SHOTS_PER_ENEMY * kind.shape[1]
-        # The shot table is the widest, so its positions are int16 (the ship's and enemies' int32):
-        # exact while they stay within +-32767 px, i.e. for over 30,000 ticks even for a shot that
-        # trails a ship off screen (episodes end at 2000 steps).
+        # Positions are int32 here and in the ship and enemy tables: the shot table is the widest.
         shots = {
-            "x": torch.zeros(batch, slots, dtype=torch.int16),
-            "y": torch.zeros(batch, slots, dtype=torch.int16),
+            "x": torch.zeros(batch, slots, dtype=torch.int32),
+            "y": torch.zeros(batch, slots, dtype=torch.int32),
             # The owner's shot direction: -1 for the upshots of btm, +1 for the downshots of top.
-            "dy": torch.tensor(SHOT_DY, dtype=torch.int16)[kind.cpu()].repeat_interleave(
+            "dy": torch.tensor(SHOT_DY, dtype=torch.int32)[kind.cpu()].repeat_interleave(
                 SHOTS_PER_ENEMY, dim=1
             ),
             "alive": torch.zeros(batch, slots, dtype=torch.bool),
@@ -288,7 +286,6 @@ class Solarfox(Game):
         lethal = hits & torch.gather(state.get("deadly").view(batch, -1), 1, cells)
         ship_x, ship_y = ax.unsqueeze(-1), ay.unsqueeze(-1)
         enemy_hit = e_alive & _overlap(ship_x, ship_y, CELL * col, CELL * row)
-        ship_x, ship_y = _short(ship_x), _short(ship_y)
         shot_hit = shots.get("alive") & _overlap(ship_x, ship_y, shots.get("x"), shots.get("y"))
         lethal = _count(lethal) + alive * (_count(enemy_hit) + _count(shot_hit))
         # 5 blib × avatar: collect, +1 each (the ship still collects in the tick it dies).
@@ -399,7 +396,7 @@ class Solarfox(Game):
         # (a ship y of 0 leaves both at the screen's).
         ship_y = (avatar.get("y") * avatar.get("alive")).unsqueeze(-1)
         up, down = CELL - ship_y.clamp(max=0), (ship_y + CELL).clamp(min=screen_h)
-        bound = _short(torch.where(enemies.get("kind") == BTM, up, down))
+        bound = torch.where(enemies.get("kind") == BTM, up, down)
         alive = shots.get("alive")
         flight = (shots.get("y") * shots.get("dy")).view(*bound.shape, SHOTS_PER_ENEMY)
         alive &= (flight < bound.unsqueeze(-1)).view(alive.shape)
@@ -467,11 +464,6 @@ class Solarfox(Game):
         """+1 per blib and +2 per powerblib (its blib is worth 1 and eating its powerblib 1, §5.6),
         collected without dying."""
         return level.count("b") + 2 * level.count("p")
-
-
-def _short(position: torch.Tensor) -> torch.Tensor:
-    """``position`` in int16, like the shot table, saturated rather than wrapped."""
-    return position.clamp(-(1 << 15), (1 << 15) - 1).to(torch.int16)
 
 
 def _count(hit: torch.Tensor) -> torch.Tensor:
