@@ -184,7 +184,7 @@ def _draw_sprites(
     offsets = torch.arange(CELL, device=device, dtype=torch.int32)
     px = layer.x.to(torch.int32).view(batch, k, 1, 1) + offsets.view(1, 1, 1, CELL)  # [B, K, 1, 10]
     py = layer.y.to(torch.int32).view(batch, k, 1, 1) + offsets.view(1, 1, CELL, 1)  # [B, K, 10, 1]
-    variant = layer.variant if layer.variant is not None else torch.zeros_like(layer.x)
+    variant = layer.variant if layer.variant is not None else torch.zeros_like(layer.x, dtype=torch.int64)
     image = images[variant.clamp(0, images.shape[0] - 1)]  # [B, K, 10, 10]
     inside = layer.present.view(batch, k, 1, 1) & (px >= 0) & (px < pw) & (py >= 0) & (py < ph)
     index = torch.where(inside, py * pw + px, 0).reshape(batch, -1).long()
