@@ -102,7 +102,10 @@ def render_tiles(game: Game, state: TensorDict) -> torch.Tensor:
             tiles[:, channel, :cells].bitwise_or_(more)
     # Sprites are marked by a flat ``put_`` (cheaper than a scatter along dim 1); each index
     # carries its env's row start, and the cell offset of 100 (see _centre_cell) folds into it.
-    rows = torch.arange(batch, device=grid.device).unsqueeze(-1) * (channels * (cells + 1))
+    # int32 like the cell arithmetic (a mixed-dtype op would first copy its int32 side to int64).
+    size = channels * (cells + 1)
+    index_type = torch.int32 if batch * size < 2**31 else torch.int64
+    rows = torch.arange(batch, device=grid.device, dtype=index_type).unsqueeze(-1) * size
     flat = tiles.view(-1)
     for layer in layers:
         channel = channel_of.get(layer.name)
