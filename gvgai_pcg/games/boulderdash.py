@@ -47,7 +47,7 @@ from gvgai_pcg.games.base import (
     common_state,
     golden_record,
 )
-from gvgai_pcg.games.geometry import CELL, DIRECTION_NAMES, NONE, RIGHT
+from gvgai_pcg.games.geometry import CELL, DIRECTION_NAMES, NONE, RIGHT, any_last
 from gvgai_pcg.games.registry import register_game
 from gvgai_pcg.levels import Level
 
@@ -283,13 +283,13 @@ class Boulderdash(Game):
         still = alive & (ax == lastx) & (ay == lasty) & (tick > 0)
         offset = boulders.get("key") + by - (cell_of(ax) * _COLUMN_KEY + ay).int().unsqueeze(-1)
         from_above = (offset > -CELL) & (offset < BOULDER_FALL - 5) & boulders.get("alive")
-        crushed = still & from_above.any(-1)
+        crushed = still & any_last(from_above)
         score = score + DEATH_SCORE * crushed.long()
         # 7 avatar × butterfly, 8 avatar × crab: kill, −1 per monster (everything here is cell-aligned;
         # a disabled avatar still collides for the rest of the tick).
         touching = present & (ex == ax.unsqueeze(-1)) & (ey == ay.unsqueeze(-1)) & alive.unsqueeze(-1)
         score = score + DEATH_SCORE * touching.sum(-1)
-        disabled = crushed | touching.any(-1)
+        disabled = crushed | any_last(touching)
 
         # 9-11 boulder × dirt, wall, diamond: stepBack (dead dirt and collected diamonds still count).
         solid = torch.zeros(batch, padded, dtype=torch.bool, device=tick.device)
@@ -310,8 +310,8 @@ class Boulderdash(Game):
         kind = enemies.get("kind")
         crab, butterfly = present & (kind == CRAB), present & (kind == BUTTERFLY)
         meet = (ex.unsqueeze(-1) == ex.unsqueeze(-2)) & (ey.unsqueeze(-1) == ey.unsqueeze(-2))
-        crab_dies = crab & (meet & butterfly.unsqueeze(-2)).any(-1)
-        turns = butterfly & (meet & crab.unsqueeze(-2)).any(-1)
+        crab_dies = crab & any_last(meet & butterfly.unsqueeze(-2))
+        turns = butterfly & any_last(meet & crab.unsqueeze(-2))
         score = score + BUTTERFLY_SCORE * turns.sum(-1)
 
         # 17 exitdoor × avatar: killIfOtherHasMore, the exit goes if the avatar holds >= 9 diamonds.
@@ -357,7 +357,7 @@ class Boulderdash(Game):
             SpriteLayer("sword", one(sword.get("x")), one(sword.get("y")), one(sword.get("exists"))),
             GridLayer("dirt", state.get("dirt")),
             GridLayer("exitdoor", state.get("exitdoor")),
-            GridLayer("diamond", state.get("diamond") > 0),
+            GridLayer("diamond", state.get("diamond").bool()),
             SpriteLayer("boulder", boulders.get("x"), boulders.get("y"), boulders.get("alive")),
             SpriteLayer("crab", ex, ey, present & (kind == CRAB)),
             SpriteLayer("butterfly", ex, ey, present & (kind == BUTTERFLY)),

@@ -40,6 +40,19 @@ def overlaps(ax: torch.Tensor, ay: torch.Tensor, bx: torch.Tensor, by: torch.Ten
     return (ax < bx + CELL) & (bx < ax + CELL) & (ay < by + CELL) & (by < ay + CELL)
 
 
+def any_last(mask: torch.Tensor) -> torch.Tensor:
+    """``mask.any(-1)`` as a max over the bytes of the bool mask: the same result, about ten times
+    faster than PyTorch's bool ``any`` on the CPU."""
+    if mask.shape[-1] == 0:
+        return torch.zeros(mask.shape[:-1], dtype=torch.bool, device=mask.device)
+    return mask.view(torch.uint8).amax(-1).view(torch.bool)
+
+
+def count_last(mask: torch.Tensor) -> torch.Tensor:
+    """``mask.sum(-1)`` in int32 (a bool sum defaults to int64, three times slower)."""
+    return mask.sum(-1, dtype=torch.int32)
+
+
 def cell_of(position: torch.Tensor) -> torch.Tensor:
     """``floor(position / 10)``: the cell holding a pixel, for any integer tensor.
 
@@ -83,7 +96,7 @@ def grid_hits(grid: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> tuple[tor
 
 def grid_count(grid: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
     """How many set cells of ``grid`` each rectangle overlaps (``[B]`` or ``[B, K]``)."""
-    return grid_hits(grid, x, y)[1].sum(-1)
+    return count_last(grid_hits(grid, x, y)[1])
 
 
 def cell_mask(shape: torch.Size, index: torch.Tensor, mask: torch.Tensor) -> torch.Tensor:

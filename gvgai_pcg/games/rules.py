@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import torch
 
-from gvgai_pcg.games.geometry import overlaps
+from gvgai_pcg.games.geometry import any_last, overlaps
 
 
 def step_back_in_order(
@@ -39,7 +39,7 @@ def step_back_in_order(
         bx = torch.where(earlier, fx.unsqueeze(-2), x.unsqueeze(-2))  # [B, a, b]
         by = torch.where(earlier, fy.unsqueeze(-2), y.unsqueeze(-2))
         hit = overlaps(x.unsqueeze(-1), y.unsqueeze(-1), bx, by) & second.unsqueeze(-2) & other
-        new_back = first & hit.any(-1)
+        new_back = first & any_last(hit)
         if torch.equal(new_back, back):
             break
         back = new_back

@@ -46,7 +46,7 @@ from gvgai_pcg.games.base import (
     common_state,
     golden_record,
 )
-from gvgai_pcg.games.geometry import CELL, DIRECTION_NAMES, DOWN, LEFT, NONE, RIGHT, UP, cell_of
+from gvgai_pcg.games.geometry import CELL, DIRECTION_NAMES, DOWN, LEFT, NONE, RIGHT, UP, any_last, cell_of
 from gvgai_pcg.games.registry import register_game
 from gvgai_pcg.levels import Level
 
@@ -314,7 +314,7 @@ class Solarfox(Game):
                 "score": state.get("score") + DEATH_SCORE * lethal + gained,
                 "pickups": state.get("pickups") - taken,
                 "turning_last": torch.where(
-                    powerblib.any(-1), tick.to(torch.int32), state.get("turning_last")
+                    any_last(powerblib), tick.to(torch.int32), state.get("turning_last")
                 ),
             }
         )
@@ -374,7 +374,7 @@ class Solarfox(Game):
             free = ~alive.view(-1, SHOTS_PER_ENEMY).index_select(0, block)
             # argmax returns the first maximal index, i.e. the first free slot.
             slot = block * SHOTS_PER_ENEMY + free.to(torch.uint8).argmax(-1)
-            room = free.any(-1)
+            room = any_last(free)
             slot, env, enemy = slot[room], env[room], enemy[room]
             for key, at in (("x", "col"), ("y", "row")):
                 position = CELL * enemies.get(at)[env, enemy]

@@ -33,6 +33,7 @@ from gvgai_pcg.games.geometry import (
     DIRECTION_NAMES,
     NONE,
     RIGHT,
+    any_last,
     cell_mask,
     direction_dx,
     direction_dy,
@@ -233,12 +234,12 @@ class Zelda(Game):
         # 6 avatar × enemy: kill (disable) the avatar, −1 per monster overlapped.
         touching = alive.unsqueeze(-1) & present & overlaps(ax.unsqueeze(-1), ay.unsqueeze(-1), mx, my)
         score = score - touching.sum(-1)
-        disabled = touching.any(-1)
+        disabled = any_last(touching)
         # 7 nokey × key: transformTo withkey (facing RIGHT), killing the key, +1; a disabled avatar
         # still scores but is not transformed.
         cells, hit = grid_hits(key, ax, ay)
         hit &= (alive & ~has_key).unsqueeze(-1)
-        take = hit.any(-1)
+        take = any_last(hit)
         score = score + torch.where(disabled, hit.sum(-1), take.long())
         transform = take & ~disabled
         first_hit = hit & (hit.cumsum(-1) == 1) & transform.unsqueeze(-1)
@@ -264,7 +265,7 @@ class Zelda(Game):
 
     # --- step 6: termination, in declaration order ---
     def _check_termination(self, state: TensorDict) -> None:
-        won = ~state.get("goal").flatten(1).any(-1)
+        won = ~any_last(state.get("goal").flatten(1))
         lost = ~won & ~state.get(("avatar", "alive"))
         state.set("won", state.get("won") | won)
         state.set("lost", state.get("lost") | lost)
