@@ -91,6 +91,11 @@ def _constant(values: tuple, dtype: torch.dtype, device: torch.device) -> torch.
     return torch.tensor(values, dtype=dtype, device=device)
 
 
+def _lookup(values: tuple, dtype: torch.dtype, index: torch.Tensor) -> torch.Tensor:
+    """``values[index]`` elementwise (``index_select``, cheaper than advanced indexing on the CPU)."""
+    return _constant(values, dtype, index.device).index_select(0, index.reshape(-1)).view(index.shape)
+
+
 def spawner_ring_size(x: torch.Tensor, cooldown: torch.Tensor) -> torch.Tensor:
     """Slots a spawner at pixel column ``x`` needs so that its logs never outnumber them.
 
@@ -304,8 +309,8 @@ class Frogs(Game):
         action: torch.Tensor, pressed: torch.Tensor, x: torch.Tensor, y: torch.Tensor
     ) -> tuple[torch.Tensor, torch.Tensor]:
         step = torch.where(pressed, action, NIL)
-        dx = _constant(tuple(CELL * d for d in ACTION_DX), x.dtype, x.device)[step]
-        dy = _constant(tuple(CELL * d for d in ACTION_DY), y.dtype, y.device)[step]
+        dx = _lookup(tuple(CELL * d for d in ACTION_DX), x.dtype, step)
+        dy = _lookup(tuple(CELL * d for d in ACTION_DY), y.dtype, step)
         return x + dx, y + dy
 
     # --- step 3: trucks, logs (Missiles, first update skipped), then spawners ---
@@ -337,7 +342,7 @@ class Frogs(Game):
         Float64 arithmetic on whole numbers is exact here and much faster than integer division.
         """
         kind, sx = spawners.get("kind"), spawners.get("x")
-        cooldown = _constant(SPAWN_COOLDOWN, torch.float64, kind.device)[kind]
+        cooldown = _lookup(SPAWN_COOLDOWN, torch.float64, kind)
         ring = spawners.get("ring").clamp_min(1).to(torch.float64)
         now = tick.to(torch.float64).unsqueeze(-1)
         q = (now / cooldown).floor_()
@@ -378,7 +383,7 @@ class Frogs(Game):
         which spawners spawned (``[B, S]``)."""
         spawners, logs = state.get("spawners"), state.get("logs")
         kind, sx, sy = spawners.get("kind"), spawners.get("x"), spawners.get("y")
-        prob = _constant(SPAWN_PROB, torch.float64, kind.device)[kind]
+        prob = _lookup(SPAWN_PROB, torch.float64, kind)
         draw = rng.uniform(state.get("seed"), tick, sy * SLOT_ROW_STRIDE + sx, STREAM_LOG_SPAWN)
         spawn = spawners.get("alive") & schedule["spawn"] & (draw < prob)
         dump = logs.batch_size[1] - 1
