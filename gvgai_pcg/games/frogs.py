@@ -125,7 +125,8 @@ def _floor_mod(a: torch.Tensor, n: torch.Tensor) -> torch.Tensor:
 
 
 def _frog_cells(shape: torch.Size, x: torch.Tensor, y: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
-    """Flat cell indices ``[B, 2]`` that the frog at ``x, y`` overlaps, and a validity mask.
+    """Flat cell indices ``[B, ..., 2]`` that frogs at ``x, y`` (``[B, ...]``) overlap, and a
+    validity mask.
 
     The frog's y is always a multiple of 10 (it moves 10 px vertically, is pulled only
     horizontally, and step-backs restore earlier positions), so it covers one row of one or two
@@ -136,15 +137,15 @@ def _frog_cells(shape: torch.Size, x: torch.Tensor, y: torch.Tensor) -> tuple[to
     x1 = cell_of(x + CELL - 1)
     cxs = torch.stack([x0, x1], dim=-1)
     valid = (cxs >= 0) & (cxs < width)
-    valid[:, 1] &= x1 != x0
+    valid[..., 1] &= x1 != x0
     row = cell_of(y).clamp_(0, height - 1).unsqueeze(-1)
     return row * width + cxs.clamp_(0, width - 1), valid
 
 
-def _frog_hits(grid: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
-    """(flat cell index ``[B, 2]``, hit mask ``[B, 2]``): the set cells of ``grid`` under the frog."""
-    index, valid = _frog_cells(grid.shape, x, y)
-    return index, torch.gather(grid.view(grid.shape[0], -1), 1, index) & valid
+def _grid_hits(grid: torch.Tensor, cells: torch.Tensor, valid: torch.Tensor) -> torch.Tensor:
+    """Which of the flat ``cells`` (``[B, ...]``, masked by ``valid``) are set in ``grid`` (``[B, H, W]``)."""
+    batch = grid.shape[0]
+    return torch.gather(grid.view(batch, -1), 1, cells.reshape(batch, -1)).view(cells.shape) & valid
 
 
 class LogLayout(NamedTuple):
@@ -271,6 +272,10 @@ class Frogs(Game):
             "wall": char_grid(levels, WALL_CHARS, device),
             "water": char_grid(levels, WATER_CHARS, device),
             "goal": char_grid(levels, GOAL_CHARS, device),
+            # Goals left: rule 1 is the only one that removes goals, and it counts them (termination).
+            "goals": torch.tensor(
+                [sum(level.count(ch) for ch in GOAL_CHARS) for level in levels], device=device
+            ),
             "grass": char_grid(levels, GRASS_CHARS, device),
             "highway": char_grid(levels, HIGHWAY_CHARS, device),
             "forestDense": char_grid(levels, DENSE_CHARS, device),
@@ -426,12 +431,18 @@ class Frogs(Game):
         goal, wall, water = state.get("goal"), state.get("wall"), state.get("water")
         logs = state.get("logs")
 
+        # The frog is tested against the grids at three positions at most: where EOS left it, 1 px
+        # to the left (pulled by a log) and where it started the tick (stepped back by a wall).
+        # Their cells are found at once; the log rules (2a, 2b) do not read the grids.
+        px = torch.stack([x, x - LOG_SPEED, lastx], dim=-1)
+        cells, valid = _frog_cells(goal.shape, px, torch.stack([y, y, lasty], dim=-1))
+
         # 1 goal × avatar: kill every goal the frog overlaps, +1 each (in place: amin with 0).
-        cells, hit = _frog_hits(goal, x, y)
-        hit &= alive.unsqueeze(-1)
+        hit = _grid_hits(goal, cells[:, 0], valid[:, 0]) & alive.unsqueeze(-1)
         state.set("score", state.get("score") + hit.sum(-1))
+        state.set("goals", state.get("goals") - hit.sum(-1))
         goal.view(goal.shape[0], -1).view(torch.uint8).scatter_reduce_(
-            1, cells, (~hit).view(torch.uint8), "amin"
+            1, cells[:, 0], (~hit).view(torch.uint8), "amin"
         )
 
         # 2a avatar × log: shield from water. A log killed by EOS this tick still counts.
@@ -447,10 +458,11 @@ class Frogs(Game):
         on_moved = distance.amin(-1) < CELL
         shielded = alive & (on_moved | on_unmoved)
         pulled = alive & ~pressed & on_moved & (tick >= 1)
-        x = x - pulled.to(x.dtype) * LOG_SPEED
+        x = torch.where(pulled, px[:, 1], x)
 
         # 3 avatar × wall: stepBack to the start-of-tick position.
-        back = alive & _frog_hits(wall, x, y)[1].any(-1)
+        on_wall = _grid_hits(wall, cells[:, :2], valid[:, :2]).any(-1)
+        back = alive & torch.where(pulled, on_wall[:, 1], on_wall[:, 0])
         x, y = torch.where(back, lastx, x), torch.where(back, lasty, y)
 
         # 4 avatar × truck: kill the frog. 5 avatar × water: kill the frog unless shielded.
@@ -466,7 +478,9 @@ class Frogs(Game):
             or [torch.full_like(x, CELL)]
         )
         hit_truck = (nearest < CELL).any(0)
-        drowned = ~shielded & _frog_hits(water, x, y)[1].any(-1)
+        in_water = _grid_hits(water, cells, valid).any(-1)
+        in_water = torch.where(back, in_water[:, 2], torch.where(pulled, in_water[:, 1], in_water[:, 0]))
+        drowned = ~shielded & in_water
         killed = alive & (hit_truck | drowned)
 
         state.get("avatar").update({"x": x, "y": y, "alive": alive & ~killed})
@@ -502,8 +516,7 @@ class Frogs(Game):
     # --- step 6: termination, in declaration order ---
     @staticmethod
     def _check_termination(state: TensorDict) -> None:
-        goal = state.get("goal")
-        won = goal.view(goal.shape[0], -1).view(torch.uint8).amax(-1) == 0
+        won = state.get("goals") == 0
         lost = ~won & ~state.get(("avatar", "alive"))
         state.set("won", state.get("won") | won)
         state.set("lost", state.get("lost") | lost)
