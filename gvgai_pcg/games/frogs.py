@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import bisect
 from collections.abc import Sequence
-from functools import cache
+from functools import cache, lru_cache
 from typing import NamedTuple
 
 import torch
@@ -113,8 +113,8 @@ def log_key(x: torch.Tensor, y: torch.Tensor, tick: torch.Tensor | int) -> torch
     ``(y + 10) * 2^20 + x + tick``: a moving log keeps its key, so keys change only when a log
     is spawned, makes its first (non-moving) update, or dies (key 0). Keys of sprites in one row
     differ by their x distance and rows are 10 * 2^20 apart, so ``|key - frog key| < 10`` is the
-    frog × log overlap; a dead slot (key 0) is never near a frog. Exact while
-    ``(y + 10) * 2^20 + x + tick`` fits in int32 (rows up to 190, ticks up to 1.9e9).
+    frog × log overlap; a dead slot (key 0) is never near a frog. Exact while the key fits in
+    int32: on an 11-row grid for 2e9 ticks.
     """
     return ((y + CELL) * LOG_ROW_KEY + x + tick).to(torch.int32)
 
@@ -157,7 +157,7 @@ class LogLayout(NamedTuple):
     size: int  # slots used, the dump slot not counted
 
 
-@cache
+@lru_cache(maxsize=4096)  # per distinct level; generated levels are many
 def _log_layout(xs: tuple[int, ...], rings: tuple[int, ...], cooldowns: tuple[int, ...]) -> LogLayout:
     """Log slots of one level: level logs at pixel columns ``xs`` (−1: no log, padding) and
     spawner rings of ``rings`` slots (0: no spawner).
@@ -165,7 +165,8 @@ def _log_layout(xs: tuple[int, ...], rings: tuple[int, ...], cooldowns: tuple[in
     A level log at x0 is gone after tick x0 + 1, and ring slot j of a spawner is first written
     in tick j * cooldown, so a level log borrows such a ring slot when x0 + 2 <= j * cooldown
     (fewest slots: most constrained logs first, each taking the earliest ring slot it may);
-    the others get slots of their own before the rings. The guarantee of the rings holds as is.
+    the others get slots of their own before the rings. A borrowed slot is free again before
+    its ring first writes it, so the guarantee of the rings holds as is.
     """
     free = sorted(
         (j * cooldown, spawner, j)
