@@ -12,17 +12,26 @@ pullWithIt (1 px, only if the frog did not move) · 3 frog × wall stepBack · 4
 5 frog × water kill (unless shielded).
 Termination: no goal → WIN, then no frog → LOSE.
 
-Logs live in one entity table. Level logs take the first slots; each spawner owns a ring of
-slots sized from its position and cooldown (a log lives a fixed number of ticks, so a ring of
-``(x + 2) // cooldown + 1`` slots can never be full when the spawner fires), and a last "dump"
-slot absorbs the writes of spawners that do not fire. Slot order is therefore not creation
-order; no rule depends on it (see ``_apply_rules``, rule 2b).
+Logs live in one entity table. Each spawner owns a ring of slots sized from its position and
+cooldown (a log lives a fixed number of ticks, so a ring of ``(x + 2) // cooldown + 1`` slots can
+never be full when the spawner fires); level logs borrow ring slots that are first written after
+they are gone, or get slots of their own before the rings; a last "dump" slot absorbs the writes
+of spawners that do not fire. Slot order is therefore not creation order; no rule depends on it
+(see ``_apply_rules``, rule 2b).
+
+Since every log moves 1 px per tick from its second update on, the tick touches the whole table
+only to move all x at once and to find the logs near the frog: the other log events (first
+update, spawn, removal at x = −1) happen at ticks known in advance and are written into the few
+slots they concern (``_spawn_schedule``, ``_cleanup_logs``). Near-frog tests use a collision key
+that a moving log keeps (``log_key``).
 """
 
 from __future__ import annotations
 
+import bisect
 from collections.abc import Sequence
-from functools import cache
+from functools import cache, lru_cache
+from typing import NamedTuple
 
 import torch
 from tensordict import TensorDict
@@ -40,7 +49,7 @@ from gvgai_pcg.games.base import (
     golden_record,
     pad_level,
 )
-from gvgai_pcg.games.geometry import CELL, cell_mask, grid_count, grid_hits
+from gvgai_pcg.games.geometry import CELL, cell_of
 from gvgai_pcg.games.registry import register_game
 from gvgai_pcg.levels import Level
 
@@ -68,6 +77,7 @@ SPAWN_PROB = (0.1, 0.4)
 LOG_SPEED = 1  # px per tick, to the left
 STREAM_LOG_SPAWN = 1
 SLOT_ROW_STRIDE = 1 << 16  # rng slot of a spawner: y * stride + x, independent of the grid size
+LOG_ROW_KEY = 1 << 20  # rows of log keys are 10 * 2^20 apart (see log_key)
 
 NIL = 0
 # Frog actions 1..4 are LEFT, RIGHT, DOWN, UP: unit moves indexed by the action.
@@ -81,6 +91,11 @@ def _constant(values: tuple, dtype: torch.dtype, device: torch.device) -> torch.
     return torch.tensor(values, dtype=dtype, device=device)
 
 
+def _lookup(values: tuple, dtype: torch.dtype, index: torch.Tensor) -> torch.Tensor:
+    """``values[index]`` elementwise (``index_select``, cheaper than advanced indexing on the CPU)."""
+    return _constant(values, dtype, index.device).index_select(0, index.reshape(-1)).view(index.shape)
+
+
 def spawner_ring_size(x: torch.Tensor, cooldown: torch.Tensor) -> torch.Tensor:
     """Slots a spawner at pixel column ``x`` needs so that its logs never outnumber them.
 
@@ -90,6 +105,90 @@ def spawner_ring_size(x: torch.Tensor, cooldown: torch.Tensor) -> torch.Tensor:
     ``size * cooldown > x + 2``.
     """
     return (x + 2).div(cooldown, rounding_mode="floor") + 1
+
+
+def log_key(x: torch.Tensor, y: torch.Tensor, tick: torch.Tensor | int) -> torch.Tensor:
+    """The int32 collision key of a log (or the frog) at ``x, y`` in tick ``tick``.
+
+    ``(y + 10) * 2^20 + x + tick``: a moving log keeps its key, so keys change only when a log
+    is spawned, makes its first (non-moving) update, or dies (key 0). Keys of sprites in one row
+    differ by their x distance and rows are 10 * 2^20 apart, so ``|key - frog key| < 10`` is the
+    frog × log overlap; a dead slot (key 0) is never near a frog. Exact while the key fits in
+    int32: on an 11-row grid for 2e9 ticks.
+    """
+    return ((y + CELL) * LOG_ROW_KEY + x + tick).to(torch.int32)
+
+
+def _floor_mod(a: torch.Tensor, n: torch.Tensor) -> torch.Tensor:
+    """``a mod n`` (floor) of whole float64 numbers; float division, as integer division is slow."""
+    return a - (a / n).floor_() * n
+
+
+def _frog_cells(shape: torch.Size, x: torch.Tensor, y: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+    """Flat cell indices ``[B, ..., 2]`` that frogs at ``x, y`` (``[B, ...]``) overlap, and a
+    validity mask.
+
+    The frog's y is always a multiple of 10 (it moves 10 px vertically, is pulled only
+    horizontally, and step-backs restore earlier positions), so it covers one row of one or two
+    cells; a cell off the grid (the frog carried to x = −1) is not valid.
+    """
+    _, height, width = shape
+    x0 = cell_of(x)
+    x1 = cell_of(x + CELL - 1)
+    cxs = torch.stack([x0, x1], dim=-1)
+    valid = (cxs >= 0) & (cxs < width)
+    valid[..., 1] &= x1 != x0
+    row = cell_of(y).clamp_(0, height - 1).unsqueeze(-1)
+    return row * width + cxs.clamp_(0, width - 1), valid
+
+
+def _grid_hits(grid: torch.Tensor, cells: torch.Tensor, valid: torch.Tensor) -> torch.Tensor:
+    """Which of the flat ``cells`` (``[B, ...]``, masked by ``valid``) are set in ``grid`` (``[B, H, W]``)."""
+    batch = grid.shape[0]
+    return torch.gather(grid.view(batch, -1), 1, cells.reshape(batch, -1)).view(cells.shape) & valid
+
+
+class LogLayout(NamedTuple):
+    """Where one level's logs live in the log table (see :func:`_log_layout`)."""
+
+    slots: tuple[int, ...]  # the slot of each level log (of the level's placed logs, in order)
+    by_column: tuple[int, ...]  # the level logs' slots ordered by column (their removal order)
+    bases: tuple[int, ...]  # the first slot of each spawner's ring
+    size: int  # slots used, the dump slot not counted
+
+
+@lru_cache(maxsize=4096)  # per distinct level; generated levels are many
+def _log_layout(xs: tuple[int, ...], rings: tuple[int, ...], cooldowns: tuple[int, ...]) -> LogLayout:
+    """Log slots of one level: level logs at pixel columns ``xs`` (−1: no log, padding) and
+    spawner rings of ``rings`` slots (0: no spawner).
+
+    A level log at x0 is gone after tick x0 + 1, and ring slot j of a spawner is first written
+    in tick j * cooldown, so a level log borrows such a ring slot when x0 + 2 <= j * cooldown
+    (fewest slots: most constrained logs first, each taking the earliest ring slot it may);
+    the others get slots of their own before the rings. A borrowed slot is free again before
+    its ring first writes it, so the guarantee of the rings holds as is.
+    """
+    free = sorted(
+        (j * cooldown, spawner, j)
+        for spawner, (ring, cooldown) in enumerate(zip(rings, cooldowns, strict=True))
+        for j in range(ring)
+    )
+    borrowed, own = {}, []
+    for log in sorted((k for k, x in enumerate(xs) if x >= 0), key=lambda k: -xs[k]):
+        k = bisect.bisect_left(free, (xs[log] + 2,))
+        if k < len(free):
+            borrowed[log] = free.pop(k)[1:]
+        else:
+            own.append(log)
+    bases = [len(own) + sum(rings[:spawner]) for spawner in range(len(rings))]
+    slots = [0] * len(xs)
+    for n, log in enumerate(own):
+        slots[log] = n
+    for log, (spawner, j) in borrowed.items():
+        slots[log] = bases[spawner] + j
+    placed = sorted((k for k, x in enumerate(xs) if x >= 0), key=lambda k: xs[k])
+    by_column = [slots[k] for k in placed] + [0] * (len(xs) - len(placed))
+    return LogLayout(tuple(slots), tuple(by_column), tuple(bases), len(own) + sum(rings))
 
 
 @register_game("frogs")
@@ -113,7 +212,10 @@ class Frogs(Game):
     }
 
     def compile(self, levels: Sequence[Level], seeds: torch.Tensor, device: torch.device) -> TensorDict:
-        """Levels of different sizes are padded to the largest with wall rows/columns (frogs lvl4)."""
+        """Levels of different sizes are padded to the largest with wall rows/columns (frogs lvl4).
+
+        Positions are int32 (half the memory traffic of int64 in the tick and the renderer).
+        """
         height, width = max(level.height for level in levels), max(level.width for level in levels)
         levels = [pad_level(level, height, width, self.pad_char) for level in levels]
         batch = len(levels)
@@ -123,31 +225,67 @@ class Frogs(Game):
         kind, present = spawners.get("kind"), spawners.get("alive")
         cooldown = torch.tensor(SPAWN_COOLDOWN)[kind]
         ring = spawner_ring_size(spawners.get("x"), cooldown) * present
-        level_logs = torch.tensor([sum(level.count(ch) for ch in LOG_CHARS) for level in levels])
-        spawners.set("base", level_logs.unsqueeze(-1) + ring.cumsum(-1) - ring)
-        capacity = int((level_logs + ring.sum(-1)).max()) + 1  # + the dump slot
+        placed = char_entities(levels, dict.fromkeys(LOG_CHARS, 0), cpu)
+        layouts = [
+            _log_layout(tuple(xs), tuple(rs), tuple(cs))
+            for xs, rs, cs in zip(
+                torch.where(placed.get("alive"), placed.get("x"), -1).tolist(),
+                ring.tolist(),
+                cooldown.tolist(),
+                strict=True,
+            )
+        ]
+        spawners.set(
+            "base", torch.tensor([layout.bases for layout in layouts], dtype=torch.int64).view_as(ring)
+        )
+        spawners.set("ring", ring)
+        capacity = max(layout.size for layout in layouts) + 1  # + the dump slot
 
-        logs = char_entities(levels, dict.fromkeys(LOG_CHARS, 0), cpu, capacity=capacity)
-        del logs["kind"]
-        logs.set("fresh", logs.get("alive").clone())  # level logs skip their first update (tick 0)
+        count = placed.batch_size[1]
+        slot = torch.tensor([layout.slots for layout in layouts], dtype=torch.int64).view(batch, count)
+        slot = torch.where(placed.get("alive"), slot, capacity - 1)
+        alive = torch.zeros(batch, capacity, dtype=torch.bool).scatter_(1, slot, placed.get("alive"))
+        x = torch.zeros(batch, capacity, dtype=torch.int32).scatter_(1, slot, placed.get("x").to(torch.int32))
+        y = torch.zeros(batch, capacity, dtype=torch.int32).scatter_(1, slot, placed.get("y").to(torch.int32))
+        key = torch.where(alive, log_key(x, y, 0), 0)
+        logs = TensorDict({"x": x, "y": y, "key": key, "alive": alive}, batch_size=[batch, capacity])
+        # Level logs by column (their removal order), and where each column starts in that order.
+        order = torch.tensor([layout.by_column for layout in layouts], dtype=torch.int64).view(batch, count)
+        level_table = TensorDict({"slot": order}, batch_size=[batch, count])
+        columns = (placed.get("x") // CELL).masked_fill(~placed.get("alive"), width)
+        column_starts = (columns.unsqueeze(-1) < torch.arange(width + 1)).sum(1)
 
         ax, ay = avatar_cell(levels, "AB")
-        avatar = {"x": ax, "y": ay, "alive": torch.ones(batch, dtype=torch.bool)}
+        avatar = {
+            "x": ax.to(torch.int32),
+            "y": ay.to(torch.int32),
+            "alive": torch.ones(batch, dtype=torch.bool),
+        }
+        trucks = {}
+        for name, ch in zip(TRUCK_TYPES, TRUCK_CHARS, strict=True):
+            table = char_entities(levels, {ch: 0}, cpu)
+            table = table.apply(lambda t: t.to(torch.int32) if t.dtype == torch.int64 else t)
+            del table["kind"]
+            table.set("lane", torch.where(table.get("alive"), table.get("y") + CELL, 0))
+            trucks[name] = table.to(device)
         state = {
             **common_state(seeds, device),
             "wall": char_grid(levels, WALL_CHARS, device),
             "water": char_grid(levels, WATER_CHARS, device),
             "goal": char_grid(levels, GOAL_CHARS, device),
+            # Goals left: rule 1 is the only one that removes goals, and it counts them (termination).
+            "goals": torch.tensor(
+                [sum(level.count(ch) for ch in GOAL_CHARS) for level in levels], device=device
+            ),
             "grass": char_grid(levels, GRASS_CHARS, device),
             "highway": char_grid(levels, HIGHWAY_CHARS, device),
             "forestDense": char_grid(levels, DENSE_CHARS, device),
             "forestSparse": char_grid(levels, SPARSE_CHARS, device),
             "avatar": TensorDict(avatar, batch_size=[batch]).to(device),
             "logs": logs.to(device),
-            **{
-                name: char_entities(levels, {ch: 0}, device)
-                for name, ch in zip(TRUCK_TYPES, TRUCK_CHARS, strict=True)
-            },
+            "level_logs": level_table.to(device),
+            "log_columns": column_starts.to(device),
+            **trucks,
             "spawners": spawners.to(device),
         }
         return TensorDict(state, batch_size=[batch], device=device)
@@ -160,13 +298,15 @@ class Frogs(Game):
         pressed = alive & (action != NIL)
         lastx, lasty = x, y
         x, y = self._update_avatar(action, pressed, x, y)
-        self._update_trucks(state, tick)
-        moved = self._update_logs(state)
-        self._update_spawners(state, tick)
         height, width = state.get("wall").shape[1:]
-        x, y = self._apply_eos(state, x, y, lastx, lasty, height, width)
-        self._apply_rules(state, alive, pressed, moved, x, y, lastx, lasty)
-        state.get("logs").get("alive").copy_(self._logs_after_cleanup(state))
+        self._update_trucks(state, tick, width)
+        schedule = self._spawn_schedule(state.get("spawners"), tick)
+        fresh = self._update_logs(state, tick, schedule)
+        spawned = self._update_spawners(state, tick, schedule)
+        x, y = self._apply_eos(x, y, lastx, lasty, height, width)
+        unmoved = fresh | spawned
+        self._apply_rules(state, tick, alive, pressed, schedule, unmoved, x, y, lastx, lasty)
+        self._cleanup_logs(state, tick, schedule)
         self._check_termination(state)
 
     # --- step 2: the frog (MovingAvatar: every direction action moves 10 px at once) ---
@@ -174,84 +314,116 @@ class Frogs(Game):
     def _update_avatar(
         action: torch.Tensor, pressed: torch.Tensor, x: torch.Tensor, y: torch.Tensor
     ) -> tuple[torch.Tensor, torch.Tensor]:
-        dx = _constant(ACTION_DX, x.dtype, x.device)[action]
-        dy = _constant(ACTION_DY, y.dtype, y.device)[action]
-        return x + pressed * CELL * dx, y + pressed * CELL * dy
+        step = torch.where(pressed, action, NIL)
+        dx = _lookup(tuple(CELL * d for d in ACTION_DX), x.dtype, step)
+        dy = _lookup(tuple(CELL * d for d in ACTION_DY), y.dtype, step)
+        return x + dx, y + dy
 
     # --- step 3: trucks, logs (Missiles, first update skipped), then spawners ---
     @staticmethod
-    def _update_trucks(state: TensorDict, tick: torch.Tensor) -> None:
-        """Level trucks have their first update in tick 0 and drive from tick 1."""
-        running = (tick >= 1).unsqueeze(-1)
+    def _update_trucks(state: TensorDict, tick: torch.Tensor, width: int) -> None:
+        """Level trucks have their first update in tick 0 and drive from tick 1; EOS rule E3
+        (wrapAround) is applied right away, as nothing in between reads the trucks.
+
+        Padding slots drive and wrap too; they are never drawn nor hit (``alive``, ``lane``).
+        """
+        running = (tick >= 1).to(torch.int32).unsqueeze(-1)
+        last = CELL * width - CELL  # the last x at which a truck is fully on the screen
         for name, velocity in zip(TRUCK_TYPES, TRUCK_VELOCITY, strict=True):
-            trucks = state.get(name)
-            trucks.get("x").add_(velocity * (running & trucks.get("alive")))
+            tx = state.get(name).get("x")
+            tx.add_(running * velocity)
+            if velocity > 0:  # off the right edge (x > last) → 0: keep x only where x - last - 1 < 0
+                tx.bitwise_and_(torch.sub(tx, last + 1).bitwise_right_shift_(31))
+            else:  # off the left edge (x < 0) → last: x ^= (x ^ last) where x < 0
+                tx.bitwise_xor_(torch.bitwise_xor(tx, last).bitwise_and_(tx >> 31))
 
     @staticmethod
-    def _update_logs(state: TensorDict) -> torch.Tensor:
-        """Move every log past its first update 1 px left; returns which moved (``[B, K]``)."""
-        logs = state.get("logs")
-        fresh = logs.get("fresh")
-        moved = logs.get("alive") & ~fresh
-        logs.get("x").sub_(moved.to(torch.int64) * LOG_SPEED)
-        fresh.zero_()
-        return moved
+    def _spawn_schedule(spawners: TensorDict, tick: torch.Tensor) -> dict[str, torch.Tensor]:
+        """Which spawners are at a spawn tick, at the tick after one, or at the tick in which a
+        log they spawned reaches x = −1, and the ring slots these concern (all ``[B, S]``).
+
+        With q = tick // cooldown and r = tick % cooldown: a spawn tick has r = 0 and uses ring
+        slot q % ring; the tick after it has r = 1 and the same slot; the log spawned at
+        t0 = tick − x − 2 (r = (x + 2) % cooldown) lives in slot (q − (x + 2) // cooldown) % ring.
+        Float64 arithmetic on whole numbers is exact here and much faster than integer division.
+        """
+        kind, sx = spawners.get("kind"), spawners.get("x")
+        cooldown = _lookup(SPAWN_COOLDOWN, torch.float64, kind)
+        ring = spawners.get("ring").clamp_min(1).to(torch.float64)
+        now = tick.to(torch.float64).unsqueeze(-1)
+        q = (now / cooldown).floor_()
+        r = now - q * cooldown
+        life = sx.to(torch.float64) + 2
+        turns = (life / cooldown).floor_()
+        base = spawners.get("base")
+        return {
+            "spawn": r == 0,
+            "fresh": r == 1,
+            "kill": (r == life - turns * cooldown) & (now >= life),
+            "slot": base + _floor_mod(q, ring).to(torch.int64),
+            "kill_slot": base + _floor_mod(q - turns, ring).to(torch.int64),
+        }
 
     @staticmethod
-    def _update_spawners(state: TensorDict, tick: torch.Tensor) -> None:
+    def _update_logs(state: TensorDict, tick: torch.Tensor, schedule: dict) -> torch.Tensor:
+        """Move every log 1 px left from tick 1 on, except those spawned in the previous tick (their
+        first update): these are moved back and their key advanced. Returns which spawners' ring
+        slot holds such a log (``[B, S]``).
+
+        Dead slots move too (their x is never read); their key stays 0.
+        """
+        logs, spawners = state.get("logs"), state.get("spawners")
+        running = (tick >= 1).to(torch.int32).unsqueeze(-1)
+        logs.get("x").sub_(running * LOG_SPEED)
+        slot = schedule["slot"]
+        fresh = spawners.get("alive") & schedule["fresh"] & torch.gather(logs.get("alive"), 1, slot)
+        back = fresh.to(torch.int32) * LOG_SPEED
+        logs.get("x").scatter_add_(1, slot, back)
+        logs.get("key").scatter_add_(1, slot, back)
+        return fresh
+
+    @staticmethod
+    def _update_spawners(state: TensorDict, tick: torch.Tensor, schedule: dict) -> torch.Tensor:
         """SpawnPoint: one uniform draw per spawner and tick; a log at ticks ≡ 0 mod cooldown with
-        probability prob, written to the spawner's ring slot (never occupied, checked)."""
+        probability prob, written to the spawner's ring slot (never occupied, checked). Returns
+        which spawners spawned (``[B, S]``)."""
         spawners, logs = state.get("spawners"), state.get("logs")
         kind, sx, sy = spawners.get("kind"), spawners.get("x"), spawners.get("y")
-        cooldown = _constant(SPAWN_COOLDOWN, torch.int64, kind.device)[kind]
-        prob = _constant(SPAWN_PROB, torch.float64, kind.device)[kind]
-        now = tick.unsqueeze(-1)
+        prob = _lookup(SPAWN_PROB, torch.float64, kind)
         draw = rng.uniform(state.get("seed"), tick, sy * SLOT_ROW_STRIDE + sx, STREAM_LOG_SPAWN)
-        spawn = spawners.get("alive") & (now % cooldown == 0) & (draw < prob)
-        ring_slot = spawners.get("base") + now.div(cooldown, rounding_mode="floor") % spawner_ring_size(
-            sx, cooldown
-        )
+        spawn = spawners.get("alive") & schedule["spawn"] & (draw < prob)
         dump = logs.batch_size[1] - 1
-        slot = torch.where(spawn, ring_slot, dump)
+        slot = torch.where(spawn, schedule["slot"], dump)
         alive = logs.get("alive")
         torch._assert_async(
             ~(torch.gather(alive, 1, slot) & spawn).any(),
             "frogs: a spawned log found its ring slot occupied; the log table is smaller than the "
             "bound of spawner_ring_size",
         )
-        logs.get("x").scatter_(1, slot, torch.where(spawn, sx, 0))
-        logs.get("y").scatter_(1, slot, torch.where(spawn, sy, 0))
+        x32, y32 = sx.to(torch.int32), sy.to(torch.int32)
+        logs.get("x").scatter_(1, slot, torch.where(spawn, x32, 0))
+        logs.get("y").scatter_(1, slot, torch.where(spawn, y32, 0))
+        logs.get("key").scatter_(1, slot, torch.where(spawn, log_key(x32, y32, tick.unsqueeze(-1)), 0))
         alive.scatter_(1, slot, spawn)
-        logs.get("fresh").scatter_(1, slot, spawn)
+        return spawn
 
-    # --- step 4b: EOS rules E1 (frog stepBack), E2 (log kill, at cleanup), E3 (truck wrap) ---
+    # --- step 4b: EOS rules E1 (frog stepBack), E2 (log kill, at cleanup), E3 (truck wrap, above) ---
     @staticmethod
     def _apply_eos(
-        state: TensorDict,
-        x: torch.Tensor,
-        y: torch.Tensor,
-        lastx: torch.Tensor,
-        lasty: torch.Tensor,
-        height: int,
-        width: int,
+        x: torch.Tensor, y: torch.Tensor, lastx: torch.Tensor, lasty: torch.Tensor, height: int, width: int
     ) -> tuple[torch.Tensor, torch.Tensor]:
         edge = (x < 0) | (y < 0) | (x + CELL > CELL * width) | (y + CELL > CELL * height)
-        x, y = torch.where(edge, lastx, x), torch.where(edge, lasty, y)
-        for name, velocity in zip(TRUCK_TYPES, TRUCK_VELOCITY, strict=True):
-            tx = state.get(name).get("x")
-            if velocity > 0:
-                tx.masked_fill_(tx + CELL > CELL * width, 0)
-            else:
-                tx.masked_fill_(tx < 0, CELL * width - CELL)
-        return x, y
+        return torch.where(edge, lastx, x), torch.where(edge, lasty, y)
 
     # --- step 4c: collision rules in declaration order ---
     @staticmethod
     def _apply_rules(
         state: TensorDict,
+        tick: torch.Tensor,
         alive: torch.Tensor,
         pressed: torch.Tensor,
-        moved: torch.Tensor,
+        schedule: dict,
+        unmoved: torch.Tensor,
         x: torch.Tensor,
         y: torch.Tensor,
         lastx: torch.Tensor,
@@ -260,53 +432,92 @@ class Frogs(Game):
         goal, wall, water = state.get("goal"), state.get("wall"), state.get("water")
         logs = state.get("logs")
 
-        # 1 goal × avatar: kill every goal the frog overlaps, +1 each.
-        cells, hit = grid_hits(goal, x, y)
-        hit &= alive.unsqueeze(-1)
-        score = state.get("score") + hit.sum(-1)
-        goal = goal & ~cell_mask(goal.shape, cells, hit)
+        # The frog is tested against the grids at three positions at most: where EOS left it, 1 px
+        # to the left (pulled by a log) and where it started the tick (stepped back by a wall).
+        # Their cells are found at once; the log rules (2a, 2b) do not read the grids.
+        px = torch.stack([x, x - LOG_SPEED, lastx], dim=-1)
+        cells, valid = _frog_cells(goal.shape, px, torch.stack([y, y, lasty], dim=-1))
+
+        # 1 goal × avatar: kill every goal the frog overlaps, +1 each (in place: amin with 0).
+        hit = _grid_hits(goal, cells[:, 0], valid[:, 0]) & alive.unsqueeze(-1)
+        state.set("score", state.get("score") + hit.sum(-1))
+        state.set("goals", state.get("goals") - hit.sum(-1))
+        goal.view(goal.shape[0], -1).view(torch.uint8).scatter_reduce_(
+            1, cells[:, 0], (~hit).view(torch.uint8), "amin"
+        )
 
         # 2a avatar × log: shield from water. A log killed by EOS this tick still counts.
         # 2b avatar × log: pullWithIt, once per tick, through the first overlapping log in creation
         # order. Logs that have not moved yet are exactly the youngest ones, so the first
         # overlapping log moved iff any overlapping log moved; a frog that moved itself is not pulled.
-        on_log = (
-            logs.get("alive")
-            & (logs.get("y") == y.unsqueeze(-1))
-            & ((logs.get("x") - x.unsqueeze(-1)).abs() < CELL)
-        )
-        shielded = alive & on_log.any(-1)
-        pulled = alive & ~pressed & (on_log & moved).any(-1)
-        x = x - pulled * LOG_SPEED
+        # The logs that have not moved this tick are those spawned in this tick or the previous one
+        # (each in its spawner's current ring slot), and in tick 0 all of them.
+        distance = (logs.get("key") - log_key(x, y, tick).unsqueeze(-1)).abs_()
+        slot = torch.where(unmoved, schedule["slot"], logs.batch_size[1] - 1)
+        on_unmoved = ((torch.gather(distance, 1, slot) < CELL) & unmoved).any(-1)
+        distance.scatter_(1, slot, torch.full_like(slot, CELL, dtype=distance.dtype))
+        on_moved = distance.amin(-1) < CELL
+        shielded = alive & (on_moved | on_unmoved)
+        pulled = alive & ~pressed & on_moved & (tick >= 1)
+        x = torch.where(pulled, px[:, 1], x)
 
         # 3 avatar × wall: stepBack to the start-of-tick position.
-        back = alive & (grid_count(wall, x, y) > 0)
+        on_wall = _grid_hits(wall, cells[:, :2], valid[:, :2]).any(-1)
+        back = alive & torch.where(pulled, on_wall[:, 1], on_wall[:, 0])
         x, y = torch.where(back, lastx, x), torch.where(back, lasty, y)
 
         # 4 avatar × truck: kill the frog. 5 avatar × water: kill the frog unless shielded.
-        hit_truck = torch.zeros_like(alive)
-        for name in TRUCK_TYPES:
-            trucks = state.get(name)
-            near = ((trucks.get("y") - y.unsqueeze(-1)).abs() < CELL) & (
-                (trucks.get("x") - x.unsqueeze(-1)).abs() < CELL
-            )
-            hit_truck |= (near & trucks.get("alive")).any(-1)
-        drowned = ~shielded & (grid_count(water, x, y) > 0)
+        # Trucks and the frog are cell-aligned in y, so they overlap iff the L1 distance of their
+        # positions is below 10; ``lane`` is y + 10 for a truck and 0 (never near) for padding.
+        lane, fx = (y + CELL).unsqueeze(-1), x.unsqueeze(-1)
+        nearest = torch.stack(
+            [
+                ((trucks.get("x") - fx).abs_() + (trucks.get("lane") - lane).abs_()).amin(-1)
+                for trucks in (state.get(name) for name in TRUCK_TYPES)
+                if trucks.batch_size[1]
+            ]
+            or [torch.full_like(x, CELL)]
+        )
+        hit_truck = (nearest < CELL).any(0)
+        in_water = _grid_hits(water, cells, valid).any(-1)
+        in_water = torch.where(back, in_water[:, 2], torch.where(pulled, in_water[:, 1], in_water[:, 0]))
+        drowned = ~shielded & in_water
         killed = alive & (hit_truck | drowned)
 
         state.get("avatar").update({"x": x, "y": y, "alive": alive & ~killed})
-        state.update({"score": score, "goal": goal})
 
-    # --- step 5: cleanup (logs killed by EOS at x < 0 are removed) ---
+    # --- step 5: cleanup (logs killed by EOS at x = −1 are removed) ---
     @staticmethod
-    def _logs_after_cleanup(state: TensorDict) -> torch.Tensor:
-        logs = state.get("logs")
-        return logs.get("alive") & (logs.get("x") >= 0)
+    def _cleanup_logs(state: TensorDict, tick: torch.Tensor, schedule: dict) -> None:
+        """Every log dies at a tick known in advance: a spawned one in its spawner's ``kill`` tick,
+        the level logs of column c (x0 = 10c) in tick x0 + 1. Their slots get ``alive`` false and
+        key 0."""
+        logs, spawners = state.get("logs"), state.get("spawners")
+        dump = logs.batch_size[1] - 1
+        slots = [torch.where(spawners.get("alive") & schedule["kill"], schedule["kill_slot"], dump)]
+        level = state.get("level_logs").get("slot")
+        if level.shape[1]:
+            starts = state.get("log_columns")
+            height, width = state.get("wall").shape[1:]
+            x0 = tick - 1
+            column = cell_of(x0)
+            at_column = (column * CELL == x0) & (column >= 0) & (column < width)
+            column = column.clamp(0, width - 1).unsqueeze(-1)
+            first, end = torch.gather(starts, 1, column), torch.gather(starts, 1, column + 1)
+            rank = first + _constant(
+                tuple(range(height)), torch.int64, first.device
+            )  # a column has <= H logs
+            dying = (rank < end) & at_column.unsqueeze(-1)
+            slot = torch.gather(level, 1, rank.clamp_(max=level.shape[1] - 1))
+            slots.append(torch.where(dying, slot, dump))
+        slot = torch.cat(slots, dim=-1)
+        logs.get("alive").scatter_(1, slot, torch.zeros_like(slot, dtype=torch.bool))
+        logs.get("key").scatter_(1, slot, torch.zeros_like(slot, dtype=torch.int32))
 
     # --- step 6: termination, in declaration order ---
     @staticmethod
     def _check_termination(state: TensorDict) -> None:
-        won = ~state.get("goal").flatten(1).any(-1)
+        won = state.get("goals") == 0
         lost = ~won & ~state.get(("avatar", "alive"))
         state.set("won", state.get("won") | won)
         state.set("lost", state.get("lost") | lost)

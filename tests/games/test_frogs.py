@@ -11,7 +11,7 @@ import pytest
 import torch
 
 from gvgai_pcg.games import frogs, get_game
-from gvgai_pcg.games.base import pad_level
+from gvgai_pcg.games.base import merge_states, pad_level
 from gvgai_pcg.games.render import render_tiles
 from gvgai_pcg.levels import Level, human_level
 
@@ -247,6 +247,71 @@ def test_an_undersized_log_table_fails_loudly(spawn_only_at, monkeypatch):
     with pytest.raises(RuntimeError, match="ring slot occupied"):
         for _ in range(12):
             GAME.tick(state, torch.zeros(1, dtype=torch.int64))
+
+
+@pytest.mark.parametrize(("spawner", "fires"), [("2", {0}), ("4", {0, 5})])
+def test_spawned_and_level_logs_are_removed_in_the_tick_they_reach_x_minus_1(spawn_only_at, spawner, fires):
+    # Removal is scheduled (spawner rings, level logs by column): check it against the positions.
+    spawn_only_at(fires)
+    s = play(["gwwwwwwwww", "000000000" + spawner, "++++A+++++", "wwwwwwwwww"], ["NIL"] * 100)
+    for tick, snapshot in enumerate(s):
+        # The level log is at 90 - t; a log spawned at t0 is at 90 until t0 + 1, then 90 - (t - t0 - 1).
+        xs = [90 - tick] + [90 - max(tick - t0 - 1, 0) for t0 in sorted(fires) if t0 <= tick]
+        assert sorted(sprites(snapshot, "log")) == sorted((x, 10) for x in xs if x >= 0), f"tick {tick}"
+
+
+def test_log_keys_follow_the_logs_and_dead_slots_are_never_near():
+    levels = [human_level("frogs", i) for i in range(5)]
+    state = GAME.compile([pad_level(level, 11, 28, "w") for level in levels], torch.arange(5), CPU)
+    for _ in range(400):
+        GAME.tick(state, torch.zeros(5, dtype=torch.int64))
+        logs = state.get("logs")
+        alive, x, y = logs.get("alive"), logs.get("x"), logs.get("y")
+        expected = torch.where(alive, frogs.log_key(x, y, state.get("tick").unsqueeze(-1)), 0)
+        assert torch.equal(logs.get("key"), expected)
+        assert (x[alive] >= 0).all()
+
+
+@pytest.mark.parametrize("index", range(5))
+def test_level_logs_borrow_only_ring_slots_first_written_after_they_are_gone(index):
+    state = GAME.compile([human_level("frogs", index)], torch.tensor([0]), CPU)
+    spawners, logs = state.get("spawners")[0], state.get("logs")[0]
+    cooldown = torch.tensor(frogs.SPAWN_COOLDOWN)[spawners.get("kind")]
+    rings = spawners.get("ring")
+    assert (
+        int(rings.sum())
+        <= logs.batch_size[0] - 1
+        <= int(rings.sum()) + human_level("frogs", index).count("=")
+    )
+    for slot in logs.get("alive").nonzero().flatten().tolist():
+        j = slot - spawners.get("base")
+        inside = (j >= 0) & (j < rings)
+        assert int(inside.sum()) <= 1
+        if inside.any():
+            assert int(logs.get("x")[slot]) + 2 <= int((j * cooldown)[inside])
+
+
+def test_a_merged_batch_equals_single_envs():
+    # A partial reset pads the entity tables of the smaller state with zeros (dead slots).
+    actions = torch.randint(0, 5, (300, 2), generator=torch.Generator().manual_seed(1))
+    running = GAME.compile([human_level("frogs", 0), human_level("frogs", 3)], torch.tensor([3, 4]), CPU)
+    alone = GAME.compile([human_level("frogs", 0)], torch.tensor([3]), CPU)
+    for tick in range(40):
+        GAME.tick(running, actions[tick])
+        GAME.tick(alone, actions[tick, :1])
+    fresh = GAME.compile([human_level("frogs", 1)], torch.tensor([5]), CPU)
+    other = GAME.compile([human_level("frogs", 1)], torch.tensor([5]), CPU)
+    GAME.tick(fresh, torch.zeros(1, dtype=torch.int64))
+    GAME.tick(other, torch.zeros(1, dtype=torch.int64))
+    capacity = running.get("logs").batch_size[1]
+    merged = merge_states(running, fresh, torch.tensor([1]))
+    assert merged.get("logs").batch_size[1] == fresh.get("logs").batch_size[1] > capacity  # padded
+    for tick in range(40, actions.shape[0]):
+        GAME.tick(merged, actions[tick])
+        GAME.tick(alone, actions[tick, :1])
+        GAME.tick(other, actions[tick, 1:])
+        assert GAME.snapshot(merged, 0) == GAME.snapshot(alone, 0), f"tick {tick}"
+        assert GAME.snapshot(merged, 1) == GAME.snapshot(other, 0), f"tick {tick}"
 
 
 # --- human levels ---
