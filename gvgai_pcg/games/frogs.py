@@ -239,6 +239,7 @@ class Frogs(Game):
             "base", torch.tensor([layout.bases for layout in layouts], dtype=torch.int64).view_as(ring)
         )
         spawners.set("ring", ring)
+        spawners.set("row", (spawners.get("y") // CELL).to(torch.int32))
         capacity = max(layout.size for layout in layouts) + 1  # + the dump slot
 
         count = placed.batch_size[1]
@@ -248,7 +249,10 @@ class Frogs(Game):
         x = torch.zeros(batch, capacity, dtype=torch.int32).scatter_(1, slot, placed.get("x").to(torch.int32))
         y = torch.zeros(batch, capacity, dtype=torch.int32).scatter_(1, slot, placed.get("y").to(torch.int32))
         key = torch.where(alive, log_key(x, y, 0), 0)
-        logs = TensorDict({"x": x, "y": y, "key": key, "alive": alive}, batch_size=[batch, capacity])
+        # ``row`` (y // 10, a lane never changes) spares the tiles renderer working it out from y.
+        logs = TensorDict(
+            {"x": x, "y": y, "row": y // CELL, "key": key, "alive": alive}, batch_size=[batch, capacity]
+        )
         # Level logs by column (their removal order), and where each column starts in that order.
         order = torch.tensor([layout.by_column for layout in layouts], dtype=torch.int64).view(batch, count)
         level_table = TensorDict({"slot": order}, batch_size=[batch, count])
@@ -267,6 +271,7 @@ class Frogs(Game):
             table = table.apply(lambda t: t.to(torch.int32) if t.dtype == torch.int64 else t)
             del table["kind"]
             table.set("lane", torch.where(table.get("alive"), table.get("y") + CELL, 0))
+            table.set("row", table.get("y") // CELL)
             trucks[name] = table.to(device)
         state = {
             **common_state(seeds, device),
@@ -403,6 +408,7 @@ class Frogs(Game):
         x32, y32 = sx.to(torch.int32), sy.to(torch.int32)
         logs.get("x").scatter_(1, slot, torch.where(spawn, x32, 0))
         logs.get("y").scatter_(1, slot, torch.where(spawn, y32, 0))
+        logs.get("row").scatter_(1, slot, torch.where(spawn, spawners.get("row"), 0))
         logs.get("key").scatter_(1, slot, torch.where(spawn, log_key(x32, y32, tick.unsqueeze(-1)), 0))
         alive.scatter_(1, slot, spawn)
         return spawn
@@ -528,10 +534,16 @@ class Frogs(Game):
             GridLayer(name, state.get(name))
             for name in ("grass", "highway", "forestDense", "forestSparse", "water", "goal")
         ]
-        layers.append(SpriteLayer("log", logs.get("x"), logs.get("y"), logs.get("alive")))
+        layers.append(
+            SpriteLayer("log", logs.get("x"), logs.get("y"), logs.get("alive"), row=logs.get("row"))
+        )
         for name in ("fastRtruck", "slowRtruck", "fastLtruck", "slowLtruck"):
             trucks = state.get(name)
-            layers.append(SpriteLayer(name, trucks.get("x"), trucks.get("y"), trucks.get("alive")))
+            layers.append(
+                SpriteLayer(
+                    name, trucks.get("x"), trucks.get("y"), trucks.get("alive"), row=trucks.get("row")
+                )
+            )
         layers.append(GridLayer("wall", state.get("wall")))
         one = lambda t: t.unsqueeze(-1)  # noqa: E731 - [B] -> [B, 1]
         layers.append(
