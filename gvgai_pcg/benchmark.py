@@ -21,7 +21,7 @@ from tensordict import TensorDict
 from tqdm.auto import tqdm
 
 from gvgai_pcg.envs import GVGAIEnv
-from gvgai_pcg.envs.shards import ShardedStepper, default_shards
+from gvgai_pcg.envs.shards import ShardedStepper
 from gvgai_pcg.games import registered_games
 from gvgai_pcg.games.base import pad_level
 
@@ -79,8 +79,7 @@ def measure_engine(
     height, width = max(lv.height for lv in levels), max(lv.width for lv in levels)
     levels = [pad_level(lv, height, width, engine.pad_char) for lv in levels]
     state = engine.compile(levels, torch.arange(batch), torch.device("cpu"))
-    cpu = torch.device("cpu")
-    stepper = ShardedStepper(default_shards(cpu)) if shards is None else ShardedStepper(shards, min_shard=1)
+    stepper = ShardedStepper(shards, min_shard=1)
     generator = torch.Generator().manual_seed(0)
 
     def step(part: TensorDict, action: torch.Tensor) -> torch.Tensor:
@@ -162,23 +161,23 @@ def run_benchmarks(
 
 
 def _engine_lines(games: list[str], min_seconds: float, progress: bool) -> list[str]:
-    shards = len(ShardedStepper(default_shards(torch.device("cpu"))).slices(ENGINE_BATCH))
+    threads = torch.get_num_threads()
     lines = [
         "",
         f"### Engine alone: tick + tiles at B = {ENGINE_BATCH:,} (no resets)",
         "",
-        f"| game | steps/s, {shards} shard(s) (as GVGAIEnv) | steps/s, 1 thread |",
-        "|---|---:|---:|",
+        f"| game | {threads} torch threads (GVGAIEnv's default) | 1 thread | {threads} shards x 1 thread |",
+        "|---|---:|---:|---:|",
     ]
     for game in tqdm(games, desc="engine throughput", disable=not progress):
-        threads = torch.get_num_threads()
-        sharded = measure_engine(game, ENGINE_BATCH, None, min_seconds)
+        intra = measure_engine(game, ENGINE_BATCH, 1, min_seconds)
         torch.set_num_threads(1)
         try:
             single = measure_engine(game, ENGINE_BATCH, 1, min_seconds)
+            sharded = measure_engine(game, ENGINE_BATCH, threads, min_seconds)
         finally:
             torch.set_num_threads(threads)
-        lines.append(f"| {game} | {sharded:,.0f} | {single:,.0f} |")
+        lines.append(f"| {game} | {intra:,.0f} | {single:,.0f} | {sharded:,.0f} |")
     return lines
 
 

@@ -18,7 +18,7 @@ from torchrl.envs import EnvBase
 
 from gvgai_pcg.envs.level_bank import CompiledLevelBank
 from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
-from gvgai_pcg.envs.shards import ShardedStepper, default_shards
+from gvgai_pcg.envs.shards import ShardedStepper
 from gvgai_pcg.games import get_game
 from gvgai_pcg.games.base import merge_states, pad_level
 from gvgai_pcg.games.geometry import CELL
@@ -43,9 +43,10 @@ class GVGAIEnv(EnvBase):
         device: where the state and every output tensor live.
         seed: an int (per-env seeds are derived from it) or one seed per env. Env i's episode k
             uses the seed ``mix(env_seed[i], k)``, whatever else shares the batch.
-        shards: a step (and the reset tick of a reset) ticks and renders this many slices of the
-            batch on as many threads (see ``gvgai_pcg.envs.shards``). The default is one per
-            torch thread on the CPU, for slices of 256+ envs. The results do not depend on it.
+        shards: on a CPU shared with other work, a step (and a reset's reset tick) can tick and
+            render this many slices of the batch on as many threads, each with one torch thread
+            (see ``gvgai_pcg.envs.shards``); the default, 1, uses torch's own intra-op threads,
+            the faster choice on a quiet machine. The results do not depend on it.
     """
 
     batch_locked = True
@@ -60,7 +61,7 @@ class GVGAIEnv(EnvBase):
         device: torch.device | str = "cpu",
         seed: int | Sequence[int] = 0,
         difficulty: float = 0.0,
-        shards: int | None = None,
+        shards: int = 1,
     ) -> None:
         if obs not in OBSERVATION_KINDS:
             raise ValueError(
@@ -89,10 +90,7 @@ class GVGAIEnv(EnvBase):
             self.game, self.grid_height, self.grid_width, self.device, COMPILED_LEVEL_CACHE
         )
         self._level_seeds = torch.full((num_envs,), -1, dtype=torch.int64)
-        if shards is None:
-            self._stepper = ShardedStepper(default_shards(self.device))
-        else:
-            self._stepper = ShardedStepper(shards, min_shard=1)
+        self._stepper = ShardedStepper(shards, min_shard=1)
         self._make_specs()
 
     # --- specs ---

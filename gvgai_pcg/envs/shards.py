@@ -1,10 +1,12 @@
-"""Stepping a CPU batch on several cores: contiguous shards of the batch, one Python thread each.
+"""Stepping a CPU batch as contiguous shards, one Python thread each (opt-in).
 
-Most engine ops at B = 4096 touch ``[B]`` or ``[B, K]`` tensors that are too small for
-PyTorch's intra-op parallelism (it splits ops of 32k+ elements only), so a second torch thread
-barely helps. Two shards of B/2 envs, each ticked and rendered on its own Python thread with one
-torch thread, keep both cores busy: PyTorch releases the GIL inside every op, and the ops of a
-shard are long (tens to hundreds of µs) next to their Python dispatch.
+PyTorch's intra-op threads (OpenMP) split every large op across the cores, which is the fastest
+way to step a batch on a quiet machine (docs/benchmarks.md). Where cores are shared, OpenMP's
+synchronised thread teams stall whenever one of their threads is preempted: on a busy 2-core VM,
+two shards of B/2 envs, each ticked and rendered on its own Python thread with one torch thread,
+stepped Boulderdash at B = 4096 about twice as fast as two intra-op threads. PyTorch releases
+the GIL inside every op, so the shards overlap as long as their ops are long next to their
+Python dispatch.
 
 Every env depends only on its own row of the state (the RNG is a counter hash of the env's own
 seed), so a sharded step gives exactly the state and observation of an unsharded one.
@@ -22,11 +24,6 @@ from tensordict import TensorDict
 MIN_SHARD = 256  # envs per shard below which the threads' overhead outweighs the gain
 
 StepFn = Callable[[TensorDict, torch.Tensor], torch.Tensor]
-
-
-def default_shards(device: torch.device) -> int:
-    """One shard per torch thread on the CPU; one on other devices."""
-    return torch.get_num_threads() if device.type == "cpu" else 1
 
 
 class ShardedStepper:

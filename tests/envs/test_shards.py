@@ -4,7 +4,7 @@ import pytest
 import torch
 
 from gvgai_pcg.envs import GVGAIEnv
-from gvgai_pcg.envs.shards import MIN_SHARD, ShardedStepper, default_shards
+from gvgai_pcg.envs.shards import MIN_SHARD, ShardedStepper
 from gvgai_pcg.games import get_game
 from gvgai_pcg.levels import human_levels
 
@@ -43,9 +43,8 @@ def test_the_callers_torch_threads_are_restored():
     assert torch.get_num_threads() == threads
 
 
-def test_default_shards_follow_torch_threads_on_the_cpu():
-    assert default_shards(torch.device("cpu")) == torch.get_num_threads()
-    assert default_shards(torch.device("meta")) == 1
+def test_an_env_steps_whole_unless_asked_for_shards():
+    assert len(GVGAIEnv("zelda", num_envs=4096)._stepper.slices(4096)) == 1
 
 
 def test_shards_must_be_positive():
