@@ -14,10 +14,10 @@ import numpy as np
 import torch
 from tensordict import TensorDict, TensorDictBase
 from torchrl.data import Bounded, Categorical, Composite, Unbounded
-from torchrl.envs import EnvBase
 
 from gvgai_pcg.envs.level_bank import CompiledLevelBank
 from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
+from gvgai_pcg.envs.reset_rows import RowResetEnv
 from gvgai_pcg.envs.shards import ShardedStepper
 from gvgai_pcg.games import get_game
 from gvgai_pcg.games.base import merge_states, pad_level
@@ -30,7 +30,7 @@ OBSERVATION_KINDS = ("tiles", "pixels")
 COMPILED_LEVEL_CACHE = 64  # distinct levels whose compiled initial state an env keeps
 
 
-class GVGAIEnv(EnvBase):
+class GVGAIEnv(RowResetEnv):
     """``num_envs`` copies of ``game`` stepped together (batch size ``[num_envs]``).
 
     Args:

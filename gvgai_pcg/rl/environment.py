@@ -11,9 +11,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from omegaconf import DictConfig
-from torchrl.envs import EnvBase, TransformedEnv
+from torchrl.envs import EnvBase
 
 from gvgai_pcg.envs import GVGAIEnv
+from gvgai_pcg.envs.reset_rows import RowResetTransformedEnv
 from gvgai_pcg.levels import human_level
 
 REGIMENS = ("lv", "lv0-3", "pcg", "ppcg")
@@ -48,7 +49,7 @@ class EnvFactory:
         env = GVGAIEnv(
             self.game, self.num_envs, GeneratedLevels(self.game), self.obs, self.max_steps, self.device, seed
         )
-        return TransformedEnv(env, self.difficulty)
+        return RowResetTransformedEnv(env, self.difficulty)
 
 
 def make_difficulty(regimen: DictConfig, game: str):

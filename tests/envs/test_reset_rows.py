@@ -1,0 +1,70 @@
+"""Partial resets merged by rows give the tensordicts TorchRL's own ``where`` merge gives."""
+
+import pytest
+import torch
+from tensordict import TensorDict
+from torchrl.envs import EnvBase, TransformedEnv
+
+from gvgai_pcg.envs import GVGAIEnv
+from gvgai_pcg.envs.difficulty import DifficultyTransform
+from gvgai_pcg.envs.level_sources import GeneratedLevels
+from gvgai_pcg.envs.reset_rows import RowResetTransformedEnv, merge_reset_rows
+
+
+class WhereMergedEnv(GVGAIEnv):
+    """GVGAIEnv with TorchRL's own partial-reset merge, as the reference."""
+
+    _reset_proc_data = EnvBase._reset_proc_data
+
+
+def rollout(env, steps: int = 40) -> list:
+    generator = torch.Generator().manual_seed(5)
+    td = env.reset()
+    out = []
+    for _ in range(steps):
+        td.set("action", torch.randint(0, 5, (env.batch_size[0],), generator=generator))
+        stepped, td = env.step_and_maybe_reset(td)
+        out += [stepped, td.clone()]
+    return out
+
+
+def test_rows_merged_equal_torchrl_merged_rollouts():
+    ours, theirs = (cls("frogs", num_envs=16, levels="human", seed=2) for cls in (GVGAIEnv, WhereMergedEnv))
+    for a, b in zip(rollout(ours), rollout(theirs), strict=True):
+        assert set(a.keys(True, True)) == set(b.keys(True, True))
+        assert (a == b).all()
+
+
+def test_a_transformed_env_merges_by_rows_too():
+    def make(cls):
+        source = GeneratedLevels("frogs")
+        return cls(GVGAIEnv("frogs", num_envs=8, levels=source, seed=1), DifficultyTransform(mode="ppcg"))
+
+    for a, b in zip(rollout(make(RowResetTransformedEnv)), rollout(make(TransformedEnv)), strict=True):
+        assert (a == b).all()
+
+
+def test_entries_missing_on_one_side_count_as_zeros():
+    running = TensorDict({"a": torch.ones(4, 2), "_reset": torch.tensor([True, False, True, False])}, [4])
+    fresh = TensorDict({"a": torch.full((4, 2), 5.0), "b": torch.full((4,), 7.0)}, [4])
+    shared = running.get("a")
+    merged = merge_reset_rows(fresh, running, ["_reset"])
+    assert merged.get("a")[:, 0].tolist() == [5.0, 1.0, 5.0, 1.0]
+    assert merged.get("b").tolist() == [7.0, 0.0, 7.0, 0.0]
+    assert "_reset" not in merged.keys()
+    assert shared.eq(1).all()  # replaced, not written in place
+
+    running = TensorDict({"c": torch.ones(2), "_reset": torch.tensor([False, True])}, [2])
+    merged = merge_reset_rows(TensorDict({}, [2]), running, ["_reset"])
+    assert merged.get("c").tolist() == [1.0, 0.0]
+
+
+@pytest.mark.parametrize("keys", [["_reset", ("agents", "_reset")], []])
+def test_other_reset_layouts_go_to_torchrl(keys, monkeypatch):
+    calls = []
+    monkeypatch.setattr(
+        "gvgai_pcg.envs.reset_rows._update_during_reset", lambda *args: calls.append(args) or args[1]
+    )
+    running = TensorDict({"_reset": torch.tensor([True, False])}, [2])
+    merge_reset_rows(TensorDict({}, [2]), running, keys)
+    assert len(calls) == 1
