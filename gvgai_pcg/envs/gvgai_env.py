@@ -20,7 +20,7 @@ from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
 from gvgai_pcg.envs.reset_rows import RowResetEnv
 from gvgai_pcg.envs.shards import ShardedStepper
 from gvgai_pcg.games import get_game
-from gvgai_pcg.games.base import merge_states, pad_level
+from gvgai_pcg.games.base import copy_rows, merge_states, pad_level
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.games.render import ascii_frame, render_pixels, render_tiles
 from gvgai_pcg.games.rng import derive_seeds, mix64
@@ -242,7 +242,7 @@ class GVGAIEnv(RowResetEnv):
         if index is None:
             return out
         full = out.apply(lambda v: v.new_empty((self.num_envs, *v.shape[1:])), batch_size=[self.num_envs])
-        full[index] = out
+        copy_rows(full, out, index)
         return full
 
     def _set_seed(self, seed: int | None) -> int | None:

@@ -207,8 +207,15 @@ def merge_states(state: TensorDict, fresh: TensorDict, index: torch.Tensor) -> T
     sizes = {key: max(ours[key], theirs[key]) for key in ours}
     state = pad_entity_tables(state, sizes)
     fresh = pad_entity_tables(fresh, sizes)
-    state[index] = fresh
+    copy_rows(state, fresh, index)
     return state
+
+
+def copy_rows(target: TensorDict, source: TensorDict, index: torch.Tensor) -> None:
+    """``target[index] = source`` entry by entry with ``index_copy_`` (several times cheaper than
+    TensorDict's indexed assignment, which goes through ``index_put_``)."""
+    for key, value in source.items(True, True):
+        target.get(key).index_copy_(0, index, value)
 
 
 def concatenate_states(states: Sequence[TensorDict]) -> TensorDict:
