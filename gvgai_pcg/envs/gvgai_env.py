@@ -190,8 +190,9 @@ class GVGAIEnv(RowResetEnv):
     def _compile(self, levels: list[Level], episode_seeds: torch.Tensor) -> TensorDict:
         """The initial states of ``levels``. Levels that recur (human levels, a fixed list) come
         from the bank of compiled levels, so their resets cost a gather, not a parse; a batch of
-        mostly new levels (generated ones) is compiled in one call."""
-        if len(set(levels)) > max(1, len(levels) // 2):
+        mostly unseen levels (generated ones) is compiled in one call."""
+        unseen = [level for level in set(levels) if level not in self._bank]
+        if len(unseen) > max(1, len(levels) // 2):
             padded = [pad_level(lv, self.grid_height, self.grid_width, self.game.pad_char) for lv in levels]
             return self.game.compile(padded, episode_seeds, self.device)
         return self._bank.initial_states(levels, episode_seeds)

@@ -32,6 +32,9 @@ class CompiledLevelBank:
     def __len__(self) -> int:
         return len(self._rows)
 
+    def __contains__(self, level: Level) -> bool:
+        return level in self._rows
+
     def initial_states(self, levels: Sequence[Level], seeds: torch.Tensor) -> TensorDict:
         """The states of ``levels`` before their reset tick, with episode ``seeds``."""
         self._uses += 1

@@ -57,3 +57,20 @@ def test_a_reset_that_needs_more_levels_than_the_capacity_keeps_them_all():
     levels = human_levels("zelda")
     states = store.initial_states(levels, torch.arange(5))
     assert states.batch_size[0] == 5 and len(store) == 5
+
+
+def test_small_partial_resets_of_recurring_levels_compile_nothing(monkeypatch):
+    from tensordict import TensorDict
+
+    from gvgai_pcg.envs import GVGAIEnv
+
+    env = GVGAIEnv("zelda", num_envs=10, levels="human", seed=0)
+    env.reset()
+    calls = []
+    compile_level = env.game.compile
+    monkeypatch.setattr(env.game, "compile", lambda *a: calls.append(1) or compile_level(*a))
+    for rows in ([0, 1], [2, 3, 4], [5]):
+        mask = torch.zeros(10, dtype=torch.bool)
+        mask[rows] = True
+        env.reset(TensorDict({"_reset": mask}, batch_size=[10]))
+    assert calls == []
