@@ -84,19 +84,33 @@ def covered_cells(
     return index, distinct & inside
 
 
-def grid_hits(grid: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+def aligned_cell(
+    x: torch.Tensor, y: torch.Tensor, height: int, width: int
+) -> tuple[torch.Tensor, torch.Tensor]:
+    """The flat index ``[..., 1]`` of the one cell a cell-aligned rectangle (x, y multiples of 10)
+    covers, and whether that cell is inside the grid (``[..., 1]``)."""
+    cx, cy = cell_of(x), cell_of(y)
+    cx_in, cy_in = cx.clamp(0, width - 1), cy.clamp(0, height - 1)
+    inside = (cx_in == cx) & (cy_in == cy)
+    return (cy_in * width + cx_in).unsqueeze(-1), inside.unsqueeze(-1)
+
+
+def grid_hits(
+    grid: torch.Tensor, x: torch.Tensor, y: torch.Tensor, aligned: bool = False
+) -> tuple[torch.Tensor, torch.Tensor]:
     """Which covered cells of ``grid`` (``[B, H, W]`` bool) are set under rectangles at ``x, y``
-    (``[B]`` or ``[B, K]``): returns (flat cell index ``[..., 4]``, hit mask ``[..., 4]``)."""
+    (``[B]`` or ``[B, K]``): returns (flat cell index ``[..., 4]``, hit mask ``[..., 4]``). With
+    ``aligned`` (x, y known to be multiples of 10, so one cell each) both are ``[..., 1]``."""
     batch, height, width = grid.shape
-    index, valid = covered_cells(x, y, height, width)
+    index, valid = (aligned_cell if aligned else covered_cells)(x, y, height, width)
     flat = grid.reshape(batch, height * width)
     gathered = torch.gather(flat, 1, index.reshape(batch, -1)).reshape(index.shape)
     return index, gathered & valid
 
 
-def grid_count(grid: torch.Tensor, x: torch.Tensor, y: torch.Tensor) -> torch.Tensor:
+def grid_count(grid: torch.Tensor, x: torch.Tensor, y: torch.Tensor, aligned: bool = False) -> torch.Tensor:
     """How many set cells of ``grid`` each rectangle overlaps (``[B]`` or ``[B, K]``)."""
-    return count_last(grid_hits(grid, x, y)[1])
+    return count_last(grid_hits(grid, x, y, aligned)[1])
 
 
 def cell_mask(shape: torch.Size, index: torch.Tensor, mask: torch.Tensor) -> torch.Tensor:

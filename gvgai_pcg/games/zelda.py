@@ -53,6 +53,8 @@ MONSTER_CONS = (6, 8, 12)
 SWORD_LIMIT = 5
 NIL, USE = 0, 1
 STREAM_MONSTER_DIRECTION = 1
+# Every Zelda sprite moves by whole cells and starts on one, so each covers exactly one cell.
+ALIGNED = True
 
 
 def action_direction(action: torch.Tensor) -> torch.Tensor:
@@ -207,15 +209,15 @@ class Zelda(Game):
         score = state.get("score")
 
         # 1 movable × wall: stepBack.
-        back = alive & (grid_count(wall, ax, ay) > 0)
+        back = alive & (grid_count(wall, ax, ay, ALIGNED) > 0)
         ax, ay = torch.where(back, lastx, ax), torch.where(back, lasty, ay)
-        back = present & (grid_count(wall, mx, my) > 0)
+        back = present & (grid_count(wall, mx, my, ALIGNED) > 0)
         mx, my = torch.where(back, monsters.get("lastx"), mx), torch.where(back, monsters.get("lasty"), my)
         # 2 nokey × goal: stepBack.
-        back = alive & ~has_key & (grid_count(goal, ax, ay) > 0)
+        back = alive & ~has_key & (grid_count(goal, ax, ay, ALIGNED) > 0)
         ax, ay = torch.where(back, lastx, ax), torch.where(back, lasty, ay)
         # 3 goal × withkey: kill the goal, +1 each.
-        cells, hit = grid_hits(goal, ax, ay)
+        cells, hit = grid_hits(goal, ax, ay, ALIGNED)
         hit &= (alive & has_key).unsqueeze(-1)
         score = score + hit.sum(-1)
         goal = goal & ~cell_mask(goal.shape, cells, hit)
@@ -237,7 +239,7 @@ class Zelda(Game):
         disabled = any_last(touching)
         # 7 nokey × key: transformTo withkey (facing RIGHT), killing the key, +1; a disabled avatar
         # still scores but is not transformed.
-        cells, hit = grid_hits(key, ax, ay)
+        cells, hit = grid_hits(key, ax, ay, ALIGNED)
         hit &= (alive & ~has_key).unsqueeze(-1)
         take = any_last(hit)
         score = score + torch.where(disabled, hit.sum(-1), take.long())
