@@ -95,8 +95,8 @@ def render_tiles(game: Game, state: TensorDict) -> torch.Tensor:
         tiles[:, channel, :cells].copy_(drawn[0])  # bool to uint8 (faster than from a uint8 view)
         for more in drawn[1:]:
             tiles[:, channel, :cells].bitwise_or_(more.view(torch.uint8))
-    # Sprites are marked by a flat ``put_`` (cheaper than a scatter along dim 1); each index
-    # carries its env's row start, and the cell offset of 100 (see _centre_cell) folds into it.
+    # Sprites are marked by a scatter into the flat buffer (cheaper than one along dim 1); each
+    # index carries its env's row start, and the cell offset of 100 (see _centre_cell) folds into it.
     # int32 like the cell arithmetic (a mixed-dtype op would first copy its int32 side to int64).
     size = channels * (cells + 1)
     index_type = torch.int32 if batch * size < 2**31 else torch.int64
@@ -116,13 +116,20 @@ def render_tiles(game: Game, state: TensorDict) -> torch.Tensor:
         else:
             row, start = layer.row, first
         index = torch.where(shown, row * width + column + (start - 100), first + cells)
-        flat.put_(index.view(-1).long(), _one(tiles.device).expand(index.numel()))
+        flat.scatter_(0, index.view(-1).long(), _ones(index.numel(), tiles.device))
     return tiles[:, :, :cells].reshape(batch, channels, height, width)
 
 
-@cache
-def _one(device: torch.device) -> torch.Tensor:
-    return torch.ones((), dtype=torch.uint8, device=device)
+_ONES: dict[torch.device, torch.Tensor] = {}
+
+
+def _ones(count: int, device: torch.device) -> torch.Tensor:
+    """``count`` uint8 ones (a slice of one kept buffer): a 1-D ``scatter_`` from a real tensor is
+    about three times faster than ``put_`` or a scatter of a scalar."""
+    ones = _ONES.get(device)
+    if ones is None or ones.numel() < count:
+        ones = _ONES[device] = torch.ones(max(count, 1 << 16), dtype=torch.uint8, device=device)
+    return ones[:count]
 
 
 def _centre_cell(position: torch.Tensor) -> torch.Tensor:
