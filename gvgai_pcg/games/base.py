@@ -117,7 +117,7 @@ def common_state(seeds: torch.Tensor, device: torch.device) -> dict[str, torch.T
     """The entries every game state has, for a fresh episode (the reset tick makes ``tick`` 0)."""
     batch = seeds.shape[0]
     return {
-        "seed": seeds.to(device=device, dtype=torch.int64),
+        "seed": seeds.to(device=device, dtype=torch.int64).clone(),  # never shared with the caller
         "tick": torch.full((batch,), -1, dtype=torch.int64, device=device),
         "score": torch.zeros(batch, dtype=torch.int64, device=device),
         "won": torch.zeros(batch, dtype=torch.bool, device=device),
