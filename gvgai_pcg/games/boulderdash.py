@@ -86,6 +86,11 @@ def enemy_directions(seed: torch.Tensor, tick: torch.Tensor, slots: torch.Tensor
     return torch.where((tick > 0).unsqueeze(-1), drawn, torch.full_like(drawn, NONE))
 
 
+def _pick(table: torch.Tensor, codes: torch.Tensor) -> torch.Tensor:
+    """``table[codes]`` by ``index_select`` (cheaper than advanced indexing on the CPU)."""
+    return table.index_select(0, codes.reshape(-1)).view(codes.shape)
+
+
 def cell_of(v: torch.Tensor) -> torch.Tensor:
     """``v // 10`` for 0 <= v < 1029 without an integer division (slow on CPU)."""
     return (v * 205) >> 11
@@ -96,10 +101,9 @@ def cell_index(
 ) -> tuple[torch.Tensor, torch.Tensor]:
     """Flat cell index of cell-aligned sprites at ``x, y`` (any shape), clamped into the grid, and
     whether the sprite is inside the grid at all (a level without border walls lets sprites out)."""
-    inside = (x >= 0) & (x < CELL * width) & (y >= 0) & (y < CELL * height)
-    cx = cell_of(x.clamp(0, CELL * (width - 1)))
-    cy = cell_of(y.clamp(0, CELL * (height - 1)))
-    return cy * width + cx, inside
+    x_in, y_in = x.clamp(0, CELL * (width - 1)), y.clamp(0, CELL * (height - 1))
+    inside = (x_in == x) & (y_in == y)
+    return cell_of(y_in) * width + cell_of(x_in), inside
 
 
 def boulder_cells(y: torch.Tensor, column: torch.Tensor, height: int, width: int) -> torch.Tensor:
@@ -221,11 +225,11 @@ class Boulderdash(Game):
         pressed = alive & (direction != NONE)
         step = (pressed & (direction == ori)).long() * CELL
         ori = torch.where(pressed, direction, ori)
-        ax, ay = lastx + step * dx[direction], lasty + step * dy[direction]
+        ax, ay = lastx + step * _pick(dx, direction), lasty + step * _pick(dy, direction)
         exists = sword.get("exists")
         place = alive & (action == USE) & ~exists
-        sx = torch.where(place, lastx + CELL * dx[ori], sword.get("x"))
-        sy = torch.where(place, lasty + CELL * dy[ori], sword.get("y"))
+        sx = torch.where(place, lastx + CELL * _pick(dx, ori), sword.get("x"))
+        sy = torch.where(place, lasty + CELL * _pick(dy, ori), sword.get("y"))
         age = torch.where(place, torch.zeros_like(sword.get("age")), sword.get("age"))
         exists = exists | place
 
@@ -233,7 +237,7 @@ class Boulderdash(Game):
         # from their second update on), the pickaxe (Flicker: killed once older than its limit).
         elastx, elasty, present = enemies.get("x"), enemies.get("y"), enemies.get("alive")
         heading = enemy_directions(state.get("seed"), tick, torch.arange(elastx.shape[1], device=tick.device))
-        ex, ey = elastx + CELL * dx[heading], elasty + CELL * dy[heading]
+        ex, ey = elastx + CELL * _pick(dx, heading), elasty + CELL * _pick(dy, heading)
         blasty = boulders.get("y")
         by = blasty + (BOULDER_FALL * (tick > 0)).int().unsqueeze(-1)
         sword_killed = exists & (age > SWORD_LIMIT)
@@ -293,7 +297,7 @@ class Boulderdash(Game):
 
         # 9-11 boulder × dirt, wall, diamond: stepBack (dead dirt and collected diamonds still count).
         solid = torch.zeros(batch, padded, dtype=torch.bool, device=tick.device)
-        torch.logical_or(dirt_f | wall_f, diamond_f, out=solid[:, :cells])
+        torch.bitwise_or(dirt_f | wall_f, diamond_f.bool(), out=solid[:, :cells])
         hit = solid.gather(1, b_cells).view(batch, -1, 2)
         hit = hit[..., 0] | hit[..., 1]
         by = torch.where(hit, blasty, by)
