@@ -51,6 +51,19 @@ class SpriteLayer:
 Layer = GridLayer | SpriteLayer
 
 
+def single_sprite_layer(
+    name: str, table: TensorDict, present: str | torch.Tensor = "alive", oriented: bool = False
+) -> SpriteLayer:
+    """The layer of a sprite every env has at most one of (the avatar, a sword), from its ``[B]``
+    table: ``present`` names the table's presence entry or is a ``[B]`` mask; an oriented sprite
+    is drawn by its ``ori``."""
+    mask = table.get(present) if isinstance(present, str) else present
+    variant = table.get("ori").unsqueeze(-1) if oriented else None
+    return SpriteLayer(
+        name, table.get("x").unsqueeze(-1), table.get("y").unsqueeze(-1), mask.unsqueeze(-1), variant
+    )
+
+
 @dataclass(frozen=True)
 class SpriteArt:
     """Our own tile art for a sprite type: a colour and a shape (see ``gvgai_pcg.games.render``)."""

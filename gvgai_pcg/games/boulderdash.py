@@ -46,8 +46,9 @@ from gvgai_pcg.games.base import (
     char_grid,
     common_state,
     golden_record,
+    single_sprite_layer,
 )
-from gvgai_pcg.games.geometry import CELL, DIRECTION_NAMES, NONE, RIGHT, any_last
+from gvgai_pcg.games.geometry import CELL, DIRECTION_NAMES, NONE, RIGHT, any_last, pick
 from gvgai_pcg.games.registry import register_game
 from gvgai_pcg.levels import Level
 
@@ -84,11 +85,6 @@ def enemy_directions(seed: torch.Tensor, tick: torch.Tensor, slots: torch.Tensor
     draw_tick = tick - (1 - tick % 2)
     drawn = draw_enemy_directions(seed, draw_tick, slots)
     return torch.where((tick > 0).unsqueeze(-1), drawn, torch.full_like(drawn, NONE))
-
-
-def _pick(table: torch.Tensor, codes: torch.Tensor) -> torch.Tensor:
-    """``table[codes]`` by ``index_select`` (cheaper than advanced indexing on the CPU)."""
-    return table.index_select(0, codes.reshape(-1)).view(codes.shape)
 
 
 def cell_of(v: torch.Tensor) -> torch.Tensor:
@@ -225,11 +221,11 @@ class Boulderdash(Game):
         pressed = alive & (direction != NONE)
         step = (pressed & (direction == ori)).long() * CELL
         ori = torch.where(pressed, direction, ori)
-        ax, ay = lastx + step * _pick(dx, direction), lasty + step * _pick(dy, direction)
+        ax, ay = lastx + step * pick(dx, direction), lasty + step * pick(dy, direction)
         exists = sword.get("exists")
         place = alive & (action == USE) & ~exists
-        sx = torch.where(place, lastx + CELL * _pick(dx, ori), sword.get("x"))
-        sy = torch.where(place, lasty + CELL * _pick(dy, ori), sword.get("y"))
+        sx = torch.where(place, lastx + CELL * pick(dx, ori), sword.get("x"))
+        sy = torch.where(place, lasty + CELL * pick(dy, ori), sword.get("y"))
         age = torch.where(place, torch.zeros_like(sword.get("age")), sword.get("age"))
         exists = exists | place
 
@@ -237,7 +233,7 @@ class Boulderdash(Game):
         # from their second update on), the pickaxe (Flicker: killed once older than its limit).
         elastx, elasty, present = enemies.get("x"), enemies.get("y"), enemies.get("alive")
         heading = enemy_directions(state.get("seed"), tick, torch.arange(elastx.shape[1], device=tick.device))
-        ex, ey = elastx + CELL * _pick(dx, heading), elasty + CELL * _pick(dy, heading)
+        ex, ey = elastx + CELL * pick(dx, heading), elasty + CELL * pick(dy, heading)
         blasty = boulders.get("y")
         by = blasty + (BOULDER_FALL * (tick > 0)).int().unsqueeze(-1)
         sword_killed = exists & (age > SWORD_LIMIT)
@@ -353,25 +349,18 @@ class Boulderdash(Game):
         avatar, sword = state.get("avatar"), state.get("sword")
         boulders, enemies = state.get("boulders"), state.get("enemies")
         wall = state.get("wall")
-        one = lambda t: t.unsqueeze(-1)  # noqa: E731 - [B] -> [B, 1]
         ex, ey, present, kind = enemies.get("x"), enemies.get("y"), enemies.get("alive"), enemies.get("kind")
         return [
             GridLayer("background", ~wall),
             GridLayer("wall", wall),
-            SpriteLayer("sword", one(sword.get("x")), one(sword.get("y")), one(sword.get("exists"))),
+            single_sprite_layer("sword", sword, "exists"),
             GridLayer("dirt", state.get("dirt")),
             GridLayer("exitdoor", state.get("exitdoor")),
             GridLayer("diamond", state.get("diamond").bool()),
             SpriteLayer("boulder", boulders.get("x"), boulders.get("y"), boulders.get("alive")),
             SpriteLayer("crab", ex, ey, present & (kind == CRAB)),
             SpriteLayer("butterfly", ex, ey, present & (kind == BUTTERFLY)),
-            SpriteLayer(
-                "avatar",
-                one(avatar.get("x")),
-                one(avatar.get("y")),
-                one(avatar.get("alive")),
-                one(avatar.get("ori")),
-            ),
+            single_sprite_layer("avatar", avatar, oriented=True),
         ]
 
     def snapshot(self, state: TensorDict, index: int) -> dict:

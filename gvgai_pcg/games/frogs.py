@@ -48,8 +48,9 @@ from gvgai_pcg.games.base import (
     common_state,
     golden_record,
     pad_level,
+    single_sprite_layer,
 )
-from gvgai_pcg.games.geometry import CELL, cell_of
+from gvgai_pcg.games.geometry import CELL, cell_of, pick
 from gvgai_pcg.games.registry import register_game
 from gvgai_pcg.levels import Level
 
@@ -92,8 +93,8 @@ def _constant(values: tuple, dtype: torch.dtype, device: torch.device) -> torch.
 
 
 def _lookup(values: tuple, dtype: torch.dtype, index: torch.Tensor) -> torch.Tensor:
-    """``values[index]`` elementwise (``index_select``, cheaper than advanced indexing on the CPU)."""
-    return _constant(values, dtype, index.device).index_select(0, index.reshape(-1)).view(index.shape)
+    """``values[index]`` elementwise (see :func:`geometry.pick`)."""
+    return pick(_constant(values, dtype, index.device), index)
 
 
 def spawner_ring_size(x: torch.Tensor, cooldown: torch.Tensor) -> torch.Tensor:
@@ -545,10 +546,7 @@ class Frogs(Game):
                 )
             )
         layers.append(GridLayer("wall", state.get("wall")))
-        one = lambda t: t.unsqueeze(-1)  # noqa: E731 - [B] -> [B, 1]
-        layers.append(
-            SpriteLayer("avatar", one(avatar.get("x")), one(avatar.get("y")), one(avatar.get("alive")))
-        )
+        layers.append(single_sprite_layer("avatar", avatar))
         return layers
 
     def snapshot(self, state: TensorDict, index: int) -> dict:

@@ -25,14 +25,20 @@ def _table(values: tuple[int, ...], device: torch.device) -> torch.Tensor:
     return torch.tensor(values, dtype=torch.int64, device=device)
 
 
+def pick(table: torch.Tensor, codes: torch.Tensor) -> torch.Tensor:
+    """``table[codes]`` for a 1-D lookup table and codes of any shape, by ``index_select``
+    (several times cheaper than advanced indexing on the CPU)."""
+    return table.index_select(0, codes.reshape(-1)).view(codes.shape)
+
+
 def direction_dx(direction: torch.Tensor) -> torch.Tensor:
     """Unit x displacement of direction codes (any shape)."""
-    return _table(_DX, direction.device)[direction]
+    return pick(_table(_DX, direction.device), direction)
 
 
 def direction_dy(direction: torch.Tensor) -> torch.Tensor:
     """Unit y displacement of direction codes (any shape, y grows downward)."""
-    return _table(_DY, direction.device)[direction]
+    return pick(_table(_DY, direction.device), direction)
 
 
 def overlaps(ax: torch.Tensor, ay: torch.Tensor, bx: torch.Tensor, by: torch.Tensor) -> torch.Tensor:
@@ -60,12 +66,6 @@ def cell_of(position: torch.Tensor) -> torch.Tensor:
     positions in [-10000, 33000) px, far beyond any screen here.
     """
     return ((position.long() + 10000) * 52429 >> 19) - 1000
-
-
-def cell_of_int32(position: torch.Tensor) -> torch.Tensor:
-    """``floor(position / 10)`` in int32 (half the memory traffic of :func:`cell_of` on wide
-    tables); exact for positions in [-1000, 15000) px."""
-    return (((position.to(torch.int32) + 1000) * 6554) >> 16) - 100
 
 
 def covered_cells(

@@ -134,7 +134,7 @@ def _ones(count: int, device: torch.device) -> torch.Tensor:
 
 def _centre_cell(position: torch.Tensor) -> torch.Tensor:
     """``floor((p + 5) / 10) + 100``: the cell holding the centre of sprites at ``p``, offset by 100.
-    Integer division by multiply-and-shift as in :func:`geometry.cell_of_int32` (exact for
+    Integer division by multiply-and-shift as in :func:`geometry.cell_of` (exact for
     p in [-1005, 14995), monotonic beyond), in int32."""
     return ((position.to(torch.int32) + (CELL // 2 + 1000)) * 6554) >> 16
 

@@ -45,6 +45,7 @@ from gvgai_pcg.games.base import (
     char_grid,
     common_state,
     golden_record,
+    single_sprite_layer,
 )
 from gvgai_pcg.games.geometry import CELL, DIRECTION_NAMES, DOWN, LEFT, NONE, RIGHT, UP, any_last, cell_of
 from gvgai_pcg.games.registry import register_game
@@ -409,7 +410,6 @@ class Solarfox(Game):
 
     def layers(self, state: TensorDict) -> list:
         avatar, enemies, shots = state.get("avatar"), state.get("enemies"), state.get("shots")
-        one = lambda t: t.unsqueeze(-1)  # noqa: E731 - [B] -> [B, 1]
         ex, ey = CELL * enemies.get("col"), CELL * enemies.get("row")
         e_alive, e_kind = enemies.get("alive"), enemies.get("kind")
         sx, sy, s_alive, up = shots.get("x"), shots.get("y"), shots.get("alive"), shots.get("dy") < 0
@@ -424,13 +424,7 @@ class Solarfox(Game):
             SpriteLayer("upshot", sx, sy, s_alive & up),
             SpriteLayer("downshot", sx, sy, s_alive & ~up),
             GridLayer("wall", state.get("wall")),
-            SpriteLayer(
-                "avatar",
-                one(avatar.get("x")),
-                one(avatar.get("y")),
-                one(avatar.get("alive")),
-                one(avatar.get("ori")),
-            ),
+            single_sprite_layer("avatar", avatar, oriented=True),
         ]
 
     def snapshot(self, state: TensorDict, index: int) -> dict:

@@ -27,6 +27,7 @@ from gvgai_pcg.games.base import (
     char_grid,
     common_state,
     golden_record,
+    single_sprite_layer,
 )
 from gvgai_pcg.games.geometry import (
     CELL,
@@ -275,21 +276,19 @@ class Zelda(Game):
     def layers(self, state: TensorDict) -> list:
         avatar, sword, monsters = state.get("avatar"), state.get("sword"), state.get("monsters")
         wall = state.get("wall")
-        one = lambda t: t.unsqueeze(-1)  # noqa: E731 - [B] -> [B, 1]
         alive, has_key = avatar.get("alive"), avatar.get("has_key")
         layers = [
             GridLayer("floor", ~wall),
             GridLayer("goal", state.get("goal")),
             GridLayer("key", state.get("key")),
-            SpriteLayer("sword", one(sword.get("x")), one(sword.get("y")), one(sword.get("exists"))),
+            single_sprite_layer("sword", sword, "exists"),
         ]
         kind, present = monsters.get("kind"), monsters.get("alive")
         for code, name in enumerate(MONSTER_TYPES):
             layers.append(SpriteLayer(name, monsters.get("x"), monsters.get("y"), present & (kind == code)))
         layers.append(GridLayer("wall", wall))
         for name, mask in (("nokey", alive & ~has_key), ("withkey", alive & has_key)):
-            ax, ay, ori = one(avatar.get("x")), one(avatar.get("y")), one(avatar.get("ori"))
-            layers.append(SpriteLayer(name, ax, ay, one(mask), ori))
+            layers.append(single_sprite_layer(name, avatar, mask, oriented=True))
         return layers
 
     def snapshot(self, state: TensorDict, index: int) -> dict:

@@ -23,3 +23,11 @@ def test_byte_reductions_equal_torch_ones():
     assert torch.equal(any_last(mask[:, ::2, 1:]), mask[:, ::2, 1:].any(-1))
     assert torch.equal(count_last(mask), mask.sum(-1).int())
     assert any_last(torch.zeros(2, 0, dtype=torch.bool)).tolist() == [False, False]
+
+
+def test_pick_is_a_table_look_up_for_codes_of_any_shape():
+    from gvgai_pcg.games.geometry import pick
+
+    table = torch.tensor([5, -1, 7])
+    codes = torch.tensor([[2, 0], [1, 1]])
+    assert torch.equal(pick(table, codes), table[codes])
