@@ -3,8 +3,11 @@ levels/s, and resets/s with a generating level source.
 
 Warm-up (first reset and the first steps, where allocators and caches settle) is timed apart
 from the steady state. Resets happen at their natural rate: finished envs are reset through the
-``"_reset"`` mask as a collector would. Numbers go into ``docs/benchmarks.md`` between markers,
-one section per device kind, so a GPU run does not erase the CPU figures.
+``"_reset"`` mask as a collector would. The steady state is timed in consecutive windows and the
+median window is reported with the slowest and fastest: on a shared machine a burst of load from
+elsewhere spoils a window or two, which drags a mean over the whole run down but not the median.
+Numbers go into ``docs/benchmarks.md`` between markers, one section per device kind, so a GPU run
+does not erase the CPU figures.
 """
 
 from __future__ import annotations
@@ -12,7 +15,9 @@ from __future__ import annotations
 import os
 import platform
 import re
+import statistics
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -30,6 +35,35 @@ ENGINE_BATCH = 4096
 # Tiles steps/s at B = 4096 on 2 CPU cores that issues 2-5 ask of each game.
 TARGETS = {"zelda": 250_000, "solarfox": 250_000, "frogs": 150_000, "boulderdash": 150_000}
 OBSERVATIONS = ("tiles", "pixels")
+WINDOWS = 5  # timed windows per measurement; the median is reported
+
+
+@dataclass(frozen=True)
+class Rate:
+    """Steps/s over timed windows: the median window, and the slowest and fastest."""
+
+    median: float
+    low: float
+    high: float
+
+    def __str__(self) -> str:
+        return f"{self.median:,.0f}"
+
+
+def windowed_rate(
+    step: Callable[[], int], seconds: float, windows: int = WINDOWS, max_steps: int | None = None
+) -> Rate:
+    """Time ``windows`` consecutive windows of at least ``seconds / windows`` seconds (and at least
+    3 calls) of ``step``, which returns how many env steps it made; ``max_steps`` caps the calls."""
+    per_window = max(3, (max_steps or 0) // windows) if max_steps else None
+    rates = []
+    for _ in range(windows):
+        calls, steps, begin = 0, 0, time.perf_counter()
+        while calls < 3 or (time.perf_counter() - begin < seconds / windows and calls != per_window):
+            steps += step()
+            calls += 1
+        rates.append(steps / (time.perf_counter() - begin))
+    return Rate(statistics.median(rates), min(rates), max(rates))
 
 
 @dataclass
@@ -38,8 +72,12 @@ class StepResult:
     obs: str
     batch: int
     warmup_s: float
-    steps_per_s: float
+    rate: Rate
     resets: int
+
+    @property
+    def steps_per_s(self) -> float:
+        return self.rate.median
 
 
 def measure_env(
@@ -55,21 +93,20 @@ def measure_env(
         _, td = env.step_and_maybe_reset(td)
     _sync(device)
     warmup = time.perf_counter() - begin
-    steps, resets = 0, 0
-    begin = time.perf_counter()
-    while steps < max_steps and (steps < 5 or time.perf_counter() - begin < min_seconds):
+    resets = 0
+
+    def step() -> int:
+        nonlocal td, resets
         td.set("action", torch.randint(0, env.game.num_actions, (batch,), generator=generator, device=device))
         stepped, td = env.step_and_maybe_reset(td)
-        resets += int(stepped.get(("next", "done")).sum())
-        steps += 1
-    _sync(device)
-    elapsed = time.perf_counter() - begin
-    return StepResult(game, obs, batch, warmup, steps * batch / elapsed, resets)
+        resets += int(stepped.get(("next", "done")).sum())  # also waits for a GPU
+        return batch
+
+    rate = windowed_rate(step, min_seconds, max_steps=max_steps)
+    return StepResult(game, obs, batch, warmup, rate, resets)
 
 
-def measure_engine(
-    game: str, batch: int = 4096, shards: int | None = None, min_seconds: float = 2.0
-) -> float:
+def measure_engine(game: str, batch: int = 4096, shards: int = 1, min_seconds: float = 2.0) -> Rate:
     """Steps/s of the engine alone: ``game.tick`` then ``render_tiles``, no resets (human levels 0-4
     in turn, random actions), sliced into ``shards`` as ``GVGAIEnv`` does on the CPU."""
     from gvgai_pcg.games import get_game
@@ -91,11 +128,15 @@ def measure_engine(
     actions = [torch.randint(0, engine.num_actions, (batch,), generator=generator) for _ in range(64)]
     for action in actions[:3]:
         stepper(step, state, action)
-    steps, begin = 0, time.perf_counter()
-    while steps < 5 or time.perf_counter() - begin < min_seconds:
-        stepper(step, state, actions[steps % len(actions)])
-        steps += 1
-    return steps * batch / (time.perf_counter() - begin)
+    calls = 0
+
+    def step_all() -> int:
+        nonlocal calls
+        stepper(step, state, actions[calls % len(actions)])
+        calls += 1
+        return batch
+
+    return windowed_rate(step_all, min_seconds)
 
 
 def measure_generating_resets(game: str, batch: int = 64, rounds: int = 5) -> float:
@@ -149,12 +190,15 @@ def run_benchmarks(
         "",
         "### Env steps/s (random actions, human levels, resets at their natural rate)",
         "",
-        "| game | obs | B | steps/s | warm-up (s) | resets |",
-        "|---|---|---:|---:|---:|---:|",
+        f"Steps/s is the median of {WINDOWS} timed windows; the slowest and fastest window follow it.",
+        "",
+        "| game | obs | B | steps/s | slowest - fastest window | warm-up (s) | resets |",
+        "|---|---|---:|---:|---:|---:|---:|",
     ]
     for r in results:
         lines.append(
-            f"| {r.game} | {r.obs} | {r.batch} | {r.steps_per_s:,.0f} | {r.warmup_s:.2f} | {r.resets} |"
+            f"| {r.game} | {r.obs} | {r.batch} | {r.rate} | {_spread(r.rate)} "
+            f"| {r.warmup_s:.2f} | {r.resets} |"
         )
     if torch.device(device).type == "cpu":
         engine = _engine_rates(games, min_seconds, progress)
@@ -164,7 +208,11 @@ def run_benchmarks(
     return "\n".join(lines) + "\n"
 
 
-def _engine_rates(games: list[str], min_seconds: float, progress: bool) -> dict[str, tuple[float, ...]]:
+def _spread(rate: Rate) -> str:
+    return f"{rate.low:,.0f} - {rate.high:,.0f}"
+
+
+def _engine_rates(games: list[str], min_seconds: float, progress: bool) -> dict[str, tuple[Rate, ...]]:
     """Engine steps/s per game: intra-op threads (GVGAIEnv's default), one thread, one shard per thread."""
     threads = torch.get_num_threads()
     rates = {}
@@ -180,7 +228,7 @@ def _engine_rates(games: list[str], min_seconds: float, progress: bool) -> dict[
     return rates
 
 
-def _engine_lines(rates: dict[str, tuple[float, ...]]) -> list[str]:
+def _engine_lines(rates: dict[str, tuple[Rate, ...]]) -> list[str]:
     threads = torch.get_num_threads()
     lines = [
         "",
@@ -190,15 +238,17 @@ def _engine_lines(rates: dict[str, tuple[float, ...]]) -> list[str]:
         "|---|---:|---:|---:|",
     ]
     for game, (intra, single, sharded) in rates.items():
-        lines.append(f"| {game} | {intra:,.0f} | {single:,.0f} | {sharded:,.0f} |")
+        lines.append(f"| {game} | {intra} ({_spread(intra)}) | {single} | {sharded} |")
     return lines
 
 
-def _target_lines(results: list[StepResult], engine: dict[str, tuple[float, ...]]) -> list[str]:
-    env = {r.game: r.steps_per_s for r in results if r.obs == "tiles" and r.batch == ENGINE_BATCH}
+def _target_lines(results: list[StepResult], engine: dict[str, tuple[Rate, ...]]) -> list[str]:
+    env = {r.game: r.rate for r in results if r.obs == "tiles" and r.batch == ENGINE_BATCH}
     lines = [
         "",
         f"### Against the targets: tiles steps/s at B = {ENGINE_BATCH:,}",
+        "",
+        f"Medians of {WINDOWS} windows, the slowest window in brackets.",
         "",
         "| game | target | engine alone | met | env, random play with resets | met |",
         "|---|---:|---:|:-:|---:|:-:|",
@@ -209,10 +259,14 @@ def _target_lines(results: list[StepResult], engine: dict[str, tuple[float, ...]
             continue
         rate = engine[game][0]
         lines.append(
-            f"| {game} | {target:,} | {rate:,.0f} | {'yes' if rate >= target else 'no'} "
-            f"| {env[game]:,.0f} | {'yes' if env[game] >= target else 'no'} |"
+            f"| {game} | {target:,} | {rate} ({rate.low:,.0f}) | {_met(rate.median, target)} "
+            f"| {env[game]} ({env[game].low:,.0f}) | {_met(env[game].median, target)} |"
         )
     return lines
+
+
+def _met(rate: float, target: float) -> str:
+    return "yes" if rate >= target else "no"
 
 
 def _generator_lines(games: list[str]) -> list[str]:

@@ -8,7 +8,8 @@ from gvgai_pcg import benchmark
 def test_the_engine_measure_steps_every_game_with_and_without_shards():
     for game in ("zelda", "frogs"):  # frogs: mixed grid sizes are padded like the env pads them
         for shards in (1, 2):
-            assert benchmark.measure_engine(game, batch=6, shards=shards, min_seconds=0.0) > 0
+            rate = benchmark.measure_engine(game, batch=6, shards=shards, min_seconds=0.0)
+            assert 0 < rate.low <= rate.median <= rate.high
 
 
 def test_the_engine_and_target_tables_have_a_row_per_game(monkeypatch):
@@ -18,6 +19,30 @@ def test_the_engine_and_target_tables_have_a_row_per_game(monkeypatch):
     assert torch.get_num_threads() == threads
     lines = benchmark._engine_lines(rates)
     assert lines[-2].startswith("| solarfox | ") and lines[-1].startswith("| boulderdash | ")
-    env = [benchmark.StepResult("solarfox", "tiles", 8, 0.0, 300_000.0, 0)]
-    targets = benchmark._target_lines(env, {"solarfox": (1.0, 1.0, 1.0), "boulderdash": (2e5, 0, 0)})
-    assert targets[-1] == "| solarfox | 250,000 | 1 | no | 300,000 | yes |"
+    env = [benchmark.StepResult("solarfox", "tiles", 8, 0.0, benchmark.Rate(300_000, 200_000, 310_000), 0)]
+    slow, fast = benchmark.Rate(1, 1, 1), benchmark.Rate(2e5, 2e5, 2e5)
+    targets = benchmark._target_lines(env, {"solarfox": (slow,) * 3, "boulderdash": (fast,) * 3})
+    assert targets[-1] == "| solarfox | 250,000 | 1 (1) | no | 300,000 (200,000) | yes |"
+
+
+def test_a_burst_of_load_in_one_window_moves_the_spread_but_not_the_median(monkeypatch):
+    clock = iter(range(10_000))  # fake seconds: every perf_counter() call is one second later
+    monkeypatch.setattr(benchmark.time, "perf_counter", lambda: float(next(clock)))
+    calls = []
+
+    def step() -> int:
+        calls.append(1)
+        if len(calls) == 4:  # one step of the second window is stalled by 40 fake seconds
+            for _ in range(40):
+                next(clock)
+        return 10
+
+    rate = benchmark.windowed_rate(step, seconds=15.0, windows=5)
+    assert len(calls) >= 15  # at least 3 steps in each window
+    assert rate.low < rate.median == rate.high  # only the stalled window is slower
+
+
+def test_the_env_measure_reports_windows_and_counts_resets():
+    result = benchmark.measure_env("frogs", batch=4, obs="tiles", min_seconds=0.0, max_steps=60)
+    assert 0 < result.rate.low <= result.steps_per_s <= result.rate.high
+    assert result.resets > 0  # random frogs drown within 60 steps

@@ -73,11 +73,12 @@ def _images(game_name: str, type_name: str, device: str) -> torch.Tensor:
 
 
 def render_tiles(game: Game, state: TensorDict) -> torch.Tensor:
-    """``[B, C, H, W]`` uint8, channel c = ``game.tile_types[c]``; a sprite is marked in the cell
-    that holds its centre.
+    """``[B, C, H, W]`` uint8 (contiguous), channel c = ``game.tile_types[c]``; a sprite is marked
+    in the cell that holds its centre.
 
-    Each channel has one spare cell after its grid that takes the marks of sprites that are absent
-    or off the grid, so every sprite layer is one plain scatter of ones.
+    The tiles are a view of a flat buffer with one spare byte after them that takes the marks of
+    every sprite that is absent or off the grid, so every sprite layer is one plain scatter of
+    ones and the result stays contiguous (its clones and row copies run at memcpy speed).
     """
     layers = game.layers(state)
     grid = next(layer.cells for layer in layers if isinstance(layer, GridLayer))
@@ -88,25 +89,25 @@ def render_tiles(game: Game, state: TensorDict) -> torch.Tensor:
     for layer in layers:
         if isinstance(layer, GridLayer) and layer.name in channel_of:
             grids.setdefault(channel_of[layer.name], []).append(layer.cells.reshape(batch, cells))
-    # One contiguous fill of zeros beats zeroing the sprite-only channels one by one.
-    blank = torch.zeros if len(grids) < channels else torch.empty
-    tiles = blank(batch, channels, cells + 1, dtype=torch.uint8, device=grid.device)
+    size = channels * cells
+    spare = batch * size
+    flat = torch.empty(spare + 1, dtype=torch.uint8, device=grid.device)
+    tiles = flat[:spare].view(batch, channels, cells)
+    _zero_sprite_channels(tiles, set(grids))
     for channel, drawn in grids.items():
-        tiles[:, channel, :cells].copy_(drawn[0])  # bool to uint8 (faster than from a uint8 view)
+        tiles[:, channel].copy_(drawn[0])  # bool to uint8 (faster than from a uint8 view)
         for more in drawn[1:]:
-            tiles[:, channel, :cells].bitwise_or_(more.view(torch.uint8))
+            tiles[:, channel].bitwise_or_(more.view(torch.uint8))
     # Sprites are marked by a scatter into the flat buffer (cheaper than one along dim 1); each
     # index carries its env's row start, and the cell offset of 100 (see _centre_cell) folds into it.
     # int32 like the cell arithmetic (a mixed-dtype op would first copy its int32 side to int64).
-    size = channels * (cells + 1)
-    index_type = torch.int32 if batch * size < 2**31 else torch.int64
+    index_type = torch.int32 if spare < 2**31 else torch.int64
     rows = torch.arange(batch, device=grid.device, dtype=index_type).unsqueeze(-1) * size
-    flat = tiles.view(-1)
     for layer in layers:
         channel = channel_of.get(layer.name)
         if channel is None or not isinstance(layer, SpriteLayer):
             continue
-        first = rows + channel * (cells + 1)
+        first = rows + channel * cells
         column = _centre_cell(layer.x)
         shown = layer.present & (column.clamp(100, width + 99) == column)
         if layer.row is None:
@@ -115,9 +116,22 @@ def render_tiles(game: Game, state: TensorDict) -> torch.Tensor:
             start = first - 100 * width
         else:
             row, start = layer.row, first
-        index = torch.where(shown, row * width + column + (start - 100), first + cells)
+        index = torch.where(shown, row * width + column + (start - 100), spare)
         flat.scatter_(0, index.view(-1).long(), _ones(index.numel(), tiles.device))
-    return tiles[:, :, :cells].reshape(batch, channels, height, width)
+    return tiles.view(batch, channels, height, width)
+
+
+def _zero_sprite_channels(tiles: torch.Tensor, grid_channels: set[int]) -> None:
+    """Zero the channels no grid is copied into: one fill per run of consecutive channels (games
+    list their grid types first, so usually a single fill over part of each env's row)."""
+    start = None
+    for channel in range(tiles.shape[1] + 1):
+        blank = channel < tiles.shape[1] and channel not in grid_channels
+        if blank and start is None:
+            start = channel
+        elif not blank and start is not None:
+            tiles[:, start:channel].zero_()
+            start = None
 
 
 _ONES: dict[torch.device, torch.Tensor] = {}

@@ -87,6 +87,7 @@ def test_tiles_equal_marking_each_sprite_on_its_own(name):
         game.tick(state, torch.randint(0, game.num_actions, (10,), generator=generator))
         if tick % 20 == 19:
             tiles = render_tiles(game, state)
+            assert tiles.is_contiguous()  # clones and row copies of observations stay memcpy-fast
             for index in range(10):
                 assert torch.equal(tiles[index], reference_tiles(game, state, index))
 
