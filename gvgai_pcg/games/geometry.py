@@ -46,6 +46,12 @@ def overlaps(ax: torch.Tensor, ay: torch.Tensor, bx: torch.Tensor, by: torch.Ten
     return (ax < bx + CELL) & (bx < ax + CELL) & (ay < by + CELL) & (by < ay + CELL)
 
 
+def overlaps_aligned(ax: torch.Tensor, ay: torch.Tensor, bx: torch.Tensor, by: torch.Tensor) -> torch.Tensor:
+    """:func:`overlaps` for rectangles at multiples of 10 px (cell-aligned): they overlap exactly
+    when they are at the same place, two comparisons instead of eleven ops; broadcasts."""
+    return (ax == bx) & (ay == by)
+
+
 def any_last(mask: torch.Tensor) -> torch.Tensor:
     """``mask.any(-1)`` as a max over the bytes of the bool mask: the same result, about ten times
     faster than PyTorch's bool ``any`` on the CPU."""
@@ -113,9 +119,10 @@ def grid_count(grid: torch.Tensor, x: torch.Tensor, y: torch.Tensor, aligned: bo
     return count_last(grid_hits(grid, x, y, aligned)[1])
 
 
-def cell_mask(shape: torch.Size, index: torch.Tensor, mask: torch.Tensor) -> torch.Tensor:
-    """A ``[B, H, W]`` bool grid that is set exactly at the cells ``index[mask]`` (duplicates are fine)."""
-    batch = shape[0]
-    counts = torch.zeros(batch, shape[1] * shape[2], dtype=torch.int32, device=index.device)
-    counts.scatter_add_(1, index.reshape(batch, -1), mask.reshape(batch, -1).to(torch.int32))
-    return (counts > 0).reshape(shape)
+def clear_cells_(grid: torch.Tensor, index: torch.Tensor, mask: torch.Tensor) -> None:
+    """Unset the cells ``index[mask]`` of ``grid`` (``[B, H, W]`` bool) in place, ``index`` and
+    ``mask`` being ``[B, n]`` as from :func:`grid_hits`. Each listed cell is written back with its
+    own value unless masked, so a cell may be listed twice in an env only with the same mask (the
+    distinct cells of :func:`grid_hits` are). A few gathers, not a pass over the grid."""
+    flat = grid.view(grid.shape[0], -1)
+    flat.scatter_(1, index, flat.gather(1, index) & ~mask)

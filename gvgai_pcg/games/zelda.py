@@ -35,12 +35,12 @@ from gvgai_pcg.games.geometry import (
     NONE,
     RIGHT,
     any_last,
-    cell_mask,
+    clear_cells_,
     direction_dx,
     direction_dy,
     grid_count,
     grid_hits,
-    overlaps,
+    overlaps_aligned,
 )
 from gvgai_pcg.games.registry import register_game
 from gvgai_pcg.games.rules import step_back_in_order
@@ -221,21 +221,22 @@ class Zelda(Game):
         cells, hit = grid_hits(goal, ax, ay, ALIGNED)
         hit &= (alive & has_key).unsqueeze(-1)
         score = score + hit.sum(-1)
-        goal = goal & ~cell_mask(goal.shape, cells, hit)
+        clear_cells_(goal, cells, hit)
         # 4 enemy × sword: kill the monster, +2 each (a sword killed this tick still acts as second).
         sword_here = sword.get("exists").unsqueeze(-1)
         killed = (
             present
             & sword_here
-            & overlaps(mx, my, sword.get("x").unsqueeze(-1), sword.get("y").unsqueeze(-1))
+            & overlaps_aligned(mx, my, sword.get("x").unsqueeze(-1), sword.get("y").unsqueeze(-1))
         )
         score = score + 2 * killed.sum(-1)
         # 5 enemy × enemy: stepBack, the first in processing order goes back.
         mx, my = step_back_in_order(
-            mx, my, monsters.get("lastx"), monsters.get("lasty"), present & ~killed, present
+            mx, my, monsters.get("lastx"), monsters.get("lasty"), present & ~killed, present, ALIGNED
         )
         # 6 avatar × enemy: kill (disable) the avatar, −1 per monster overlapped.
-        touching = alive.unsqueeze(-1) & present & overlaps(ax.unsqueeze(-1), ay.unsqueeze(-1), mx, my)
+        meets = overlaps_aligned(ax.unsqueeze(-1), ay.unsqueeze(-1), mx, my)
+        touching = alive.unsqueeze(-1) & present & meets
         score = score - touching.sum(-1)
         disabled = any_last(touching)
         # 7 nokey × key: transformTo withkey (facing RIGHT), killing the key, +1; a disabled avatar
@@ -246,7 +247,7 @@ class Zelda(Game):
         score = score + torch.where(disabled, hit.sum(-1), take.long())
         transform = take & ~disabled
         first_hit = hit & (hit.cumsum(-1) == 1) & transform.unsqueeze(-1)
-        key = key & ~cell_mask(key.shape, cells, first_hit)
+        clear_cells_(key, cells, first_hit)
 
         avatar.update(
             {
@@ -258,7 +259,7 @@ class Zelda(Game):
             }
         )
         monsters.update({"x": mx, "y": my, "killed": killed})
-        state.update({"goal": goal, "key": key, "score": score})
+        state.set("score", score)  # goal and key were cleared in place
 
     # --- step 5: cleanup ---
     def _cleanup(self, state: TensorDict) -> None:

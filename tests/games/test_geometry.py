@@ -31,3 +31,24 @@ def test_pick_is_a_table_look_up_for_codes_of_any_shape():
     table = torch.tensor([5, -1, 7])
     codes = torch.tensor([[2, 0], [1, 1]])
     assert torch.equal(pick(table, codes), table[codes])
+
+
+def test_aligned_overlap_and_step_back_equal_the_general_ones_for_cell_aligned_sprites():
+    from gvgai_pcg.games.geometry import overlaps, overlaps_aligned
+    from gvgai_pcg.games.rules import step_back_in_order
+
+    generator = torch.Generator().manual_seed(3)
+    # Crowded: 6 sprites on a 3x3 patch, each moved by at most one cell, so many collide.
+    x = 10 * torch.randint(0, 3, (400, 6), generator=generator)
+    y = 10 * torch.randint(0, 3, (400, 6), generator=generator)
+    lastx = x + 10 * torch.randint(-1, 2, (400, 6), generator=generator)
+    lasty = y + 10 * torch.randint(-1, 2, (400, 6), generator=generator)
+    first, second = (torch.rand(2, 400, 6, generator=generator) > 0.2).unbind()
+    pairs = overlaps(x.unsqueeze(-1), y.unsqueeze(-1), x.unsqueeze(-2), y.unsqueeze(-2))
+    assert torch.equal(
+        overlaps_aligned(x.unsqueeze(-1), y.unsqueeze(-1), x.unsqueeze(-2), y.unsqueeze(-2)), pairs
+    )
+    general = step_back_in_order(x, y, lastx, lasty, first, second)
+    aligned = step_back_in_order(x, y, lastx, lasty, first, second, aligned=True)
+    assert torch.equal(general[0], aligned[0]) and torch.equal(general[1], aligned[1])
+    assert not torch.equal(general[0], x) or not torch.equal(general[1], y)  # some went back
