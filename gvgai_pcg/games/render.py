@@ -99,26 +99,72 @@ def render_tiles(game: Game, state: TensorDict) -> torch.Tensor:
         for more in drawn[1:]:
             tiles[:, channel].bitwise_or_(more.view(torch.uint8))
     # Sprites are marked by a scatter into the flat buffer (cheaper than one along dim 1); each
-    # index carries its env's row start, and the cell offset of 100 (see _centre_cell) folds into it.
-    # int32 like the cell arithmetic (a mixed-dtype op would first copy its int32 side to int64).
+    # index carries its env's row start. int32 like the cell arithmetic (a mixed-dtype op would
+    # first copy its int32 side to int64).
     index_type = torch.int32 if spare < 2**31 else torch.int64
     rows = torch.arange(batch, device=grid.device, dtype=index_type).unsqueeze(-1) * size
-    for layer in layers:
-        channel = channel_of.get(layer.name)
-        if channel is None or not isinstance(layer, SpriteLayer):
-            continue
-        first = rows + channel * cells
-        column = _centre_cell(layer.x)
-        shown = layer.present & (column.clamp(100, width + 99) == column)
-        if layer.row is None:
-            row = _centre_cell(layer.y)
-            shown &= row.clamp(100, height + 99) == row
-            start = first - 100 * width
-        else:
-            row, start = layer.row, first
-        index = torch.where(shown, row * width + column + (start - 100), spare)
-        flat.scatter_(0, index.view(-1).long(), _ones(index.numel(), tiles.device))
+    sprites = [
+        (channel_of[layer.name], layer)
+        for layer in layers
+        if isinstance(layer, SpriteLayer) and layer.name in channel_of
+    ]
+    for group in _sprite_groups(sprites):
+        index = _sprite_index(group, rows, height, width, spare)
+        flat.scatter_(0, index, _ones(index.numel(), tiles.device))
     return tiles.view(batch, channels, height, width)
+
+
+SMALL_LAYER = 1 << 15  # envs x slots up to which sprite layers are marked together
+
+
+def _sprite_groups(sprites: list[tuple[int, SpriteLayer]]) -> list[list[tuple[int, SpriteLayer]]]:
+    """Sprite layers to mark in one pass. Small layers are marked together (those with lane rows
+    apart from the others), since their ops cost little but dispatch; a large layer is marked
+    alone, as joining it to others would copy more than the ops it saves."""
+    alone, together = [], {}
+    for channel, layer in sprites:
+        if layer.x.numel() > SMALL_LAYER:
+            alone.append([(channel, layer)])
+        else:
+            together.setdefault(layer.row is None, []).append((channel, layer))
+    return alone + list(together.values())
+
+
+def _sprite_index(
+    group: list[tuple[int, SpriteLayer]], rows: torch.Tensor, height: int, width: int, spare: int
+) -> torch.Tensor:
+    """Flat int64 buffer index of every slot of the ``group`` (layers that all have lane rows or
+    none have): the cell of its centre in its channel, or ``spare`` if absent or off the grid."""
+    layers = [layer for _, layer in group]
+    lanes = layers[0].row is not None
+    # Each layer's channel start, less the offset of 100 of _centre_cell (in rows too unless given).
+    starts = [channel * height * width - 100 - (0 if lanes else 100 * width) for channel, _ in group]
+    if len(group) == 1:
+        (layer,) = layers
+        x, y, present, row, first = layer.x, layer.y, layer.present, layer.row, rows + starts[0]
+    else:
+        x = torch.cat([layer.x for layer in layers], dim=1)
+        y = None if lanes else torch.cat([layer.y for layer in layers], dim=1)
+        row = torch.cat([layer.row for layer in layers], dim=1) if lanes else None
+        present = torch.cat([layer.present for layer in layers], dim=1)
+        counts = tuple(layer.x.shape[1] for layer in layers)
+        first = rows + _slot_starts(tuple(starts), counts, str(rows.device), rows.dtype)
+    column = _centre_cell(x)
+    shown = present & (column.clamp(100, width + 99) == column)
+    if row is None:
+        row = _centre_cell(y)
+        shown &= row.clamp(100, height + 99) == row
+    return torch.where(shown, row * width + column + first, spare).view(-1).long()
+
+
+@cache
+def _slot_starts(
+    starts: tuple[int, ...], counts: tuple[int, ...], device: str, dtype: torch.dtype
+) -> torch.Tensor:
+    """``[K]``: each slot's layer start, for layers of ``counts`` slots marked together."""
+    return torch.tensor(starts, dtype=dtype, device=device).repeat_interleave(
+        torch.tensor(counts, device=device)
+    )
 
 
 def _zero_sprite_channels(tiles: torch.Tensor, grid_channels: set[int]) -> None:

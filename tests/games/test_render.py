@@ -75,9 +75,13 @@ def reference_tiles(game, state, index: int) -> torch.Tensor:
     return tiles
 
 
+@pytest.mark.parametrize("small_layer", [0, 1 << 15], ids=["layers-alone", "small-layers-together"])
 @pytest.mark.parametrize("name", ["zelda", "solarfox", "frogs", "boulderdash"])
-def test_tiles_equal_marking_each_sprite_on_its_own(name):
+def test_tiles_equal_marking_each_sprite_on_its_own(name, small_layer, monkeypatch):
+    from gvgai_pcg.games import render
     from gvgai_pcg.levels import human_levels
+
+    monkeypatch.setattr(render, "SMALL_LAYER", small_layer)
 
     game = get_game(name)
     levels = [human_levels(name)[i % 5] for i in range(10)]
