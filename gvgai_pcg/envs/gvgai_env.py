@@ -17,6 +17,7 @@ from torchrl.data import Bounded, Categorical, Composite, Unbounded
 
 from gvgai_pcg.envs.level_bank import CompiledLevelBank
 from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
+from gvgai_pcg.envs.ready_episodes import ReadyEpisodes
 from gvgai_pcg.envs.reset_rows import RowResetEnv
 from gvgai_pcg.envs.shards import ShardedStepper
 from gvgai_pcg.games import get_game
@@ -91,6 +92,8 @@ class GVGAIEnv(RowResetEnv):
         )
         self._level_seeds = torch.full((num_envs,), -1, dtype=torch.int64)
         self._stepper = ShardedStepper(shards, min_shard=1)
+        # Sources whose next levels are known in advance get their partial resets prepared in bulk.
+        self._ready = ReadyEpisodes(num_envs) if getattr(self.level_source, "prepare_ahead", False) else None
         self._make_specs()
 
     # --- specs ---
@@ -170,22 +173,40 @@ class GVGAIEnv(RowResetEnv):
     def _start_episodes(self, index: torch.Tensor) -> tuple[TensorDict, torch.Tensor]:
         """Start a new episode in envs ``index`` (CPU, sorted); returns their fresh states after
         the reset tick, and their observations."""
-        episode_seeds = mix64(self._env_seeds[index] ^ mix64(self._episodes[index]))
+        partial = self._state is not None and len(index) < self.num_envs
+        if partial and self._ready is not None:
+            missing = self._ready.missing(self._episodes)
+            if torch.isin(index, missing).any():  # prepare every missing episode in one batch
+                states, levels, _ = self._prepare(missing, observe=False)
+                self._ready.store(missing, states, levels, self._episodes[missing])
+            fresh, levels = self._ready.take(index)
+            observed = self._render(fresh)
+        else:
+            fresh, levels, observed = self._prepare(index, observe=True)
         self._episodes[index] += 1
-        difficulties = self._difficulty[index.to(self.device)].cpu()
-        levels = self.level_source.next_levels(index, episode_seeds, difficulties)
         for i, level in zip(index.tolist(), levels, strict=True):
             self._levels[i] = level
-        fresh = self._compile(levels, episode_seeds)
-        nil = torch.zeros(len(index), dtype=torch.int64, device=self.device)
-        observed = self._stepper(self._tick, fresh, nil)  # the reset tick
-        if self._state is None or len(index) == self.num_envs:
+        if not partial:
             self._state = fresh
         else:
             self._state = merge_states(self._state, fresh, index.to(self.device))
         self._steps[index.to(self.device)] = 0
         self._level_seeds[index] = torch.tensor([lv.seed if lv.seed is not None else -1 for lv in levels])
         return fresh, observed
+
+    def _prepare(
+        self, index: torch.Tensor, observe: bool
+    ) -> tuple[TensorDict, list[Level], torch.Tensor | None]:
+        """The next episodes of envs ``index`` (CPU, sorted): their states after the reset tick,
+        their levels and, if ``observe``, their observations. Depends only on each env's seed,
+        episode number and difficulty (and its level source)."""
+        episode_seeds = mix64(self._env_seeds[index] ^ mix64(self._episodes[index]))
+        difficulties = self._difficulty[index.to(self.device)].cpu()
+        levels = self.level_source.next_levels(index, episode_seeds, difficulties)
+        fresh = self._compile(levels, episode_seeds)
+        nil = torch.zeros(len(index), dtype=torch.int64, device=self.device)
+        observed = self._stepper(self._tick if observe else self._tick_only, fresh, nil)  # reset tick
+        return fresh, levels, observed if observe else None
 
     def _compile(self, levels: list[Level], episode_seeds: torch.Tensor) -> TensorDict:
         """The initial states of ``levels``. Levels that recur (human levels, a fixed list) come
@@ -212,6 +233,11 @@ class GVGAIEnv(RowResetEnv):
         """One tick of ``state``, then its observation (the work of one shard)."""
         self.game.tick(state, action)
         return self._render(state)
+
+    def _tick_only(self, state: TensorDict, action: torch.Tensor) -> torch.Tensor:
+        """One tick of ``state`` and no observation (an empty ``[N, 0]``, for the stepper)."""
+        self.game.tick(state, action)
+        return action.new_empty(action.shape[0], 0)
 
     def _render(self, state: TensorDict) -> torch.Tensor:
         render = render_tiles if self.obs_kind == "tiles" else render_pixels
@@ -250,6 +276,8 @@ class GVGAIEnv(RowResetEnv):
         if seed is not None:
             self._env_seeds = derive_seeds(int(seed), self.num_envs)
             self._episodes.zero_()
+            if self._ready is not None:
+                self._ready.clear()
         return seed
 
     # --- looking at an env ---

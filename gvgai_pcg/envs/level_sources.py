@@ -2,6 +2,11 @@
 
 The env asks its source for one level per resetting env, passing each env's episode seed and
 difficulty, so a source can be deterministic per (env, episode) whatever the batch does.
+
+A source whose levels depend on nothing but the env index and the episode seed (not on the
+difficulty, nor on any state of its own) says so with ``prepare_ahead = True``: the env then
+prepares the next episodes of many envs at once, ahead of their resets
+(``gvgai_pcg.envs.ready_episodes``).
 """
 
 from __future__ import annotations
@@ -41,6 +46,8 @@ def single_game(levels: Sequence[Level]) -> str:
 class FixedLevel:
     """The same level every episode (the study's Lv X)."""
 
+    prepare_ahead = True  # a function of the env index and episode seed only
+
     def __init__(self, level: Level) -> None:
         self.game, self.level = level.game, level
 
@@ -57,6 +64,8 @@ class UniformLevels:
     """A uniform choice among ``levels`` each episode (the study's Lv 0-3), drawn from the
     episode seed so that the choice is reproducible per env."""
 
+    prepare_ahead = True  # a function of the env index and episode seed only
+
     def __init__(self, levels: Sequence[Level]) -> None:
         self.game, self.levels = single_game(levels), list(levels)
 
@@ -72,6 +81,8 @@ class UniformLevels:
 
 class LevelPerEnv:
     """Env i always plays ``levels[i]`` (evaluation: every env of the batch has its own level)."""
+
+    prepare_ahead = True  # a function of the env index and episode seed only
 
     def __init__(self, levels: Sequence[Level]) -> None:
         self.game, self.levels = single_game(levels), list(levels)
