@@ -29,6 +29,9 @@ from gvgai_pcg.levels import Level
 
 OBSERVATION_KINDS = ("tiles", "pixels")
 COMPILED_LEVEL_CACHE = 64  # distinct levels whose compiled initial state an env keeps
+# Partial resets of up to this many envs take prepared episodes (see ReadyEpisodes). A larger one
+# runs its own reset tick: that batch is already large, and a prepared row costs an extra copy.
+PREPARED_RESETS_MAX = 256
 
 
 class GVGAIEnv(RowResetEnv):
@@ -174,7 +177,7 @@ class GVGAIEnv(RowResetEnv):
         """Start a new episode in envs ``index`` (CPU, sorted); returns their fresh states after
         the reset tick, and their observations."""
         partial = self._state is not None and len(index) < self.num_envs
-        if partial and self._ready is not None:
+        if partial and self._ready is not None and len(index) <= PREPARED_RESETS_MAX:
             missing = self._ready.missing(self._episodes)
             if torch.isin(index, missing).any():  # prepare every missing episode in one batch
                 states, levels, _ = self._prepare(missing, observe=False)

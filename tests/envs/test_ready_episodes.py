@@ -4,7 +4,7 @@ with the reset ticks of many resets run in one batch."""
 import pytest
 import torch
 
-from gvgai_pcg.envs import GVGAIEnv
+from gvgai_pcg.envs import GVGAIEnv, gvgai_env
 from gvgai_pcg.envs.level_sources import GeneratedLevels
 from gvgai_pcg.levels import human_levels
 
@@ -27,11 +27,19 @@ def rollout(env: GVGAIEnv, steps: int, seed: int = 0) -> list[dict]:
     return outputs
 
 
-def count_prepared(env: GVGAIEnv) -> list[int]:
-    """Record the batch size of every call that prepares episodes (compiles and reset-ticks)."""
+def count_prepared(env: GVGAIEnv, observed: list[bool] | None = None) -> list[int]:
+    """Record the batch size of every call that prepares episodes (compiles and reset-ticks), and
+    into ``observed`` whether it rendered them (a reset's own envs) or not (prepared ahead)."""
     sizes = []
     prepare = env._prepare
-    env._prepare = lambda index, observe: sizes.append(len(index)) or prepare(index, observe)
+
+    def counted(index, observe):
+        sizes.append(len(index))
+        if observed is not None:
+            observed.append(observe)
+        return prepare(index, observe)
+
+    env._prepare = counted
     return sizes
 
 
@@ -48,6 +56,20 @@ def test_prepared_episodes_give_the_same_trajectories(game):
     assert len(plain_sizes) > 10  # many steps ended episodes...
     assert len(ahead_sizes) < len(plain_sizes) / 1.5  # ...whose reset ticks ran in fewer batches
     assert sum(ahead_sizes) <= sum(plain_sizes) + 2 * 24  # at most the episodes prepared but not reached
+
+
+def test_large_resets_tick_their_own_envs_and_both_kinds_mix(monkeypatch):
+    monkeypatch.setattr(gvgai_env, "PREPARED_RESETS_MAX", 2)  # resets of 3+ envs tick their own
+    mixed = GVGAIEnv("frogs", num_envs=16, levels="human", seed=7, max_steps=40)
+    plain = GVGAIEnv("frogs", num_envs=16, levels="human", seed=7, max_steps=40)
+    plain._ready = None
+    observed = []
+    sizes = count_prepared(mixed, observed)
+    for got, want in zip(rollout(mixed, 120), rollout(plain, 120), strict=True):
+        assert (got["root"] == want["root"]).all() and got["levels"] == want["levels"]
+    own = [size for size, rendered in zip(sizes[1:], observed[1:], strict=True) if rendered]
+    assert own and min(own) > 2  # the resets of 3+ envs ticked their own envs...
+    assert not all(observed[1:])  # ...and smaller ones took episodes prepared ahead
 
 
 def test_a_new_seed_drops_the_prepared_episodes():
