@@ -6,7 +6,8 @@ level of every env is known in advance (its source does not look at anything tha
 training, ``prepare_ahead`` on the source), the env instead prepares the next episode of every
 env whose episode is not ready, all in one batch, and a reset takes its envs' rows from here.
 Each row is exactly what the reset would have computed (same level, episode seed and reset tick),
-so the results do not change; only the reset tick's cost is shared by many resets.
+so the results do not change; only the reset tick's cost is shared by many resets. The price is
+one more game state per env (not its observation: a reset renders its few envs itself).
 """
 
 from __future__ import annotations
