@@ -3,7 +3,9 @@
 All ``num_envs`` environments live in one tensor state and advance in one ``game.tick``. The
 env keeps the Gym's semantics (RULES.md §1.8): reset runs tick 0 with NIL, a step is one tick,
 the reward is the score delta, and a step limit truncates. Partial resets (the ``"_reset"``
-mask) recompile only the masked envs, each with the next level from its level source.
+mask) start a new episode only in the masked envs, each with the next level from its level
+source; for sources that know their levels in advance, those episodes are prepared in bulk ahead
+of time (``gvgai_pcg.envs.ready_episodes``), with the same result.
 """
 
 from __future__ import annotations
