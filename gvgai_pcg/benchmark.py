@@ -36,6 +36,7 @@ ENGINE_BATCH = 4096
 TARGETS = {"zelda": 250_000, "solarfox": 250_000, "frogs": 150_000, "boulderdash": 150_000}
 OBSERVATIONS = ("tiles", "pixels")
 WINDOWS = 5  # timed windows per measurement; the median is reported
+MIN_CALLS = 3  # calls of the step in every window, however long they take
 
 
 @dataclass(frozen=True)
@@ -54,12 +55,13 @@ def windowed_rate(
     step: Callable[[], int], seconds: float, windows: int = WINDOWS, max_steps: int | None = None
 ) -> Rate:
     """Time ``windows`` consecutive windows of at least ``seconds / windows`` seconds (and at least
-    3 calls) of ``step``, which returns how many env steps it made; ``max_steps`` caps the calls."""
-    per_window = max(3, (max_steps or 0) // windows) if max_steps else None
+    ``MIN_CALLS`` calls) of ``step``, which returns how many env steps it made; ``max_steps`` caps
+    the calls."""
+    per_window = max(MIN_CALLS, max_steps // windows) if max_steps else None
     rates = []
     for _ in range(windows):
         calls, steps, begin = 0, 0, time.perf_counter()
-        while calls < 3 or (time.perf_counter() - begin < seconds / windows and calls != per_window):
+        while calls < MIN_CALLS or (time.perf_counter() - begin < seconds / windows and calls != per_window):
             steps += step()
             calls += 1
         rates.append(steps / (time.perf_counter() - begin))

@@ -40,6 +40,7 @@ from gvgai_pcg.games.geometry import (
     direction_dy,
     grid_count,
     grid_hits,
+    overlaps,
     overlaps_aligned,
 )
 from gvgai_pcg.games.registry import register_game
@@ -56,6 +57,7 @@ NIL, USE = 0, 1
 STREAM_MONSTER_DIRECTION = 1
 # Every Zelda sprite moves by whole cells and starts on one, so each covers exactly one cell.
 ALIGNED = True
+sprites_overlap = overlaps_aligned if ALIGNED else overlaps
 
 
 def action_direction(action: torch.Tensor) -> torch.Tensor:
@@ -227,7 +229,7 @@ class Zelda(Game):
         killed = (
             present
             & sword_here
-            & overlaps_aligned(mx, my, sword.get("x").unsqueeze(-1), sword.get("y").unsqueeze(-1))
+            & sprites_overlap(mx, my, sword.get("x").unsqueeze(-1), sword.get("y").unsqueeze(-1))
         )
         score = score + 2 * killed.sum(-1)
         # 5 enemy × enemy: stepBack, the first in processing order goes back.
@@ -235,7 +237,7 @@ class Zelda(Game):
             mx, my, monsters.get("lastx"), monsters.get("lasty"), present & ~killed, present, ALIGNED
         )
         # 6 avatar × enemy: kill (disable) the avatar, −1 per monster overlapped.
-        meets = overlaps_aligned(ax.unsqueeze(-1), ay.unsqueeze(-1), mx, my)
+        meets = sprites_overlap(ax.unsqueeze(-1), ay.unsqueeze(-1), mx, my)
         touching = alive.unsqueeze(-1) & present & meets
         score = score - touching.sum(-1)
         disabled = any_last(touching)
