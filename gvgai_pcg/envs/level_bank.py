@@ -14,6 +14,7 @@ import torch
 from tensordict import TensorDict
 
 from gvgai_pcg.games.base import Game, concatenate_states, pad_level
+from gvgai_pcg.games.rows import select_rows
 from gvgai_pcg.levels import Level
 
 
@@ -44,7 +45,7 @@ class CompiledLevelBank:
         if missing:
             self._add(missing, keep=set(levels))
         rows = torch.tensor([self._rows[level] for level in levels], device=self.device)
-        states = self._bank[rows]
+        states = select_rows(self._bank, rows)
         states.set("seed", seeds.to(self.device))
         return states
 

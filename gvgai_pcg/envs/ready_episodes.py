@@ -16,6 +16,7 @@ import torch
 from tensordict import TensorDict
 
 from gvgai_pcg.games.base import merge_states
+from gvgai_pcg.games.rows import select_rows
 from gvgai_pcg.levels import Level
 
 
@@ -51,7 +52,7 @@ class ReadyEpisodes:
         """The prepared episodes of envs ``index`` (all ready), which are then used up."""
         if self.state is None or (self.episode[index] < 0).any():
             raise RuntimeError("an episode was taken before it was prepared")
-        states = self.state[index.to(self.state.device)]
+        states = select_rows(self.state, index.to(self.state.device))
         self.episode[index] = -1
         return states, [self.levels[i] for i in index.tolist()]
 

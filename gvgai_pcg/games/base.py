@@ -19,6 +19,7 @@ import torch
 from tensordict import TensorDict
 
 from gvgai_pcg.games.geometry import CELL
+from gvgai_pcg.games.rows import copy_rows
 from gvgai_pcg.levels import Level, LevelFormat, level_format
 
 
@@ -222,13 +223,6 @@ def merge_states(state: TensorDict, fresh: TensorDict, index: torch.Tensor) -> T
     fresh = pad_entity_tables(fresh, sizes)
     copy_rows(state, fresh, index)
     return state
-
-
-def copy_rows(target: TensorDict, source: TensorDict, index: torch.Tensor) -> None:
-    """``target[index] = source`` entry by entry with ``index_copy_`` (several times cheaper than
-    TensorDict's indexed assignment, which goes through ``index_put_``)."""
-    for key, value in source.items(True, True):
-        target.get(key).index_copy_(0, index, value)
 
 
 def concatenate_states(states: Sequence[TensorDict]) -> TensorDict:
