@@ -23,10 +23,12 @@ from gvgai_pcg.envs.ready_episodes import ReadyEpisodes
 from gvgai_pcg.envs.reset_rows import RowResetEnv
 from gvgai_pcg.envs.shards import ShardedStepper
 from gvgai_pcg.games import get_game
-from gvgai_pcg.games.base import copy_rows, merge_states, pad_level
+from gvgai_pcg.games.base import merge_states, pad_level
+from gvgai_pcg.games.buffers import BufferPool
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.games.render import ascii_frame, render_pixels, render_tiles
 from gvgai_pcg.games.rng import derive_seeds, mix64
+from gvgai_pcg.games.rows import copy_rows
 from gvgai_pcg.levels import Level
 
 OBSERVATION_KINDS = ("tiles", "pixels")
@@ -34,6 +36,7 @@ COMPILED_LEVEL_CACHE = 64  # distinct levels whose compiled initial state an env
 # Partial resets of up to this many envs take prepared episodes (see ReadyEpisodes). A larger one
 # runs its own reset tick: that batch is already large, and a prepared row costs an extra copy.
 PREPARED_RESETS_MAX = 256
+POOLED_ROW_BYTES = 256  # outputs with rows at least this large are drawn from the buffer pool
 
 
 class GVGAIEnv(RowResetEnv):
@@ -97,6 +100,7 @@ class GVGAIEnv(RowResetEnv):
         )
         self._level_seeds = torch.full((num_envs,), -1, dtype=torch.int64)
         self._stepper = ShardedStepper(shards, min_shard=1)
+        self.buffers = BufferPool(keep=8)  # whole-batch observations, reused once released
         # Sources whose next levels are known in advance get their partial resets prepared in bulk.
         self._ready = ReadyEpisodes(num_envs) if getattr(self.level_source, "prepare_ahead", False) else None
         self._make_specs()
@@ -245,8 +249,10 @@ class GVGAIEnv(RowResetEnv):
         return action.new_empty(action.shape[0], 0)
 
     def _render(self, state: TensorDict) -> torch.Tensor:
-        render = render_tiles if self.obs_kind == "tiles" else render_pixels
-        return render(self.game, state)
+        if self.obs_kind == "pixels":
+            return render_pixels(self.game, state)
+        # Whole-batch tiles are drawn into recycled buffers (the size of a partial reset varies).
+        return render_tiles(self.game, state, self.buffers if len(state) == self.num_envs else None)
 
     def _observation(
         self,
@@ -273,9 +279,16 @@ class GVGAIEnv(RowResetEnv):
         out = TensorDict(values, batch_size=[state.batch_size[0]], device=self.device)
         if index is None:
             return out
-        full = out.apply(lambda v: v.new_empty((self.num_envs, *v.shape[1:])), batch_size=[self.num_envs])
+        full = out.apply(self._full_size, batch_size=[self.num_envs])
         copy_rows(full, out, index)
         return full
+
+    def _full_size(self, rows: torch.Tensor) -> torch.Tensor:
+        """An uninitialised ``[num_envs, ...]`` tensor like ``rows`` (pooled if large)."""
+        shape = (self.num_envs, *rows.shape[1:])
+        if rows[:1].numel() * rows.element_size() < POOLED_ROW_BYTES:
+            return rows.new_empty(shape)
+        return self.buffers.empty(self.num_envs * rows[:1].numel(), rows.dtype, rows.device).view(shape)
 
     def _set_seed(self, seed: int | None) -> int | None:
         if seed is not None:

@@ -15,15 +15,23 @@ from tensordict import TensorDictBase
 from torchrl.envs import EnvBase, TransformedEnv
 from torchrl.envs.utils import _update_during_reset
 
+from gvgai_pcg.games.buffers import BufferPool
+from gvgai_pcg.games.rows import copy_tensor_rows_
+
 RESET_KEY = "_reset"
+POOLED_NUMEL = 1 << 16  # entries at least this large are copied into pooled buffers
 
 
 def merge_reset_rows(
-    tensordict_reset: TensorDictBase, tensordict: TensorDictBase, reset_keys: list
+    tensordict_reset: TensorDictBase,
+    tensordict: TensorDictBase,
+    reset_keys: list,
+    pool: BufferPool | None = None,
 ) -> TensorDictBase:
     """``tensordict`` with the rows that ``"_reset"`` marks taken from ``tensordict_reset``, as
     TorchRL's merge leaves it: an entry missing on one side counts as zeros there. The entries are
-    replaced, never written in place (they may be shared with the step's ``"next"`` data)."""
+    replaced, never written in place (they may be shared with the step's ``"next"`` data); large
+    ones are copied into buffers from ``pool`` if one is given."""
     reset = tensordict.get(RESET_KEY, None) if list(reset_keys) == [RESET_KEY] else None
     if reset is None or reset.ndim > tensordict.ndim + 1 or tensordict.ndim != 1:
         return _update_during_reset(tensordict_reset, tensordict, reset_keys)
@@ -37,11 +45,12 @@ def merge_reset_rows(
     for key in keys:
         old, new = tensordict.get(key, None), fresh.get(key, None)
         if old is None:
-            merged = torch.zeros_like(new).index_copy_(0, rows, new.index_select(0, rows))
+            merged = copy_tensor_rows_(torch.zeros_like(new), rows, new.index_select(0, rows))
         elif new is None:
             merged = old.index_fill(0, rows, 0)
         else:
-            merged = old.index_copy(0, rows, new.index_select(0, rows))
+            copy = pool.clone(old) if pool is not None and old.numel() >= POOLED_NUMEL else old.clone()
+            merged = copy_tensor_rows_(copy, rows, new.index_select(0, rows))
         tensordict.set(key, merged)
     return tensordict
 
@@ -53,7 +62,9 @@ class RowResetEnv(EnvBase):
         self._complete_done(self.full_done_spec, tensordict_reset)
         self._reset_check_done(tensordict, tensordict_reset)
         if tensordict is not None:
-            return merge_reset_rows(tensordict_reset, tensordict, self.reset_keys)
+            return merge_reset_rows(
+                tensordict_reset, tensordict, self.reset_keys, getattr(self, "buffers", None)
+            )
         return tensordict_reset
 
 
@@ -63,5 +74,6 @@ class RowResetTransformedEnv(TransformedEnv):
     def _reset_proc_data(self, tensordict, tensordict_reset):
         self._reset_check_done(tensordict, tensordict_reset)
         if tensordict is not None:
-            tensordict_reset = merge_reset_rows(tensordict_reset, tensordict, self.reset_keys)
+            pool = getattr(self.base_env, "buffers", None)
+            tensordict_reset = merge_reset_rows(tensordict_reset, tensordict, self.reset_keys, pool)
         return tensordict_reset

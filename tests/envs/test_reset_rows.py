@@ -68,3 +68,33 @@ def test_other_reset_layouts_go_to_torchrl(keys, monkeypatch):
     running = TensorDict({"_reset": torch.tensor([True, False])}, [2])
     merge_reset_rows(TensorDict({}, [2]), running, keys)
     assert len(calls) == 1
+
+
+@pytest.mark.parametrize("game", ["frogs", "zelda"])
+def test_outputs_kept_by_the_caller_are_never_overwritten(game):
+    # Observations are drawn (and the running ones copied) into recycled buffers: 32 envs make
+    # the copies large enough to be pooled. Every output still held must keep its values.
+    env = GVGAIEnv(game, num_envs=32, levels="human", seed=3)
+    generator, td = torch.Generator().manual_seed(1), env.reset()
+    kept, snapshots = [td], [td.clone()]
+    for _ in range(30):
+        td.set("action", torch.randint(0, 5, (32,), generator=generator))
+        stepped, td = env.step_and_maybe_reset(td)
+        kept += [stepped, td]
+        snapshots += [stepped.clone(), td.clone()]
+    for held, snapshot in zip(kept, snapshots, strict=True):  # the loop itself sets "action"
+        for key, value in snapshot.exclude("action").items(True, True):
+            assert torch.equal(held.get(key), value)
+    assert len(env.buffers) == env.buffers.keep  # every buffer held: the pool had to grow
+
+
+def test_released_observations_are_recycled():
+    env = GVGAIEnv("frogs", num_envs=32, levels="human", seed=3)
+    generator, td = torch.Generator().manual_seed(1), env.reset()
+    addresses = set()
+    for _ in range(30):
+        td.set("action", torch.randint(0, 5, (32,), generator=generator))
+        stepped, td = env.step_and_maybe_reset(td)
+        addresses.add(stepped.get(("next", "tiles")).untyped_storage().data_ptr())
+        addresses.add(td.get("tiles").untyped_storage().data_ptr())
+    assert len(addresses) <= env.buffers.keep

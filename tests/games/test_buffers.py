@@ -1,0 +1,49 @@
+"""The buffer pool hands a buffer out again only once nothing else refers to it."""
+
+import numpy as np
+import torch
+
+from gvgai_pcg.games.buffers import BufferPool
+
+
+def address(tensor: torch.Tensor) -> int:
+    return tensor.untyped_storage().data_ptr()
+
+
+def test_a_released_buffer_is_reused():
+    pool = BufferPool()
+    first = pool.empty(1000, torch.uint8, "cpu")
+    kept = address(first)
+    del first
+    assert address(pool.empty(1000, torch.uint8, "cpu")) == kept
+    assert len(pool) == 1
+
+
+def test_a_buffer_still_referred_to_is_not_handed_out():
+    pool = BufferPool()
+    views = pool.empty(1000, torch.uint8, "cpu").view(10, 100)[2:]  # only a view of a view is kept
+    array = pool.empty(1000, torch.uint8, "cpu").numpy()
+    third = pool.empty(1000, torch.uint8, "cpu")
+    addresses = {address(views), array.__array_interface__["data"][0], address(third)}
+    assert len(addresses) == 3 and len(pool) == 3
+    views.fill_(7)
+    assert isinstance(array, np.ndarray)
+    del third
+    again = pool.empty(1000, torch.uint8, "cpu")
+    assert address(again) not in {address(views), array.__array_interface__["data"][0]}
+    assert views.eq(7).all()
+
+
+def test_sizes_and_types_are_not_mixed_and_old_buffers_go():
+    pool = BufferPool(keep=2)
+    small = address(pool.empty(10, torch.uint8, "cpu"))
+    assert address(pool.empty(10, torch.int32, "cpu")) != small
+    assert pool.empty(20, torch.uint8, "cpu").numel() == 20
+    assert len(pool) == 2  # the oldest one was dropped
+
+
+def test_clone_copies_into_a_pooled_buffer():
+    pool = BufferPool()
+    tensor = torch.arange(24).view(2, 3, 4)
+    copy = pool.clone(tensor)
+    assert torch.equal(copy, tensor) and copy.is_contiguous() and address(copy) != address(tensor)
