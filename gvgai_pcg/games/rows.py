@@ -18,8 +18,10 @@ import torch
 from tensordict import TensorDict
 
 _WIDE = ((torch.int64, 8), (torch.int32, 4), (torch.int16, 2))
-# Rows of at most this many bytes are copied as they are: viewing them costs more than it saves.
+# Copies of rows of at most SMALL_ROW_BYTES, or of fewer than SMALL_COPY_BYTES in all, go straight
+# to index_copy_: viewing them costs more than it saves.
 SMALL_ROW_BYTES = 8
+SMALL_COPY_BYTES = 1 << 14
 
 
 @cache
@@ -48,6 +50,7 @@ def copy_tensor_rows_(target: torch.Tensor, index: torch.Tensor, source: torch.T
     row_bytes = target.numel() // rows * target.element_size() if rows else 0
     if (
         row_bytes <= SMALL_ROW_BYTES
+        or index.numel() * row_bytes < SMALL_COPY_BYTES
         or not (target.is_contiguous() and source.is_contiguous())
         or source.dtype != target.dtype
     ):

@@ -4,6 +4,7 @@ import pytest
 import torch
 from tensordict import TensorDict
 
+from gvgai_pcg.games import rows
 from gvgai_pcg.games.rows import copy_rows, copy_tensor_rows_, select_rows, wide_rows
 
 SHAPES = [(), (1,), (3,), (5,), (8,), (195,), (11, 28), (11, 11, 28), (0,), (3, 0)]
@@ -17,7 +18,9 @@ def random_rows(rows: int, shape: tuple, dtype: torch.dtype, generator: torch.Ge
 
 @pytest.mark.parametrize("shape", SHAPES)
 @pytest.mark.parametrize("dtype", DTYPES)
-def test_row_copies_equal_index_copy(shape, dtype):
+@pytest.mark.parametrize("small_copy_bytes", [0, rows.SMALL_COPY_BYTES])  # 0: every copy viewed wide
+def test_row_copies_equal_index_copy(shape, dtype, small_copy_bytes, monkeypatch):
+    monkeypatch.setattr(rows, "SMALL_COPY_BYTES", small_copy_bytes)
     generator = torch.Generator().manual_seed(len(shape) * 7 + DTYPES.index(dtype))
     target = random_rows(40, shape, dtype, generator)
     source = random_rows(9, shape, dtype, generator)
