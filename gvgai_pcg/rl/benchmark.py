@@ -84,6 +84,9 @@ def benchmark(cfg: DictConfig) -> dict[str, float]:
 
 
 def main(argv: list[str]) -> int:
+    if {"-h", "--help"} & set(argv):
+        print(__doc__.strip())
+        return 0
     from hydra import compose, initialize_config_dir
 
     from gvgai_pcg.commands.train import CONFIG_DIR

@@ -40,3 +40,10 @@ def test_every_run_of_a_sweep_has_its_own_directory(make_config):
         cfg.game.name, cfg.seed = game, seed
         names.add(cfg.run_name)
     assert len(names) == 16
+
+
+def test_the_training_benchmark_prints_its_usage_for_help(capsys):
+    from gvgai_pcg.rl import benchmark
+
+    assert benchmark.main(["--help"]) == 0
+    assert "python -m gvgai_pcg.rl.benchmark [hydra overrides]" in capsys.readouterr().out
