@@ -13,8 +13,10 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import ClassVar
 
+import numpy as np
 import torch
 from tensordict import TensorDict
 
@@ -139,10 +141,25 @@ def common_state(seeds: torch.Tensor, device: torch.device) -> dict[str, torch.T
     }
 
 
+def char_codes(levels: Sequence[Level]) -> np.ndarray:
+    """``[B, H, W]`` uint8: the character codes of levels of one size (read-only)."""
+    return _char_codes(tuple(levels))
+
+
+@lru_cache(maxsize=4)  # a compile looks up the same levels once per sprite type
+def _char_codes(levels: tuple[Level, ...]) -> np.ndarray:
+    height, width = levels[0].height, levels[0].width
+    if any(level.height != height or level.width != width for level in levels):
+        raise ValueError("levels of one batch must have one size (pad them first)")
+    text = "".join("".join(level.rows) for level in levels).encode("latin-1")
+    return np.frombuffer(text, dtype=np.uint8).reshape(len(levels), height, width)
+
+
 def char_grid(levels: Sequence[Level], chars: str, device: torch.device) -> torch.Tensor:
     """``[B, H, W]`` bool: where each level holds one of ``chars``."""
-    rows = [[[ch in chars for ch in row] for row in level.rows] for level in levels]
-    return torch.tensor(rows, dtype=torch.bool, device=device)
+    wanted = np.zeros(256, dtype=bool)
+    wanted[list(chars.encode("latin-1"))] = True
+    return torch.from_numpy(wanted[char_codes(levels)]).to(device)
 
 
 def char_entities(
@@ -154,22 +171,30 @@ def char_entities(
     type group whose subtypes are declared in that order. ``K`` is the largest count in the batch
     (or ``capacity``); unused slots have ``alive`` false.
     """
-    found = []
-    for level in levels:
-        sprites = [
-            (kinds[ch], r, c) for r, row in enumerate(level.rows) for c, ch in enumerate(row) if ch in kinds
-        ]
-        found.append(sorted(sprites))
-    size = max([len(f) for f in found] + [capacity or 0])
-    x = torch.zeros(len(levels), size, dtype=torch.int64)
-    y = torch.zeros(len(levels), size, dtype=torch.int64)
-    kind = torch.zeros(len(levels), size, dtype=torch.int64)
-    alive = torch.zeros(len(levels), size, dtype=torch.bool)
-    for b, sprites in enumerate(found):
-        for k, (code, r, c) in enumerate(sprites):
-            x[b, k], y[b, k], kind[b, k], alive[b, k] = CELL * c, CELL * r, code, True
-    table = {"x": x, "y": y, "kind": kind, "alive": alive}
-    return TensorDict(table, batch_size=[len(levels), size]).to(device)
+    codes = char_codes(levels)
+    batch, height, width = codes.shape
+    cells = height * width
+    kind_of = np.full(256, -1, dtype=np.int64)
+    for ch, code in kinds.items():
+        kind_of[ord(ch)] = code
+    kind = kind_of[codes].reshape(batch, cells)
+    # Each sprite's sort key (kind code, then cell); empty cells sort last.
+    empty = (max(kinds.values(), default=0) + 1) * cells
+    keys = np.where(kind >= 0, kind * cells + np.arange(cells), empty)
+    size = max(int((kind >= 0).sum(1).max(initial=0)), capacity or 0)
+    keys = np.sort(keys, axis=1)[:, :size]
+    if keys.shape[1] < size:
+        keys = np.pad(keys, ((0, 0), (0, size - keys.shape[1])), constant_values=empty)
+    alive = keys < empty
+    cell = np.where(alive, keys % cells, 0)
+    table = {
+        "x": torch.from_numpy(CELL * (cell % width)),
+        "y": torch.from_numpy(CELL * (cell // width)),
+        "kind": torch.from_numpy(np.where(alive, keys // cells, 0)),
+        "alive": torch.from_numpy(alive),
+    }
+    table = TensorDict(table, batch_size=[batch, size])
+    return table if torch.device(device).type == "cpu" else table.to(device)
 
 
 def avatar_cell(levels: Sequence[Level], chars: str) -> tuple[torch.Tensor, torch.Tensor]:

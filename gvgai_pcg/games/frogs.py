@@ -273,7 +273,7 @@ class Frogs(Game):
             del table["kind"]
             table.set("lane", torch.where(table.get("alive"), table.get("y") + CELL, 0))
             table.set("row", table.get("y") // CELL)
-            trucks[name] = table.to(device)
+            trucks[name] = table
         state = {
             **common_state(seeds, device),
             "wall": char_grid(levels, WALL_CHARS, device),
@@ -287,14 +287,14 @@ class Frogs(Game):
             "highway": char_grid(levels, HIGHWAY_CHARS, device),
             "forestDense": char_grid(levels, DENSE_CHARS, device),
             "forestSparse": char_grid(levels, SPARSE_CHARS, device),
-            "avatar": TensorDict(avatar, batch_size=[batch]).to(device),
-            "logs": logs.to(device),
-            "level_logs": level_table.to(device),
-            "log_columns": column_starts.to(device),
+            "avatar": TensorDict(avatar, batch_size=[batch]),
+            "logs": logs,
+            "level_logs": level_table,
+            "log_columns": column_starts,
             **trucks,
-            "spawners": spawners.to(device),
+            "spawners": spawners,
         }
-        return TensorDict(state, batch_size=[batch], device=device)
+        return TensorDict(state, batch_size=[batch], device=device)  # moves every table
 
     def tick(self, state: TensorDict, action: torch.Tensor) -> None:
         tick = state.get("tick") + 1
