@@ -36,7 +36,6 @@ COMPILED_LEVEL_CACHE = 64  # distinct levels whose compiled initial state an env
 # Partial resets of up to this many envs take prepared episodes (see ReadyEpisodes). A larger one
 # runs its own reset tick: that batch is already large, and a prepared row costs an extra copy.
 PREPARED_RESETS_MAX = 256
-POOLED_ROW_BYTES = 256  # outputs with rows at least this large are drawn from the buffer pool
 
 
 class GVGAIEnv(RowResetEnv):
@@ -100,7 +99,7 @@ class GVGAIEnv(RowResetEnv):
         )
         self._level_seeds = torch.full((num_envs,), -1, dtype=torch.int64)
         self._stepper = ShardedStepper(shards, min_shard=1)
-        self.buffers = BufferPool(keep=8)  # whole-batch observations, reused once released
+        self.buffers = BufferPool(keep=8)  # large whole-batch outputs, reused once released
         # Sources whose next levels are known in advance get their partial resets prepared in bulk.
         self._ready = ReadyEpisodes(num_envs) if getattr(self.level_source, "prepare_ahead", False) else None
         self._make_specs()
@@ -286,8 +285,6 @@ class GVGAIEnv(RowResetEnv):
     def _full_size(self, rows: torch.Tensor) -> torch.Tensor:
         """An uninitialised ``[num_envs, ...]`` tensor like ``rows`` (pooled if large)."""
         shape = (self.num_envs, *rows.shape[1:])
-        if rows[:1].numel() * rows.element_size() < POOLED_ROW_BYTES:
-            return rows.new_empty(shape)
         return self.buffers.empty(self.num_envs * rows[:1].numel(), rows.dtype, rows.device).view(shape)
 
     def _set_seed(self, seed: int | None) -> int | None:

@@ -19,7 +19,6 @@ from gvgai_pcg.games.buffers import BufferPool
 from gvgai_pcg.games.rows import copy_tensor_rows_
 
 RESET_KEY = "_reset"
-POOLED_NUMEL = 1 << 16  # entries at least this large are copied into pooled buffers
 
 
 def merge_reset_rows(
@@ -30,8 +29,8 @@ def merge_reset_rows(
 ) -> TensorDictBase:
     """``tensordict`` with the rows that ``"_reset"`` marks taken from ``tensordict_reset``, as
     TorchRL's merge leaves it: an entry missing on one side counts as zeros there. The entries are
-    replaced, never written in place (they may be shared with the step's ``"next"`` data); large
-    ones are copied into buffers from ``pool`` if one is given."""
+    replaced, never written in place (they may be shared with the step's ``"next"`` data); they
+    are copied into buffers from ``pool`` if one is given."""
     reset = tensordict.get(RESET_KEY, None) if list(reset_keys) == [RESET_KEY] else None
     if reset is None or reset.ndim > tensordict.ndim + 1 or tensordict.ndim != 1:
         return _update_during_reset(tensordict_reset, tensordict, reset_keys)
@@ -49,7 +48,7 @@ def merge_reset_rows(
         elif new is None:
             merged = old.index_fill(0, rows, 0)
         else:
-            copy = pool.clone(old) if pool is not None and old.numel() >= POOLED_NUMEL else old.clone()
+            copy = old.clone() if pool is None else pool.clone(old)
             merged = copy_tensor_rows_(copy, rows, new.index_select(0, rows))
         tensordict.set(key, merged)
     return tensordict

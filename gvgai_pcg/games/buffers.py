@@ -22,17 +22,19 @@ def _use_count(buffer: torch.Tensor) -> int:
 
 
 class BufferPool:
-    """Up to ``keep`` flat buffers; :meth:`empty` returns a view of a free one of the asked size
-    and type, or of a new one."""
+    """Up to ``keep`` flat buffers of at least ``min_bytes``; :meth:`empty` returns a view of a
+    free one of the asked size and type, or of a new one (smaller requests are not pooled: they
+    cost little and would push the large buffers out)."""
 
-    def __init__(self, keep: int = 4) -> None:
-        self.keep = keep
+    def __init__(self, keep: int = 4, min_bytes: int = 1 << 16) -> None:
+        self.keep, self.min_bytes = keep, min_bytes
         self._buffers: list[tuple[torch.Tensor, int]] = []  # (buffer, its use count when unused)
 
     def empty(self, numel: int, dtype: torch.dtype, device: torch.device | str) -> torch.Tensor:
         """A flat tensor of ``numel`` elements with arbitrary contents."""
         device = torch.device(device)
-        if device.type != "cpu" or _storage_use_count is None:
+        small = numel * torch.empty(0, dtype=dtype).element_size() < self.min_bytes
+        if small or device.type != "cpu" or _storage_use_count is None:
             return torch.empty(numel, dtype=dtype, device=device)
         for position, (buffer, unused) in enumerate(self._buffers):
             if buffer.numel() == numel and buffer.dtype == dtype and _use_count(buffer) == unused:

@@ -72,9 +72,10 @@ def test_other_reset_layouts_go_to_torchrl(keys, monkeypatch):
 
 @pytest.mark.parametrize("game", ["frogs", "zelda"])
 def test_outputs_kept_by_the_caller_are_never_overwritten(game):
-    # Observations are drawn (and the running ones copied) into recycled buffers: 32 envs make
-    # the copies large enough to be pooled. Every output still held must keep its values.
+    # Observations are drawn (and the running ones copied) into recycled buffers, here all of
+    # them whatever their size. Every output still held must keep its values.
     env = GVGAIEnv(game, num_envs=32, levels="human", seed=3)
+    env.buffers.min_bytes = 0
     generator, td = torch.Generator().manual_seed(1), env.reset()
     kept, snapshots = [td], [td.clone()]
     for _ in range(30):
@@ -89,7 +90,7 @@ def test_outputs_kept_by_the_caller_are_never_overwritten(game):
 
 
 def test_released_observations_are_recycled():
-    env = GVGAIEnv("frogs", num_envs=32, levels="human", seed=3)
+    env = GVGAIEnv("frogs", num_envs=32, levels="human", seed=3)  # 108 KB of tiles: pooled
     generator, td = torch.Generator().manual_seed(1), env.reset()
     addresses = set()
     for _ in range(30):

@@ -11,7 +11,7 @@ def address(tensor: torch.Tensor) -> int:
 
 
 def test_a_released_buffer_is_reused():
-    pool = BufferPool()
+    pool = BufferPool(min_bytes=0)
     first = pool.empty(1000, torch.uint8, "cpu")
     kept = address(first)
     del first
@@ -20,7 +20,7 @@ def test_a_released_buffer_is_reused():
 
 
 def test_a_buffer_still_referred_to_is_not_handed_out():
-    pool = BufferPool()
+    pool = BufferPool(min_bytes=0)
     views = pool.empty(1000, torch.uint8, "cpu").view(10, 100)[2:]  # only a view of a view is kept
     array = pool.empty(1000, torch.uint8, "cpu").numpy()
     third = pool.empty(1000, torch.uint8, "cpu")
@@ -35,7 +35,7 @@ def test_a_buffer_still_referred_to_is_not_handed_out():
 
 
 def test_sizes_and_types_are_not_mixed_and_old_buffers_go():
-    pool = BufferPool(keep=2)
+    pool = BufferPool(keep=2, min_bytes=0)
     small = address(pool.empty(10, torch.uint8, "cpu"))
     assert address(pool.empty(10, torch.int32, "cpu")) != small
     assert pool.empty(20, torch.uint8, "cpu").numel() == 20
@@ -43,7 +43,15 @@ def test_sizes_and_types_are_not_mixed_and_old_buffers_go():
 
 
 def test_clone_copies_into_a_pooled_buffer():
-    pool = BufferPool()
+    pool = BufferPool(min_bytes=0)
     tensor = torch.arange(24).view(2, 3, 4)
     copy = pool.clone(tensor)
     assert torch.equal(copy, tensor) and copy.is_contiguous() and address(copy) != address(tensor)
+
+
+def test_small_requests_are_not_pooled():
+    pool = BufferPool(min_bytes=4096)
+    assert pool.empty(1024, torch.uint8, "cpu").numel() == 1024
+    assert len(pool) == 0
+    pool.empty(1024, torch.int32, "cpu")  # 4 KB
+    assert len(pool) == 1
