@@ -125,3 +125,49 @@ def test_a_layer_that_gives_its_rows_renders_as_one_that_does_not(monkeypatch):
     ]
     monkeypatch.setattr(game, "layers", lambda _: with_rows)
     assert torch.equal(render_tiles(game, state), plain)
+
+
+def reference_pixels(game, state, index: int) -> torch.Tensor:
+    """Env ``index``'s frame painted one sprite at a time in drawing order, in Python."""
+    layers = game.layers(state)
+    height, width = next(layer.cells for layer in layers if hasattr(layer, "cells")).shape[1:]
+    frame = torch.zeros(3, height * 10, width * 10, dtype=torch.uint8)
+
+    def paste(image: torch.Tensor, x: int, y: int) -> None:  # the part inside the frame
+        x0, y0, x1, y1 = max(x, 0), max(y, 0), min(x + 10, width * 10), min(y + 10, height * 10)
+        if x0 < x1 and y0 < y1:
+            part = image[:, y0 - y : y1 - y, x0 - x : x1 - x]
+            shown = part[3] > 0
+            frame[:, y0:y1, x0:x1][:, shown] = part[:3][:, shown]
+
+    for layer in layers:
+        images = sprite_images(game.art[layer.name])
+        if hasattr(layer, "cells"):
+            for row, column in layer.cells[index].nonzero().tolist():
+                paste(images[0], 10 * column, 10 * row)
+            continue
+        variants = layer.variant[index] if layer.variant is not None else torch.zeros_like(layer.x[index])
+        for x, y, present, variant in zip(
+            layer.x[index], layer.y[index], layer.present[index], variants, strict=True
+        ):
+            if present:
+                paste(images[min(int(variant), len(images) - 1)], int(x), int(y))
+    return frame
+
+
+@pytest.mark.parametrize("name", ["zelda", "solarfox", "frogs", "boulderdash"])
+def test_pixels_equal_painting_each_sprite_on_its_own(name):
+    from gvgai_pcg.games.base import pad_level
+    from gvgai_pcg.levels import human_levels
+
+    game = get_game(name)
+    levels = human_levels(name)
+    height, width = max(lv.height for lv in levels), max(lv.width for lv in levels)
+    levels = [pad_level(levels[i % 5], height, width, game.pad_char) for i in range(3)]
+    state = game.compile(levels, torch.arange(3), torch.device("cpu"))
+    generator = torch.Generator().manual_seed(4)
+    for _ in range(25):
+        game.tick(state, torch.randint(0, game.num_actions, (3,), generator=generator))
+    frames = render_pixels(game, state)
+    for index in range(3):
+        assert torch.equal(frames[index], reference_pixels(game, state, index))
