@@ -142,7 +142,7 @@ def common_state(seeds: torch.Tensor, device: torch.device) -> dict[str, torch.T
 
 
 def char_codes(levels: Sequence[Level]) -> np.ndarray:
-    """``[B, H, W]`` uint8: the character codes of levels of one size (read-only)."""
+    """``[B, H, W]`` uint8: the character codes of levels of one size (shared: do not modify)."""
     return _char_codes(tuple(levels))
 
 
@@ -151,8 +151,10 @@ def _char_codes(levels: tuple[Level, ...]) -> np.ndarray:
     height, width = levels[0].height, levels[0].width
     if any(level.height != height or level.width != width for level in levels):
         raise ValueError("levels of one batch must have one size (pad them first)")
-    text = "".join("".join(level.rows) for level in levels).encode("latin-1")
-    return np.frombuffer(text, dtype=np.uint8).reshape(len(levels), height, width)
+    text = "".join("".join(level.rows) for level in levels).encode("utf-32-le")
+    codes = np.frombuffer(text, dtype=np.uint32)
+    # Characters beyond 255 belong to no legend: they read as code 0, which none uses either.
+    return np.where(codes < 256, codes, 0).astype(np.uint8).reshape(len(levels), height, width)
 
 
 def char_grid(levels: Sequence[Level], chars: str, device: torch.device) -> torch.Tensor:

@@ -59,3 +59,9 @@ def test_grids_mark_every_listed_character():
 def test_levels_of_different_sizes_are_refused():
     with pytest.raises(ValueError, match="one size"):
         char_grid([Level("zelda", ("www",)), Level("zelda", ("ww",))], "w", torch.device("cpu"))
+
+
+def test_characters_of_no_legend_are_ignored():
+    level = Level("zelda", ("w\u00e9\u20acw", "wA.w"))  # two characters beyond ASCII, one beyond 255
+    assert char_grid([level], "w", torch.device("cpu")).sum() == 4
+    assert char_entities([level], {"\u00e9": 0}, torch.device("cpu")).get("x").tolist() == [[10]]
