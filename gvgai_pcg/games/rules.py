@@ -39,10 +39,15 @@ def step_back_in_order(
     candidates = second.unsqueeze(-2) & ~torch.eye(k, dtype=torch.bool, device=x.device)  # [B, a, b]
     if aligned:
         key, last_key = position_key(x, y), position_key(lastx, lasty)
+        # b's place is its final one for b < a and its moved one otherwise; the latter part does not
+        # change between rounds. Masks are combined with & and | (torch.where over [B, K, K] costs
+        # several times more on the CPU).
+        with_later = (key.unsqueeze(-1) == key.unsqueeze(-2)) & ~earlier & candidates
+        earlier_candidates = earlier & candidates
 
         def hits(back: torch.Tensor) -> torch.Tensor:
-            placed = torch.where(earlier, torch.where(back, last_key, key).unsqueeze(-2), key.unsqueeze(-2))
-            return (key.unsqueeze(-1) == placed) & candidates
+            final = torch.where(back, last_key, key).unsqueeze(-2)
+            return (key.unsqueeze(-1) == final) & earlier_candidates | with_later
     else:
 
         def hits(back: torch.Tensor) -> torch.Tensor:
