@@ -22,19 +22,21 @@ def _use_count(buffer: torch.Tensor) -> int:
 
 
 class BufferPool:
-    """Up to ``keep`` flat buffers of at least ``min_bytes``; :meth:`empty` returns a view of a
-    free one of the asked size and type, or of a new one (smaller requests are not pooled: they
-    cost little and would push the large buffers out)."""
+    """Up to ``keep`` flat buffers of ``min_bytes`` to ``max_bytes`` each; :meth:`empty` returns a
+    view of a free one of the asked size and type, or of a new one. Smaller requests are not
+    pooled (they cost little and would push the large buffers out), nor are larger ones (the
+    pool would hold on to too much memory: pixel observations of 4,096 envs take 0.4 GB)."""
 
-    def __init__(self, keep: int = 4, min_bytes: int = 1 << 16) -> None:
-        self.keep, self.min_bytes = keep, min_bytes
+    def __init__(self, keep: int = 4, min_bytes: int = 1 << 16, max_bytes: int = 1 << 25) -> None:
+        self.keep, self.min_bytes, self.max_bytes = keep, min_bytes, max_bytes
         self._buffers: list[tuple[torch.Tensor, int]] = []  # (buffer, its use count when unused)
 
     def empty(self, numel: int, dtype: torch.dtype, device: torch.device | str) -> torch.Tensor:
         """A flat tensor of ``numel`` elements with arbitrary contents."""
         device = torch.device(device)
-        small = numel * torch.empty(0, dtype=dtype).element_size() < self.min_bytes
-        if small or device.type != "cpu" or _storage_use_count is None:
+        size = numel * torch.empty(0, dtype=dtype).element_size()
+        pooled = self.min_bytes <= size <= self.max_bytes
+        if not pooled or device.type != "cpu" or _storage_use_count is None:
             return torch.empty(numel, dtype=dtype, device=device)
         for position, (buffer, unused) in enumerate(self._buffers):
             if buffer.numel() == numel and buffer.dtype == dtype and _use_count(buffer) == unused:

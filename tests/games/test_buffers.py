@@ -49,9 +49,10 @@ def test_clone_copies_into_a_pooled_buffer():
     assert torch.equal(copy, tensor) and copy.is_contiguous() and address(copy) != address(tensor)
 
 
-def test_small_requests_are_not_pooled():
-    pool = BufferPool(min_bytes=4096)
+def test_small_and_huge_requests_are_not_pooled():
+    pool = BufferPool(min_bytes=4096, max_bytes=8192)
     assert pool.empty(1024, torch.uint8, "cpu").numel() == 1024
+    assert pool.empty(4096, torch.int32, "cpu").numel() == 4096  # 16 KB
     assert len(pool) == 0
     pool.empty(1024, torch.int32, "cpu")  # 4 KB
     assert len(pool) == 1
