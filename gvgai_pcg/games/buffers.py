@@ -34,7 +34,7 @@ class BufferPool:
     def empty(self, numel: int, dtype: torch.dtype, device: torch.device | str) -> torch.Tensor:
         """A flat tensor of ``numel`` elements with arbitrary contents."""
         device = torch.device(device)
-        size = numel * torch.empty(0, dtype=dtype).element_size()
+        size = numel * dtype.itemsize
         pooled = self.min_bytes <= size <= self.max_bytes
         if not pooled or device.type != "cpu" or _storage_use_count is None:
             return torch.empty(numel, dtype=dtype, device=device)

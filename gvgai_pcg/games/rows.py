@@ -29,7 +29,7 @@ def _wide_dtype(dtype: torch.dtype, row_bytes: int) -> torch.dtype | None:
     """The widest integer type whose size divides ``row_bytes`` and exceeds ``dtype``'s, if any."""
     if row_bytes == 0 or dtype.is_floating_point or dtype.is_complex:
         return None
-    size = torch.empty(0, dtype=dtype).element_size()
+    size = dtype.itemsize
     return next((wide for wide, n in _WIDE if n > size and row_bytes % n == 0), None)
 
 
@@ -53,6 +53,7 @@ def copy_tensor_rows_(target: torch.Tensor, index: torch.Tensor, source: torch.T
         or index.numel() * row_bytes < SMALL_COPY_BYTES
         or not (target.is_contiguous() and source.is_contiguous())
         or source.dtype != target.dtype
+        or source.shape[1:] != target.shape[1:]
     ):
         target.index_copy_(0, index, source)
         return target
