@@ -258,15 +258,16 @@ def _draw_sprites(
     Only present sprites are drawn: their slots are gathered first, as entity tables are mostly
     empty (a quarter of Frogs' log slots hold a log), and every drawn sprite costs 100 pixels.
     """
-    batch, row_pixels = canvas.shape
-    device = canvas.device
+    row_pixels, device = canvas.shape[1], canvas.device
     ph, pw = height * CELL, width * CELL
     env, slot = layer.present.nonzero(as_tuple=True)
     if env.numel() == 0:
         return
     images = _depth_images(game, layer.name, depth, device)
-    variant = layer.variant[env, slot].clamp(0, images.shape[0] - 1) if layer.variant is not None else 0
-    image = images[variant] if layer.variant is not None else images[0].expand(env.numel(), CELL, CELL)
+    if layer.variant is None:
+        image = images[0].expand(env.numel(), CELL, CELL)
+    else:
+        image = images[layer.variant[env, slot].clamp(0, images.shape[0] - 1)]  # [N, 10, 10]
     offsets = torch.arange(CELL, device=device, dtype=torch.int32)
     px = layer.x[env, slot].to(torch.int32).view(-1, 1, 1) + offsets.view(1, 1, CELL)  # [N, 1, 10]
     py = layer.y[env, slot].to(torch.int32).view(-1, 1, 1) + offsets.view(1, CELL, 1)  # [N, 10, 1]
