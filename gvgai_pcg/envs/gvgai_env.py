@@ -213,7 +213,7 @@ class GVGAIEnv(RowResetEnv):
         levels = self.level_source.next_levels(index, episode_seeds, difficulties)
         fresh = self._compile(levels, episode_seeds)
         nil = torch.zeros(len(index), dtype=torch.int64, device=self.device)
-        observed = self._stepper(self._tick if observe else self._tick_only, fresh, nil)  # reset tick
+        observed = self._stepper(self._reset_tick if observe else self._reset_tick_only, fresh, nil)
         return fresh, levels, observed if observe else None
 
     def _compile(self, levels: list[Level], episode_seeds: torch.Tensor) -> TensorDict:
@@ -242,10 +242,15 @@ class GVGAIEnv(RowResetEnv):
         self.game.tick(state, action)
         return self._render(state)
 
-    def _tick_only(self, state: TensorDict, action: torch.Tensor) -> torch.Tensor:
-        """One tick of ``state`` and no observation (an empty ``[N, 0]``, for the stepper)."""
-        self.game.tick(state, action)
-        return action.new_empty(action.shape[0], 0)
+    def _reset_tick(self, state: TensorDict, nil: torch.Tensor) -> torch.Tensor:
+        """The reset tick of fresh envs, then their observation (the work of one shard)."""
+        self.game.reset_tick(state)
+        return self._render(state)
+
+    def _reset_tick_only(self, state: TensorDict, nil: torch.Tensor) -> torch.Tensor:
+        """The reset tick and no observation (an empty ``[N, 0]``, for the stepper)."""
+        self.game.reset_tick(state)
+        return nil.new_empty(nil.shape[0], 0)
 
     def _render(self, state: TensorDict) -> torch.Tensor:
         if self.obs_kind == "pixels":

@@ -103,6 +103,16 @@ class Game(ABC):
     def tick(self, state: TensorDict, action: torch.Tensor) -> None:
         """Advance every env of ``state`` by one game cycle with ``action`` (``[B]`` int), in place."""
 
+    def reset_tick(self, state: TensorDict) -> None:
+        """The reset tick (RULES.md §1.8: tick 0, with NIL) of freshly compiled envs, in place.
+
+        Every partial reset runs it on a small batch, where a tick costs its few hundred ops
+        whatever the batch size. A game whose tick 0 does little may do just that little, as
+        long as the state ends up exactly as ``tick`` with NIL leaves it (tested per game).
+        """
+        nil = torch.zeros(state.batch_size[0], dtype=torch.int64, device=state.device)
+        self.tick(state, nil)
+
     @abstractmethod
     def layers(self, state: TensorDict) -> list[Layer]:
         """What is drawn, in drawing order (the avatar last)."""

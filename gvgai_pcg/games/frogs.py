@@ -315,6 +315,18 @@ class Frogs(Game):
         self._cleanup_logs(state, tick, schedule)
         self._check_termination(state)
 
+    def reset_tick(self, state: TensorDict) -> None:
+        """Tick 0 with NIL does only this: nothing moves yet (trucks and logs start moving in tick
+        1), every spawner is at a spawn tick, no log is old enough to leave, and the frog starts
+        on a tile of its own (never a goal, wall, truck or bare water: 'B' is a log on water), so
+        no collision rule changes anything. Left are the spawns and the termination check (a
+        level without a goal is won at once). A third of the ops of ``tick``: Frogs envs reset
+        often under random play (a sixth of its episodes last one step)."""
+        tick = state.get("tick") + 1
+        state.set("tick", tick)
+        self._update_spawners(state, tick, self._spawn_schedule(state.get("spawners"), tick))
+        self._check_termination(state)
+
     # --- step 2: the frog (MovingAvatar: every direction action moves 10 px at once) ---
     @staticmethod
     def _update_avatar(
