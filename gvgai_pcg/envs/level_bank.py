@@ -39,12 +39,12 @@ class CompiledLevelBank:
     def initial_states(self, levels: Sequence[Level], seeds: torch.Tensor) -> TensorDict:
         """The states of ``levels`` before their reset tick, with episode ``seeds``."""
         self._uses += 1
-        for level in dict.fromkeys(levels):
-            self._last_used[level] = self._uses
-        missing = [level for level in dict.fromkeys(levels) if level not in self._rows]
+        distinct = dict.fromkeys(levels, self._uses)
+        self._last_used.update(distinct)
+        missing = [level for level in distinct if level not in self._rows]
         if missing:
-            self._add(missing, keep=set(levels))
-        rows = torch.tensor([self._rows[level] for level in levels], device=self.device)
+            self._add(missing, keep=set(distinct))
+        rows = torch.tensor(list(map(self._rows.__getitem__, levels)), device=self.device)
         states = select_rows(self._bank, rows)
         states.set("seed", seeds.to(self.device))
         return states

@@ -404,27 +404,41 @@ class Frogs(Game):
     def _update_spawners(state: TensorDict, tick: torch.Tensor, schedule: dict) -> torch.Tensor:
         """SpawnPoint: one uniform draw per spawner and tick; a log at ticks ≡ 0 mod cooldown with
         probability prob, written to the spawner's ring slot (never occupied, checked). Returns
-        which spawners spawned (``[B, S]``)."""
+        which spawners spawned (``[B, S]``).
+
+        Only the spawners at a spawn tick draw, and only those that fire write a log: in a tick,
+        a tenth of a batch's spawners or fewer, so both are done on those alone. A draw is a pure
+        function of the seed, tick and spawner, so the others' draws would change nothing.
+        """
         spawners, logs = state.get("spawners"), state.get("logs")
-        kind, sx, sy = spawners.get("kind"), spawners.get("x"), spawners.get("y")
-        prob = _lookup(SPAWN_PROB, torch.float64, kind)
-        draw = rng.uniform(state.get("seed"), tick, sy * SLOT_ROW_STRIDE + sx, STREAM_LOG_SPAWN)
-        spawn = spawners.get("alive") & schedule["spawn"] & (draw < prob)
-        dump = logs.batch_size[1] - 1
-        slot = torch.where(spawn, schedule["slot"], dump)
+        count = spawners.batch_size[1]
+        due = (spawners.get("alive") & schedule["spawn"]).view(-1).nonzero().squeeze(1)  # [B * S] flat
+        env = due.div(count, rounding_mode="floor")
+
+        def of_due(values: torch.Tensor) -> torch.Tensor:
+            return values.reshape(-1).index_select(0, due)
+
+        sx, sy = of_due(spawners.get("x")), of_due(spawners.get("y"))
+        slot_id = (sy * SLOT_ROW_STRIDE + sx).unsqueeze(-1)  # [K, 1]: one draw per due spawner
+        draw = rng.uniform(state.get("seed")[env], tick[env], slot_id, STREAM_LOG_SPAWN).squeeze(-1)
+        fires = draw < _lookup(SPAWN_PROB, torch.float64, of_due(spawners.get("kind")))
+        fired, env = due[fires], env[fires]
+        slot = schedule["slot"].reshape(-1).index_select(0, fired)
         alive = logs.get("alive")
         torch._assert_async(
-            ~(torch.gather(alive, 1, slot) & spawn).any(),
+            ~alive[env, slot].any(),
             "frogs: a spawned log found its ring slot occupied; the log table is smaller than the "
             "bound of spawner_ring_size",
         )
-        x32, y32 = sx.to(torch.int32), sy.to(torch.int32)
-        logs.get("x").scatter_(1, slot, torch.where(spawn, x32, 0))
-        logs.get("y").scatter_(1, slot, torch.where(spawn, y32, 0))
-        logs.get("row").scatter_(1, slot, torch.where(spawn, spawners.get("row"), 0))
-        logs.get("key").scatter_(1, slot, torch.where(spawn, log_key(x32, y32, tick.unsqueeze(-1)), 0))
-        alive.scatter_(1, slot, spawn)
-        return spawn
+        x32, y32 = sx[fires].to(torch.int32), sy[fires].to(torch.int32)
+        where = (env, slot)
+        logs.get("x").index_put_(where, x32)
+        logs.get("y").index_put_(where, y32)
+        logs.get("row").index_put_(where, spawners.get("row").reshape(-1).index_select(0, fired))
+        logs.get("key").index_put_(where, log_key(x32, y32, tick[env]))
+        alive.index_put_(where, torch.ones_like(fired, dtype=torch.bool))
+        spawn = torch.zeros(spawners.batch_size.numel(), dtype=torch.bool, device=alive.device)
+        return spawn.index_fill_(0, fired, True).view(spawners.batch_size)
 
     # --- step 4b: EOS rules E1 (frog stepBack), E2 (log kill, at cleanup), E3 (truck wrap, above) ---
     @staticmethod

@@ -41,12 +41,14 @@ class Level:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "rows", tuple(self.rows))
+        # Kept: levels are dict keys at every reset (the compiled-level bank looks up hundreds).
+        object.__setattr__(self, "_hash", hash((self.game, self.rows)))
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, Level) and (self.game, self.rows) == (other.game, other.rows)
 
     def __hash__(self) -> int:
-        return hash((self.game, self.rows))
+        return self._hash
 
     @property
     def height(self) -> int:
