@@ -524,28 +524,28 @@ class Frogs(Game):
     def _cleanup_logs(state: TensorDict, tick: torch.Tensor, schedule: dict) -> None:
         """Every log dies at a tick known in advance: a spawned one in its spawner's ``kill`` tick,
         the level logs of column c (x0 = 10c) in tick x0 + 1. Their slots get ``alive`` false and
-        key 0."""
+        key 0. Few envs lose a log in any tick, so the dying logs are found among those alone."""
         logs, spawners = state.get("logs"), state.get("spawners")
-        dump = logs.batch_size[1] - 1
-        slots = [torch.where(spawners.get("alive") & schedule["kill"], schedule["kill_slot"], dump)]
+        envs, slots = (spawners.get("alive") & schedule["kill"]).nonzero(as_tuple=True)
+        envs, slots = [envs], [schedule["kill_slot"][envs, slots]]
         level = state.get("level_logs").get("slot")
         if level.shape[1]:
-            starts = state.get("log_columns")
             height, width = state.get("wall").shape[1:]
             x0 = tick - 1
             column = cell_of(x0)
-            at_column = (column * CELL == x0) & (column >= 0) & (column < width)
-            column = column.clamp(0, width - 1).unsqueeze(-1)
+            at_column = ((column * CELL == x0) & (column >= 0) & (column < width)).nonzero().squeeze(1)
+            column = column[at_column].unsqueeze(-1)
+            starts = state.get("log_columns")[at_column]
             first, end = torch.gather(starts, 1, column), torch.gather(starts, 1, column + 1)
             rank = first + _constant(
                 tuple(range(height)), torch.int64, first.device
             )  # a column has <= H logs
-            dying = (rank < end) & at_column.unsqueeze(-1)
-            slot = torch.gather(level, 1, rank.clamp_(max=level.shape[1] - 1))
-            slots.append(torch.where(dying, slot, dump))
-        slot = torch.cat(slots, dim=-1)
-        logs.get("alive").scatter_(1, slot, torch.zeros_like(slot, dtype=torch.bool))
-        logs.get("key").scatter_(1, slot, torch.zeros_like(slot, dtype=torch.int32))
+            env, nth = (rank < end).nonzero(as_tuple=True)
+            envs.append(at_column[env])
+            slots.append(level[at_column[env], rank[env, nth]])
+        where = (torch.cat(envs), torch.cat(slots))
+        logs.get("alive").index_put_(where, torch.zeros_like(where[0], dtype=torch.bool))
+        logs.get("key").index_put_(where, torch.zeros_like(where[0], dtype=torch.int32))
 
     # --- step 6: termination, in declaration order ---
     @staticmethod
