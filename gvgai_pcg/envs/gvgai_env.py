@@ -160,6 +160,7 @@ class GVGAIEnv(RowResetEnv):
 
     # --- reset and step ---
     def _reset(self, tensordict: TensorDictBase | None = None, **kwargs) -> TensorDict:
+        self._fresh_rows = None
         mask = None
         if tensordict is not None and "_reset" in tensordict.keys():
             mask = tensordict.get("_reset").reshape(self.num_envs).to(self.device)
@@ -285,6 +286,7 @@ class GVGAIEnv(RowResetEnv):
             return out
         full = out.apply(self._full_size, batch_size=[self.num_envs])
         copy_rows(full, out, index)
+        self._fresh_rows = (index, out)  # for the merge into the running tensordict (RowResetEnv)
         return full
 
     def _full_size(self, rows: torch.Tensor) -> torch.Tensor:

@@ -8,7 +8,7 @@ from torchrl.envs import EnvBase, TransformedEnv
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.difficulty import DifficultyTransform
 from gvgai_pcg.envs.level_sources import GeneratedLevels
-from gvgai_pcg.envs.reset_rows import RowResetTransformedEnv, merge_reset_rows
+from gvgai_pcg.envs.reset_rows import RowResetTransformedEnv, check_reset_not_done, merge_reset_rows
 
 
 class WhereMergedEnv(GVGAIEnv):
@@ -99,3 +99,34 @@ def test_released_observations_are_recycled():
         addresses.add(stepped.get(("next", "tiles")).untyped_storage().data_ptr())
         addresses.add(td.get("tiles").untyped_storage().data_ptr())
     assert len(addresses) <= env.buffers.keep
+
+
+def test_rows_gathered_beforehand_are_used_only_for_the_marked_rows():
+    running = TensorDict({"a": torch.zeros(4), "_reset": torch.tensor([False, True, False, True])}, [4])
+    fresh = TensorDict({"a": torch.arange(4.0)}, [4])
+    gathered = TensorDict({"a": torch.tensor([10.0, 30.0])}, [2])
+    merged = merge_reset_rows(fresh, running.clone(), ["_reset"], fresh_rows=(torch.tensor([1, 3]), gathered))
+    assert merged.get("a").tolist() == [0.0, 10.0, 0.0, 30.0]
+    other_rows = (torch.tensor([0, 3]), gathered)
+    merged = merge_reset_rows(fresh, running.clone(), ["_reset"], fresh_rows=other_rows)
+    assert merged.get("a").tolist() == [0.0, 1.0, 0.0, 3.0]
+
+
+@pytest.mark.parametrize("done_rows", [[], [0], [1], [0, 2], [1, 3]])
+def test_the_done_after_reset_check_agrees_with_torchrl(done_rows):
+    env = GVGAIEnv("zelda", num_envs=4, seed=0)
+    reset = torch.tensor([False, True, False, False]).unsqueeze(-1)
+    done = torch.zeros(4, 1, dtype=torch.bool)
+    done[done_rows] = True
+    running = TensorDict({key: torch.zeros(4, 1, dtype=torch.bool) for key in env.done_keys}, [4])
+    running.set("_reset", reset)
+    output = TensorDict({key: done.clone() for key in env.done_keys}, [4])
+    outcomes = []
+    for check in (check_reset_not_done, EnvBase._reset_check_done):
+        try:
+            check(env, running.clone(), output.clone())
+            outcomes.append("ok")
+        except RuntimeError:
+            outcomes.append("raised")
+    assert outcomes[0] == outcomes[1]
+    assert outcomes[0] == ("raised" if 1 in done_rows else "ok")
