@@ -50,6 +50,10 @@ class Level:
     def __hash__(self) -> int:
         return self._hash
 
+    def __reduce__(self) -> tuple:
+        # Rebuilt through __init__: the kept hash of str is only valid in the process that made it.
+        return (type(self), (self.game, self.rows, self.name, self.seed))
+
     @property
     def height(self) -> int:
         return len(self.rows)

@@ -1,5 +1,10 @@
 """Level parsing: the human levels load, and every kind of bad input is refused with its place."""
 
+import os
+import pickle
+import subprocess
+import sys
+
 import pytest
 
 from gvgai_pcg.levels import LEVEL_FORMATS, Level, LevelFormatError, human_level, human_levels, resolve_level
@@ -72,3 +77,20 @@ def test_grid_larger_than_the_game_is_refused(tmp_path):
 def test_unknown_game_lists_the_games():
     with pytest.raises(ValueError, match="boulderdash, frogs, solarfox, zelda"):
         Level.parse("A", "pacman")
+
+
+def test_a_level_unpickled_in_another_process_hashes_as_that_process_does(tmp_path):
+    """A Level keeps its hash; one sent to a worker (string hashes differ per process) must
+    still find, and equal, the same level built there."""
+    level = human_levels("zelda")[0]
+    path = tmp_path / "level.pkl"
+    path.write_bytes(pickle.dumps(level))
+    script = (
+        "import pickle, sys; from gvgai_pcg.levels import Level; "
+        f"loaded = pickle.loads(open({str(path)!r}, 'rb').read()); "
+        "built = Level(loaded.game, loaded.rows); "
+        "sys.exit(0 if hash(loaded) == hash(built) and {built: 1}.get(loaded) == 1 else 1)"
+    )
+    for hash_seed in ("1", "2"):
+        env = {**os.environ, "PYTHONHASHSEED": hash_seed}
+        assert subprocess.run([sys.executable, "-c", script], env=env).returncode == 0
