@@ -78,7 +78,7 @@ def check_reset_not_done(env: EnvBase, tensordict: TensorDictBase, tensordict_re
     ):
         env._reset_check_done(tensordict, tensordict_reset)
         return
-    if env._allow_done_after_reset:
+    if getattr(env, "_allow_done_after_reset", False):
         return
     for key in done_keys:
         if (tensordict_reset.get(key) & reset).any():
