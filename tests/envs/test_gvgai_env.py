@@ -23,6 +23,20 @@ def test_specs_hold_for_every_game(game, obs):
     assert env.state.get("tick").tolist() == [0, 0, 0]  # reset runs tick 0 with NIL
 
 
+@pytest.mark.parametrize("obs", ["tiles", "pixels"])
+def test_observation_specs_hold_what_is_observed(obs):
+    """Tiles are 0/1 and pixels any uint8 (the specs are not Bounded: see GVGAIEnv._make_specs)."""
+    env = GVGAIEnv("frogs", num_envs=8, obs=obs, seed=1)
+    spec = env.observation_spec[obs]
+    rollout = env.rollout(30, break_when_any_done=False)
+    assert spec.is_in(rollout.get(obs)[:, -1]) and spec.is_in(rollout.get(("next", obs))[:, -1])
+    if obs == "tiles":
+        assert rollout.get(obs).max() == 1 and not spec.is_in(rollout.get(obs)[:, -1] * 2)
+    else:
+        assert spec.is_in(torch.full(spec.shape, 255, dtype=torch.uint8))
+        assert not spec.is_in(torch.zeros(spec.shape, dtype=torch.int16))
+
+
 def test_reward_is_the_score_delta_and_a_win_terminates():
     env = GVGAIEnv("zelda", levels=Level("zelda", ("wwwwww", "w+A.gw", "wwwwww")))
     env.reset()
