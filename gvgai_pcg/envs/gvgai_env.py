@@ -28,7 +28,7 @@ from gvgai_pcg.games.buffers import BufferPool
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.games.render import ascii_frame, render_pixels, render_tiles
 from gvgai_pcg.games.rng import derive_seeds, mix64
-from gvgai_pcg.games.rows import copy_rows
+from gvgai_pcg.games.rows import copy_tensor_rows_
 from gvgai_pcg.levels import Level
 
 OBSERVATION_KINDS = ("tiles", "pixels")
@@ -89,6 +89,7 @@ class GVGAIEnv(RowResetEnv):
         self._episodes = torch.zeros(num_envs, dtype=torch.int64)
         self._default_difficulty = float(difficulty)
         self._state: TensorDict | None = None
+        self._observed: torch.Tensor | None = None  # the observation of the last output
         self._steps = torch.zeros(num_envs, dtype=torch.int64, device=self.device)
         self._difficulty = torch.full(
             (num_envs,), self._default_difficulty, dtype=torch.float32, device=self.device
@@ -166,7 +167,7 @@ class GVGAIEnv(RowResetEnv):
 
     # --- reset and step ---
     def _reset(self, tensordict: TensorDictBase | None = None, **kwargs) -> TensorDict:
-        self._fresh_rows = None
+        self._complete_entries = None
         mask = None
         if tensordict is not None and "_reset" in tensordict.keys():
             mask = tensordict.get("_reset").reshape(self.num_envs).to(self.device)
@@ -174,16 +175,26 @@ class GVGAIEnv(RowResetEnv):
         index = torch.arange(self.num_envs) if reset_all else mask.nonzero().flatten().cpu()
         if tensordict is not None and "difficulty" in tensordict.keys():
             requested = tensordict.get("difficulty").reshape(self.num_envs).to(self.device, torch.float32)
-            self._difficulty = requested if reset_all else torch.where(mask, requested, self._difficulty)
-        if len(index) == 0:
-            return self._observation(self.state, index=None, reset=True)
-        fresh, observed = self._start_episodes(index)
+            if reset_all:
+                self._difficulty = requested.clone()  # not the caller's tensor
+            else:
+                self._difficulty = torch.where(mask, requested, self._difficulty)
         if reset_all:
-            return self._observation(self.state, index=None, reset=True, observed=observed)
-        # Only the reset envs' rows of a partial reset's output are read (TorchRL merges them by
-        # the mask), so only the fresh envs are rendered, and the other rows are left unset
-        # (uninitialised memory: no pass over the whole batch).
-        return self._observation(fresh, index=index.to(self.device), reset=True, observed=observed)
+            mask = torch.ones(self.num_envs, dtype=torch.bool, device=self.device)
+        observed = self._observed
+        if len(index) == self.num_envs:
+            observed = self._start_episodes(index)[1]
+        elif len(index):
+            # A partial reset renders only the fresh envs; the others keep the observation of
+            # the last output (their state has not changed since), copied so that it stays as the
+            # caller holds it.
+            fresh = self._start_episodes(index)[1]
+            observed = copy_tensor_rows_(self.buffers.clone(observed), index.to(self.device), fresh)
+        out = self._observation(self.state, observed, restarted=mask)
+        if not reset_all:
+            # Every row holds the running values, so the merge may take these entries whole.
+            self._complete_entries = dict(out.items())
+        return out
 
     def _start_episodes(self, index: torch.Tensor) -> tuple[TensorDict, torch.Tensor]:
         """Start a new episode in envs ``index`` (CPU, sorted); returns their fresh states after
@@ -238,9 +249,7 @@ class GVGAIEnv(RowResetEnv):
         action = tensordict.get("action").reshape(self.num_envs).to(self.device, torch.int64)
         before = state.get("score").clone()  # a sharded step writes the new score into it
         self._steps += 1
-        out = self._observation(
-            state, index=None, reset=False, observed=self._stepper(self._tick, state, action)
-        )
+        out = self._observation(state, self._stepper(self._tick, state, action), restarted=None)
         out.set("reward", (state.get("score") - before).to(torch.float32).unsqueeze(-1))
         return out
 
@@ -266,39 +275,30 @@ class GVGAIEnv(RowResetEnv):
         return render_tiles(self.game, state, self.buffers if len(state) == self.num_envs else None)
 
     def _observation(
-        self,
-        state: TensorDict,
-        index: torch.Tensor | None,
-        reset: bool,
-        observed: torch.Tensor | None = None,
+        self, state: TensorDict, observed: torch.Tensor, restarted: torch.Tensor | None
     ) -> TensorDict:
-        """The output of ``state`` (all envs, or the envs ``index`` placed in a full-size output);
-        ``observed`` is its already rendered observation, if any."""
-        rows = slice(None) if index is None else index
-        terminated = torch.zeros_like(state.get("won")) if reset else state.get("won") | state.get("lost")
-        truncated = (self._steps[rows] >= self.max_steps) & ~terminated
+        """The output of every env of ``state``, whose observation is ``observed``. Envs where
+        ``restarted`` (``[B]`` bool) is true have just been reset: none of them is done (a Frogs
+        level without goals is won at its reset tick, but its episode only ends at the next step).
+        """
+        terminated = state.get("won") | state.get("lost")
+        truncated = self._steps >= self.max_steps
+        if restarted is not None:
+            terminated = terminated & ~restarted
+            truncated = truncated & ~restarted
+        truncated = truncated & ~terminated
+        self._observed = observed  # a partial reset keeps it for the envs it does not restart
         values = {
-            self.obs_kind: self._render(state) if observed is None else observed,
+            self.obs_kind: observed,
             "score": state.get("score").to(torch.float32).unsqueeze(-1),
             "won": state.get("won").unsqueeze(-1).clone(),
-            "difficulty": self._difficulty[rows].unsqueeze(-1).clone(),
-            "level_seed": self._level_seeds.to(self.device)[rows].unsqueeze(-1).clone(),
+            "difficulty": self._difficulty.unsqueeze(-1).clone(),
+            "level_seed": self._level_seeds.to(self.device, copy=True).unsqueeze(-1),
             "terminated": terminated.unsqueeze(-1),
             "truncated": truncated.unsqueeze(-1),
             "done": (terminated | truncated).unsqueeze(-1),
         }
-        out = TensorDict(values, batch_size=[state.batch_size[0]], device=self.device)
-        if index is None:
-            return out
-        full = out.apply(self._full_size, batch_size=[self.num_envs])
-        copy_rows(full, out, index)
-        self._fresh_rows = (index, out)  # for the merge into the running tensordict (RowResetEnv)
-        return full
-
-    def _full_size(self, rows: torch.Tensor) -> torch.Tensor:
-        """An uninitialised ``[num_envs, ...]`` tensor like ``rows`` (pooled if large)."""
-        shape = (self.num_envs, *rows.shape[1:])
-        return self.buffers.empty(self.num_envs * rows[:1].numel(), rows.dtype, rows.device).view(shape)
+        return TensorDict(values, batch_size=[self.num_envs], device=self.device)
 
     def _set_seed(self, seed: int | None) -> int | None:
         if seed is not None:

@@ -26,40 +26,34 @@ def merge_reset_rows(
     tensordict: TensorDictBase,
     reset_keys: list,
     pool: BufferPool | None = None,
-    fresh_rows: tuple[torch.Tensor, TensorDictBase] | None = None,
+    complete: dict | None = None,
 ) -> TensorDictBase:
     """``tensordict`` with the rows that ``"_reset"`` marks taken from ``tensordict_reset``, as
     TorchRL's merge leaves it: an entry missing on one side counts as zeros there. The entries are
     replaced, never written in place (they may be shared with the step's ``"next"`` data); they
-    are copied into buffers from ``pool`` if one is given. ``fresh_rows`` may give rows of
-    ``tensordict_reset`` already gathered, as ``(row indices, their entries)``; they are used if
-    those are the marked rows (saves gathering them again)."""
+    are copied into buffers from ``pool`` if one is given. ``complete`` maps keys to entries of
+    ``tensordict_reset`` that already hold the running values outside the marked rows; such an
+    entry, if still there, is taken whole instead of copied."""
     reset = tensordict.get(RESET_KEY, None) if list(reset_keys) == [RESET_KEY] else None
     if reset is None or reset.ndim > tensordict.ndim + 1 or tensordict.ndim != 1:
         return _update_during_reset(tensordict_reset, tensordict, reset_keys)
-    tensordict.pop(RESET_KEY)
     mask = reset.reshape(tensordict.shape)
+    tensordict = tensordict.exclude(RESET_KEY)
     if mask.all():
         return tensordict.update(tensordict_reset.exclude(RESET_KEY), update_batch_size=True)
     rows = mask.nonzero().squeeze(-1)
     fresh = tensordict_reset.exclude(RESET_KEY)
-    gathered = None
-    if fresh_rows is not None and torch.equal(fresh_rows[0].to(rows.device), rows):
-        gathered = fresh_rows[1]
+    complete = complete or {}
     keys = set(fresh.keys(True, True)) | set(tensordict.keys(True, True))
     for key in keys:
         old, new = tensordict.get(key, None), fresh.get(key, None)
         if new is None:
             tensordict.set(key, old.index_fill(0, rows, 0))
-            continue
-        new_rows = gathered.get(key, None) if gathered is not None else None
-        if new_rows is None:
-            new_rows = new.index_select(0, rows)
-        if old is None:
-            merged = copy_tensor_rows_(torch.zeros_like(new), rows, new_rows)
+        elif new is complete.get(key):
+            tensordict.set(key, new)
         else:
-            merged = copy_tensor_rows_(old.clone() if pool is None else pool.clone(old), rows, new_rows)
-        tensordict.set(key, merged)
+            base = torch.zeros_like(new) if old is None else old.clone() if pool is None else pool.clone(old)
+            tensordict.set(key, copy_tensor_rows_(base, rows, new.index_select(0, rows)))
     return tensordict
 
 
@@ -91,29 +85,35 @@ def check_reset_not_done(env: EnvBase, tensordict: TensorDictBase, tensordict_re
 class RowResetEnv(EnvBase):
     """An ``EnvBase`` whose partial resets are merged by :func:`merge_reset_rows`.
 
-    A subclass may keep, as ``_fresh_rows``, the reset envs' rows of the output its last
-    ``_reset`` returned, as ``(row indices, their entries)``; the merge then takes them from there.
+    A subclass whose ``_reset`` output holds the running values in the rows it does not reset
+    may say which of its entries do, as ``_complete_entries`` (key to tensor); the merge takes
+    those whole, as long as they are still the output's entries. An entry replaced after
+    ``_reset`` (by a subclass or a transform) is merged by rows as TorchRL would.
     """
 
-    _fresh_rows: tuple[torch.Tensor, TensorDictBase] | None = None
+    _complete_entries: dict | None = None
 
     def _reset_proc_data(self, tensordict, tensordict_reset):
         self._complete_done(self.full_done_spec, tensordict_reset)
-        fresh_rows, self._fresh_rows = self._fresh_rows, None
+        complete, self._complete_entries = self._complete_entries, None
         if tensordict is None:
             self._reset_check_done(tensordict, tensordict_reset)
             return tensordict_reset
         check_reset_not_done(self, tensordict, tensordict_reset)
         pool = getattr(self, "buffers", None)
-        return merge_reset_rows(tensordict_reset, tensordict, self.reset_keys, pool, fresh_rows)
+        return merge_reset_rows(tensordict_reset, tensordict, self.reset_keys, pool, complete)
 
 
 class RowResetTransformedEnv(TransformedEnv):
-    """A ``TransformedEnv`` whose partial resets are merged by :func:`merge_reset_rows`."""
+    """A ``TransformedEnv`` whose partial resets are merged by :func:`merge_reset_rows` (entries
+    the transforms left as the base env's complete ones are taken whole)."""
 
     def _reset_proc_data(self, tensordict, tensordict_reset):
         self._reset_check_done(tensordict, tensordict_reset)
+        complete = getattr(self.base_env, "_complete_entries", None)
+        if complete is not None:
+            self.base_env._complete_entries = None
         if tensordict is not None:
             pool = getattr(self.base_env, "buffers", None)
-            tensordict_reset = merge_reset_rows(tensordict_reset, tensordict, self.reset_keys, pool)
+            tensordict_reset = merge_reset_rows(tensordict_reset, tensordict, self.reset_keys, pool, complete)
         return tensordict_reset

@@ -1,5 +1,7 @@
 """Partial resets merged by rows give the tensordicts TorchRL's own ``where`` merge gives."""
 
+import warnings
+
 import pytest
 import torch
 from tensordict import TensorDict
@@ -101,15 +103,64 @@ def test_released_observations_are_recycled():
     assert len(addresses) <= env.buffers.keep
 
 
-def test_rows_gathered_beforehand_are_used_only_for_the_marked_rows():
+def test_complete_entries_are_taken_whole_unless_replaced():
     running = TensorDict({"a": torch.zeros(4), "_reset": torch.tensor([False, True, False, True])}, [4])
     fresh = TensorDict({"a": torch.arange(4.0)}, [4])
-    gathered = TensorDict({"a": torch.tensor([10.0, 30.0])}, [2])
-    merged = merge_reset_rows(fresh, running.clone(), ["_reset"], fresh_rows=(torch.tensor([1, 3]), gathered))
-    assert merged.get("a").tolist() == [0.0, 10.0, 0.0, 30.0]
-    other_rows = (torch.tensor([0, 3]), gathered)
-    merged = merge_reset_rows(fresh, running.clone(), ["_reset"], fresh_rows=other_rows)
+    merged = merge_reset_rows(fresh, running.clone(), ["_reset"], complete={"a": fresh.get("a")})
+    assert merged.get("a") is fresh.get("a")
+    stale = {"a": torch.arange(4.0)}  # an entry that is no longer the output's: merged by rows
+    merged = merge_reset_rows(fresh, running.clone(), ["_reset"], complete=stale)
     assert merged.get("a").tolist() == [0.0, 1.0, 0.0, 3.0]
+
+
+def test_a_partial_reset_output_holds_the_running_values_in_the_other_rows():
+    """TorchRL and transforms may read every row of a reset's output (its done check copies the
+    done entries when the input has none; a VecNorm updates its statistics on them)."""
+    env = GVGAIEnv("zelda", num_envs=16, levels="human", seed=0)
+    td = env.reset()
+    for _ in range(3):
+        td.set("action", torch.zeros(16, dtype=torch.int64))  # NIL: nobody finishes
+        td = env.step(td).get("next")
+    assert not td.get("done").any()
+    mask = torch.zeros(16, 1, dtype=torch.bool)
+    mask[[0, 5]] = True
+    output = env._reset(TensorDict({"_reset": mask}, [16]))
+    kept = ~mask.squeeze(-1)
+    for key in ("tiles", "score", "won", "difficulty", "level_seed"):
+        assert torch.equal(output.get(key)[kept], td.get(key)[kept]), key
+    assert not output.get("done").any() and not output.get("terminated").any()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # TorchRL warns when it sees done rows it was not given
+        merged = env.reset(TensorDict({"_reset": mask}, [16]))
+    assert not merged.get("done").any()
+    assert torch.equal(merged.get("tiles")[kept], td.get("tiles")[kept])
+
+
+class ZeroTilesEnv(GVGAIEnv):
+    """A subclass that replaces an entry of its reset output after GVGAIEnv built it."""
+
+    def _reset(self, tensordict=None, **kwargs):
+        out = super()._reset(tensordict, **kwargs)
+        out.set("tiles", torch.zeros_like(out.get("tiles")))
+        return out
+
+
+class WhereMergedZeroTilesEnv(ZeroTilesEnv):
+    _reset_proc_data = EnvBase._reset_proc_data
+
+
+def test_an_entry_replaced_after_reset_is_merged_as_torchrl_merges_it():
+    ours, theirs = (cls("frogs", num_envs=16, seed=2) for cls in (ZeroTilesEnv, WhereMergedZeroTilesEnv))
+    for a, b in zip(rollout(ours), rollout(theirs), strict=True):
+        assert (a == b).all()
+
+
+def test_a_full_reset_keeps_no_reference_to_the_callers_difficulty():
+    env = GVGAIEnv("zelda", num_envs=4, levels=GeneratedLevels("zelda"), seed=0)
+    requested = torch.full((4, 1), 0.25)
+    td = env.reset(TensorDict({"difficulty": requested}, [4]))
+    requested.fill_(0.9)  # the caller reuses its tensor
+    assert env.rand_step(td).get(("next", "difficulty")).eq(0.25).all()
 
 
 @pytest.mark.parametrize("done_rows", [[], [0], [1], [0, 2], [1, 3]])
