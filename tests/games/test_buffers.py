@@ -56,3 +56,29 @@ def test_small_and_huge_requests_are_not_pooled():
     assert len(pool) == 0
     pool.empty(1024, torch.int32, "cpu")  # 4 KB
     assert len(pool) == 1
+
+
+def test_a_buffer_whose_storage_object_is_held_is_not_handed_out():
+    pool = BufferPool(min_bytes=0)
+    storage = pool.empty(1000, torch.uint8, "cpu").untyped_storage()  # only the storage is kept
+    storage.fill_(7)
+    again = pool.empty(1000, torch.uint8, "cpu")
+    assert again.untyped_storage().data_ptr() != storage.data_ptr()
+    again.fill_(0)
+    assert storage[0] == 7
+    del storage, again
+    assert len(pool) == 2
+    pool.empty(1000, torch.uint8, "cpu")
+    assert len(pool) == 2  # released: one of them was reused
+
+
+def test_a_buffer_moved_to_shared_memory_is_never_handed_out_again():
+    """A tensor put on a torch.multiprocessing queue has its storage moved to shared memory,
+    where the receiving process reads it whenever it likes."""
+    pool = BufferPool(min_bytes=0)
+    sent = pool.empty(1000, torch.uint8, "cpu")
+    sent.share_memory_()
+    shared = sent.untyped_storage().data_ptr()
+    del sent
+    assert address(pool.empty(1000, torch.uint8, "cpu")) != shared
+    assert len(pool) == 1  # the shared buffer left the pool
