@@ -23,6 +23,7 @@ from gvgai_pcg.envs.gvgai_env import GVGAIEnv
 from gvgai_pcg.envs.gym_adapter import LevelSpec, Regimen, observation_space
 
 INFO_KEYS = ("won", "score", "difficulty", "level_seed")
+DONE_KEYS = ("done", "terminated", "truncated")
 INFO_DTYPES = {"won": np.bool_, "score": np.float64, "difficulty": np.float64, "level_seed": np.int64}
 
 
@@ -102,11 +103,11 @@ class GVGAIVectorEnv(VectorEnv):
             mask = torch.ones(self.num_envs, dtype=torch.bool)
         self._started = True
         self.regimen.apply_options(options, mask.nonzero().flatten().tolist())
-        out = self.engine.reset(self.regimen.reset_tensordict(mask, self.engine.device))
+        out = self._reset_engine(mask.to(self.engine.device), self._last)
         if self._last is not None and not bool(mask.all()):
             out = _take(mask.to(self.engine.device), out, self._last, self._kept_keys)
         self._autoreset = self._autoreset & ~mask
-        self._last = out.select(*self._kept_keys)
+        self._last = out.select(*self._kept_keys, *DONE_KEYS)
         return self._obs(out), self._info(out)
 
     def step(
@@ -120,20 +121,20 @@ class GVGAIVectorEnv(VectorEnv):
         out = out.get("next")
         restarting = self._autoreset.to(device)
         if self.autoreset_mode == AutoresetMode.NEXT_STEP and bool(restarting.any()):
-            fresh = self.engine.reset(self.regimen.reset_tensordict(restarting, device))
+            fresh = self._reset_engine(restarting, out)
             out = self._merge(restarting, fresh, out)
         done = out["done"].reshape(self.num_envs) & ~restarting
         self.regimen.record(out, done)
         infos: dict[str, Any] = {}
         if self.autoreset_mode == AutoresetMode.SAME_STEP and bool(done.any()):
             infos = self._final_infos(out, done)
-            fresh = self.engine.reset(self.regimen.reset_tensordict(done, device))
+            fresh = self._reset_engine(done, out)
             out = _take(done, fresh, out, self._kept_keys)
             self._autoreset = torch.zeros(self.num_envs, dtype=torch.bool)
         else:
             self._autoreset = done.cpu()
         infos.update(self._info(out))
-        self._last = out.select(*self._kept_keys)
+        self._last = out.select(*self._kept_keys, *DONE_KEYS)
         return (
             self._obs(out),
             out["reward"].reshape(self.num_envs).cpu().numpy().astype(np.float64),
@@ -141,6 +142,15 @@ class GVGAIVectorEnv(VectorEnv):
             out["truncated"].reshape(self.num_envs).cpu().numpy(),
             infos,
         )
+
+    def _reset_engine(self, mask: torch.Tensor, running: TensorDictBase | None) -> TensorDictBase:
+        """The engine's reset of the envs in ``mask``, told the running done entries: TorchRL
+        warns about a partial reset that leaves done envs it was not shown (here, those that
+        finished in the step before a NEXT_STEP reset, which restart at the next one)."""
+        request = self.regimen.reset_tensordict(mask, self.engine.device)
+        if running is not None:
+            request.update(running.select(*DONE_KEYS, strict=False))
+        return self.engine.reset(request)
 
     def _merge(self, mask: torch.Tensor, fresh: TensorDictBase, stepped: TensorDictBase) -> TensorDictBase:
         """The step's output where ``mask`` envs show their new episode: first obs, reward 0, not done."""

@@ -167,3 +167,19 @@ def test_vector_env_partial_reset_mask() -> None:
     assert not np.array_equal(obs[0, avatar], start[0, avatar])  # env 0 walked away...
     np.testing.assert_array_equal(fresh[0, avatar], start[0, avatar])  # ...and is back at the start
     np.testing.assert_array_equal(fresh[1], obs[1])  # env 1 was left alone
+
+
+@pytest.mark.parametrize("mode", ["NextStep", "SameStep"])
+def test_vector_env_autoresets_raise_no_torchrl_warnings(mode: str) -> None:
+    """A NEXT_STEP reset leaves the envs that finished in the same step done; TorchRL warns about
+    done envs a partial reset was not shown, so the vector env shows them."""
+    vec = gym.make_vec("gvgai_pcg/Frogs-v0", num_envs=64, autoreset_mode=gym.vector.AutoresetMode(mode))
+    vec.reset(seed=0)
+    rng = np.random.default_rng(0)
+    finished = 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for _ in range(20):
+            _, _, terminated, truncated, _ = vec.step(rng.integers(0, 5, 64))
+            finished += int((terminated | truncated).sum())
+    assert finished > 64  # Frogs under random play: many partial resets
