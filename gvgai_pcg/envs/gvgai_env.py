@@ -183,12 +183,12 @@ class GVGAIEnv(RowResetEnv):
             mask = torch.ones(self.num_envs, dtype=torch.bool, device=self.device)
         observed = self._observed
         if len(index) == self.num_envs:
-            observed = self._start_episodes(index)[1]
+            observed = self._start_episodes(index)
         elif len(index):
             # A partial reset renders only the fresh envs; the others keep the observation of
             # the last output (their state has not changed since), copied so that it stays as the
             # caller holds it.
-            fresh = self._start_episodes(index)[1]
+            fresh = self._start_episodes(index)
             observed = copy_tensor_rows_(self.buffers.clone(observed), index.to(self.device), fresh)
         out = self._observation(self.state, observed, restarted=mask)
         if not reset_all:
@@ -196,9 +196,9 @@ class GVGAIEnv(RowResetEnv):
             self._complete_entries = dict(out.items())
         return out
 
-    def _start_episodes(self, index: torch.Tensor) -> tuple[TensorDict, torch.Tensor]:
-        """Start a new episode in envs ``index`` (CPU, sorted); returns their fresh states after
-        the reset tick, and their observations."""
+    def _start_episodes(self, index: torch.Tensor) -> torch.Tensor:
+        """Start a new episode in envs ``index`` (CPU, sorted); returns their observations after
+        the reset tick."""
         partial = self._state is not None and len(index) < self.num_envs
         if partial and self._ready is not None and len(index) <= PREPARED_RESETS_MAX:
             missing = self._ready.missing(self._episodes)
@@ -218,7 +218,7 @@ class GVGAIEnv(RowResetEnv):
             self._state = merge_states(self._state, fresh, index.to(self.device))
         self._steps[index.to(self.device)] = 0
         self._level_seeds[index] = torch.tensor([lv.seed if lv.seed is not None else -1 for lv in levels])
-        return fresh, observed
+        return observed
 
     def _prepare(
         self, index: torch.Tensor, observe: bool
