@@ -5,10 +5,17 @@ the current difficulty into the reset tensordict (the env's level source generat
 after each step it moves the difficulty once per finished episode, in order of env index:
 +alpha on a win, -alpha on a loss, clipped to [0, 1] after every move (GENERATORS.md §2). The
 value lives in a shared-memory tensor, so collector workers in other processes read and move
-one difficulty, and it is a buffer, so ``state_dict()`` carries it into checkpoints.
+one difficulty, and it is a buffer, so ``state_dict()`` carries it into checkpoints. Processes
+that share it through files (``gvgai_pcg.rl.environment.share_through_files``) also share a lock
+file, so that two workers' moves never overwrite each other.
 """
 
 from __future__ import annotations
+
+import contextlib
+import fcntl
+from collections.abc import Iterator
+from pathlib import Path
 
 import torch
 from tensordict import TensorDictBase
@@ -55,6 +62,7 @@ class DifficultyTransform(Transform):
             "shared_difficulty", torch.tensor([float(start)], dtype=torch.float64).share_memory_()
         )
         self.register_buffer("episodes", torch.zeros(1, dtype=torch.int64).share_memory_())
+        self.lock_path: Path | None = None  # a file every process that moves the difficulty locks
 
     @property
     def difficulty(self) -> float:
@@ -78,12 +86,13 @@ class DifficultyTransform(Transform):
 
     def update(self, outcomes: list[bool]) -> float:
         """Move the difficulty once per outcome (True = win), in order; returns the new value."""
-        value = float(self.shared_difficulty[0])
-        if self.mode == "progressive":
-            for win in outcomes:
-                value = min(1.0, value + self.alpha) if win else max(0.0, value - self.alpha)
-        self.shared_difficulty[0] = value
-        self.episodes[0] += len(outcomes)
+        with _exclusive(self.lock_path):
+            value = float(self.shared_difficulty[0])
+            if self.mode == "progressive":
+                for win in outcomes:
+                    value = min(1.0, value + self.alpha) if win else max(0.0, value - self.alpha)
+            self.shared_difficulty[0] = value
+            self.episodes[0] += len(outcomes)
         return value
 
     def _step(self, tensordict: TensorDictBase, next_tensordict: TensorDictBase) -> TensorDictBase:
@@ -117,3 +126,17 @@ class DifficultyTransform(Transform):
             f"DifficultyTransform(mode={self.mode!r}, d={self.difficulty:.2f}, alpha={self.alpha}, "
             f"win_rule={self.win_rule!r})"
         )
+
+
+@contextlib.contextmanager
+def _exclusive(path: Path | None) -> Iterator[None]:
+    """Hold an exclusive lock on the file ``path`` (nothing if ``None``)."""
+    if path is None:
+        yield
+        return
+    with open(path, "a") as handle:
+        fcntl.flock(handle, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(handle, fcntl.LOCK_UN)

@@ -76,11 +76,14 @@ def make_difficulty(regimen: DictConfig, game: str):
 def share_through_files(difficulty, directory: Path) -> None:
     """Back the transform's buffers by memory-mapped files in ``directory``, so collector worker
     processes (which receive a pickled copy of the factory) read and move the very same
-    difficulty as the main process; in-process shared memory does not survive that pickling."""
+    difficulty as the main process; in-process shared memory does not survive that pickling.
+    The files start from the transform's current values (a resumed run's are restored first), and
+    a lock file there serialises the moves of all processes."""
     from tensordict import MemoryMappedTensor
 
     directory.mkdir(parents=True, exist_ok=True)
     for name, buffer in list(difficulty.named_buffers()):
-        setattr(
-            difficulty, name, MemoryMappedTensor.from_tensor(buffer, filename=directory / f"{name}.memmap")
-        )
+        path = directory / f"{name}.memmap"
+        path.unlink(missing_ok=True)  # left by an earlier session of the run
+        setattr(difficulty, name, MemoryMappedTensor.from_tensor(buffer, filename=path))
+    difficulty.lock_path = directory / "difficulty.lock"

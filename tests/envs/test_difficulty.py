@@ -10,6 +10,7 @@ from torchrl.envs import TransformedEnv, check_env_specs
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.difficulty import DifficultyTransform
 from gvgai_pcg.envs.level_sources import TEST_SEED_BASE, TRAINING_SEED_SPACE, GeneratedLevels
+from gvgai_pcg.rl.environment import share_through_files
 
 
 def test_progressive_update_follows_wins_and_losses_in_order():
@@ -67,6 +68,38 @@ def test_the_difficulty_is_shared_with_worker_processes():
     child.join(60)
     assert child.exitcode == 0
     assert transform.difficulty == pytest.approx(0.05)
+
+
+def _win_many_times(transform: DifficultyTransform, times: int) -> None:
+    for _ in range(times):
+        transform.update([True])
+
+
+def test_workers_sharing_through_files_never_lose_a_move(tmp_path):
+    """Two processes moving one difficulty at once: each move reads, changes and writes it, so
+    without the shared lock file one process overwrites the other's moves."""
+    transform = DifficultyTransform("progressive", alpha=1e-5)
+    share_through_files(transform, tmp_path)
+    context = multiprocessing.get_context("spawn")
+    children = [context.Process(target=_win_many_times, args=(transform, 6000)) for _ in range(2)]
+    for child in children:
+        child.start()
+    for child in children:
+        child.join(120)
+        assert child.exitcode == 0
+    assert transform.episodes.item() == 12000
+    assert transform.difficulty == pytest.approx(0.12)
+
+
+def test_sharing_through_files_again_starts_from_the_current_values(tmp_path):
+    """A resumed run shares its restored difficulty through the files of its first session."""
+    first = DifficultyTransform("progressive", alpha=0.01)
+    share_through_files(first, tmp_path)
+    first.update([True] * 30)
+    resumed = DifficultyTransform("progressive", alpha=0.01)
+    resumed.update([True] * 12)  # as restored from its checkpoint
+    share_through_files(resumed, tmp_path)
+    assert resumed.difficulty == pytest.approx(0.12) and resumed.episodes.item() == 12
 
 
 def test_state_dict_restores_the_difficulty():
