@@ -61,9 +61,9 @@ def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
     if cfg.threads:
         torch.set_num_threads(int(cfg.threads))
     config = OmegaConf.to_container(cfg, resolve=True)
-    (run_dir / "config.yaml").write_text(OmegaConf.to_yaml(cfg, resolve=True))
     checkpoint_path = run_dir / "checkpoints" / CHECKPOINT_NAME
     saved = load_checkpoint(checkpoint_path, config) if checkpoint_path.exists() else None
+    (run_dir / "config.yaml").write_text(OmegaConf.to_yaml(cfg, resolve=True))  # once it is accepted
     frames = saved["frames"] if saved else 0
     seed_everything(cfg.seed)
 

@@ -20,8 +20,10 @@ import torch
 
 FORMAT_VERSION = 1
 CHECKPOINT_NAME = "last.pt"
-# Config sections that may change between a run and its resumption (budget, bookkeeping).
-MAY_CHANGE = ("total_frames", "device", "threads", "checkpoint", "log", "out_dir", "run_name", "collector")
+# Config sections that may change between a run and its resumption (budget, bookkeeping). Not
+# ``collector``: its workers multiply the batch of an update and the pace of the difficulty, as
+# ``env.num_envs`` does.
+MAY_CHANGE = ("total_frames", "device", "threads", "checkpoint", "log", "out_dir", "run_name")
 
 
 class CheckpointError(RuntimeError):

@@ -64,9 +64,15 @@ def test_a_corrupt_checkpoint_is_an_error_not_a_fresh_start(make_config, tmp_pat
 def test_a_checkpoint_of_another_config_is_an_error(make_config, tmp_path):
     cfg = make_config(["regimen=lv", *SMALL, "total_frames=320", f"out_dir={tmp_path}", "log.curve=false"])
     train(cfg, tmp_path / "run")
+    written = (tmp_path / "run" / "config.yaml").read_text()
     other = make_config(["regimen=lv", *SMALL, "algo.lr=0.007", f"out_dir={tmp_path}"])
     with pytest.raises(CheckpointError, match="algo.lr"):
         train(other, tmp_path / "run")
+    # more workers make larger updates and move the difficulty faster, as more envs do
+    more_workers = make_config(["regimen=lv", *SMALL, "collector.workers=2", f"out_dir={tmp_path}"])
+    with pytest.raises(CheckpointError, match="collector.workers"):
+        train(more_workers, tmp_path / "run")
+    assert (tmp_path / "run" / "config.yaml").read_text() == written  # the refused runs wrote nothing
 
 
 @needs_generated_levels
