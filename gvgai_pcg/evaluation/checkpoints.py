@@ -93,17 +93,25 @@ def load_state(path: Path) -> dict:
 
 
 def run_info(run_dir: Path, checkpoint: Path | None = None) -> RunInfo:
-    """The run in ``run_dir``, from ``checkpoint`` (default: ``model.pt``, else the last checkpoint)."""
+    """The run in ``run_dir``, from ``checkpoint`` (default: whichever of ``model.pt`` and the last
+    checkpoint has trained longer, ``model.pt`` on a tie: a resumed session that was killed leaves
+    a newer checkpoint beside an older final model)."""
     run_dir = Path(run_dir).resolve()
     if checkpoint is None:
-        checkpoint = run_dir / FINAL_MODEL if (run_dir / FINAL_MODEL).is_file() else run_dir / LAST_CHECKPOINT
-    if not Path(checkpoint).is_file():
-        raise FileNotFoundError(
-            f"{run_dir}: no model to evaluate (looked for {FINAL_MODEL} and {LAST_CHECKPOINT}); "
-            "is it a training run directory, and has it written a checkpoint?"
-        )
+        found = [run_dir / name for name in (FINAL_MODEL, LAST_CHECKPOINT) if (run_dir / name).is_file()]
+        if not found:
+            raise FileNotFoundError(
+                f"{run_dir}: no model to evaluate (looked for {FINAL_MODEL} and {LAST_CHECKPOINT}); "
+                "is it a training run directory, and has it written a checkpoint?"
+            )
+        states = {path: load_state(path) for path in found}
+        checkpoint = max(found, key=lambda path: int(states[path].get("frames", 0)))  # first on a tie
+        state = states[checkpoint]
+    elif not Path(checkpoint).is_file():
+        raise FileNotFoundError(f"{checkpoint}: no such checkpoint")
+    else:
+        state = load_state(Path(checkpoint))
     checkpoint = Path(checkpoint).resolve()
-    state = load_state(checkpoint)
     return RunInfo(run_dir, state["config"], checkpoint, int(state.get("frames", 0)))
 
 

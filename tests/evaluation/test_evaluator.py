@@ -25,6 +25,17 @@ def test_run_info_reads_the_run_directory(tiny_run):
     assert find_runs([tiny_run.parent]) == [tiny_run]
 
 
+def test_run_info_takes_whichever_model_trained_longer(tiny_run):
+    """A resumed session killed before its end leaves a newer last.pt beside an older model.pt."""
+    final = torch.load(tiny_run / "model.pt", weights_only=False)
+    checkpoint = tiny_run / "checkpoints" / "last.pt"
+    checkpoint.parent.mkdir()
+    torch.save({**final, "frames": 5000}, checkpoint)
+    assert (run_info(tiny_run).checkpoint, run_info(tiny_run).frames) == (checkpoint, 5000)
+    torch.save({**final, "frames": 1000}, checkpoint)  # the same run's end: model.pt
+    assert run_info(tiny_run).checkpoint == tiny_run / "model.pt"
+
+
 def test_protocol_counts_and_schema(tiny_run):
     records = evaluate_run(run_info(tiny_run), TINY, progress=False)
     assert [r.test_set for r in records] == ["pcg0.5"] * 2 + ["pcg1"] * 2 + list(TEST_SETS[2:])
