@@ -109,9 +109,13 @@ class RunLog:
 
 
 def read_log(path: Path) -> list[dict[str, float]]:
-    """The rows of a ``log.csv`` as floats."""
+    """The rows of a ``log.csv`` as floats; a last row cut short (a run killed while writing it)
+    is left out."""
     with open(path, newline="") as f:
-        return [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
+        rows = list(csv.DictReader(f))
+    if rows and any(value in (None, "") for value in rows[-1].values()):
+        rows.pop()
+    return [{k: float(v) for k, v in row.items()} for row in rows]
 
 
 def cut_log(path: Path, frames: int) -> int:
@@ -130,12 +134,14 @@ def cut_log(path: Path, frames: int) -> int:
 
 
 def cut_torchrl_csv(scalars_dir: Path, frames: int) -> None:
-    """Drop the ``step,value`` lines after ``frames`` from TorchRL's CSV logger files."""
+    """Drop the ``step,value`` lines after ``frames`` from TorchRL's CSV logger files (and a last
+    line cut short)."""
     for path in scalars_dir.glob("*.csv") if scalars_dir.is_dir() else []:
-        lines = [
-            line for line in path.read_text().splitlines() if line and float(line.split(",")[0]) <= frames
-        ]
-        path.write_text("".join(line + "\n" for line in lines))
+        lines = path.read_text().splitlines()
+        if lines and not path.read_text().endswith("\n"):
+            lines.pop()  # the run was killed while writing it
+        kept = [line for line in lines if line and float(line.split(",")[0]) <= frames]
+        path.write_text("".join(line + "\n" for line in kept))
 
 
 def make_torchrl_logger(name: str, run_dir: Path):
