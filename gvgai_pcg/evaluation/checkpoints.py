@@ -15,6 +15,8 @@ from pathlib import Path
 import torch
 from tensordict import TensorDictBase
 
+from gvgai_pcg.evaluation.runner import SAMPLE_KEY
+
 FINAL_MODEL = "model.pt"
 LAST_CHECKPOINT = Path("checkpoints") / "last.pt"
 
@@ -133,7 +135,8 @@ class ActorCriticPolicy:
     def __call__(self, tensordict: TensorDictBase) -> torch.Tensor:
         from gvgai_pcg.rl.agent import policy_actions
 
-        return policy_actions(self.net, tensordict.get(self.obs_key), self.greedy, self.generator)
+        draws = tensordict.get(SAMPLE_KEY, None)
+        return policy_actions(self.net, tensordict.get(self.obs_key), self.greedy, self.generator, draws)
 
 
 def observation_shape(game: str, obs: str) -> tuple[int, int, int]:

@@ -3,10 +3,17 @@
 Every env of the batch is given its own level (``LevelPerEnv``) and plays exactly one episode;
 an env that finishes keeps being stepped with the others but is no longer recorded, so the
 results are those of the first episode of each env.
+
+An episode's outcome depends only on the seed, its level and how many copies of that level come
+before it, never on the rest of the batch: its env's seed is made from those three, and at every
+step the runner hands each env a uniform number drawn from its own seed and the step
+(``SAMPLE_KEY``), which the policies sample their actions with.
 """
 
 from __future__ import annotations
 
+import hashlib
+from collections import Counter
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -15,9 +22,34 @@ from tensordict import TensorDictBase
 from tqdm.auto import tqdm
 
 from gvgai_pcg.envs import GVGAIEnv, LevelPerEnv
+from gvgai_pcg.games.rng import derive_seeds, mix64, uniform
 from gvgai_pcg.levels import Level
 
 Policy = Callable[[TensorDictBase], torch.Tensor]
+SAMPLE_KEY = "action_uniform"  # [B] float64 U[0, 1): the env's own random number for this step
+STREAM_ACTIONS = 1
+
+
+def episode_seeds(levels: Sequence[Level], seed: int) -> torch.Tensor:
+    """``[N]`` int64 env seeds: entry i's is a function of ``seed``, its level's content and how
+    many equal levels come before it in ``levels``."""
+    copies: Counter[Level] = Counter()
+    keys = []
+    for level in levels:
+        digest = hashlib.blake2b(f"{level.game}\n{level}".encode(), digest_size=8).digest()
+        keys.append((int.from_bytes(digest, "little", signed=True), copies[level]))
+        copies[level] += 1
+    content, repeat = torch.tensor(keys, dtype=torch.int64).reshape(-1, 2).unbind(-1)
+    base = derive_seeds(seed, 1)
+    return mix64(mix64(base ^ content) ^ repeat)
+
+
+def sample_actions(probabilities: torch.Tensor, uniform_draws: torch.Tensor) -> torch.Tensor:
+    """``[B]`` actions drawn from ``probabilities`` ``[B, A]`` by inverting their CDF at
+    ``uniform_draws`` ``[B]``."""
+    cdf = probabilities.to(torch.float64).cumsum(-1)
+    below = (cdf < uniform_draws.to(cdf.device).unsqueeze(-1) * cdf[:, -1:]).sum(-1)
+    return below.clamp(max=probabilities.shape[-1] - 1)
 
 
 @dataclass
@@ -47,8 +79,9 @@ def play_episodes(
         obs=obs,
         max_steps=max_steps,
         device=device,
-        seed=seed,
+        seed=episode_seeds(levels, seed).tolist(),
     )
+    env_seeds = env.env_seeds
     n = len(levels)
     scores = torch.zeros(n, device=env.device)
     lengths = torch.zeros(n, dtype=torch.int64, device=env.device)
@@ -57,6 +90,8 @@ def play_episodes(
     td = env.reset()
     bar = tqdm(total=max_steps, desc=f"{game}: {n} episodes", unit="step", disable=not progress, leave=False)
     for step in range(1, max_steps + 1):
+        draws = uniform(env_seeds, torch.full_like(env_seeds, step), 0, STREAM_ACTIONS)
+        td.set(SAMPLE_KEY, draws.to(env.device))
         td.set("action", policy(td))
         td = env.step(td).get("next")
         done = td.get("done").squeeze(-1) & ~finished

@@ -7,6 +7,7 @@ from pathlib import Path
 import torch
 from tensordict import TensorDictBase
 
+from gvgai_pcg.evaluation.runner import SAMPLE_KEY, sample_actions
 from gvgai_pcg.games import get_game
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.levels import level_format
@@ -14,13 +15,21 @@ from gvgai_pcg.rl.models import ActorCritic, make_actor_critic
 
 
 def policy_actions(
-    net: ActorCritic, observation: torch.Tensor, greedy: bool, generator: torch.Generator
+    net: ActorCritic,
+    observation: torch.Tensor,
+    greedy: bool,
+    generator: torch.Generator,
+    draws: torch.Tensor | None = None,
 ) -> torch.Tensor:
-    """``[B]`` actions of an actor-critic: sampled from its softmax with ``generator``, or the argmax."""
+    """``[B]`` actions of an actor-critic: the argmax, or sampled from its softmax, with the
+    evaluation runner's per-env uniform ``draws`` if given, else with ``generator``."""
     logits, _ = net(observation)
     if greedy:
         return logits.argmax(-1)
-    return torch.multinomial(logits.float().softmax(-1), 1, generator=generator).squeeze(-1)
+    probabilities = logits.float().softmax(-1)
+    if draws is not None:
+        return sample_actions(probabilities, draws)
+    return torch.multinomial(probabilities, 1, generator=generator).squeeze(-1)
 
 
 class TrainedAgent:
@@ -52,4 +61,5 @@ class TrainedAgent:
 
     @torch.no_grad()
     def __call__(self, tensordict: TensorDictBase) -> torch.Tensor:
-        return policy_actions(self.net, tensordict.get(self.obs_key), self.greedy, self.generator)
+        draws = tensordict.get(SAMPLE_KEY, None)
+        return policy_actions(self.net, tensordict.get(self.obs_key), self.greedy, self.generator, draws)
