@@ -16,6 +16,10 @@ from gvgai_pcg.levels import Level, human_levels
 from gvgai_pcg.levels.test_sets import TEST_DIFFICULTIES, TEST_SET_SIZE, frozen_test_set, set_name
 
 HUMAN_SETS = tuple(f"lv{i}" for i in range(5))
+# Bumped when the same settings would give other results (2: per-env seeds and action draws, so
+# that a level's result does not depend on the rest of the batch); part of ``Protocol.key``, so
+# results cached under an older method are not reused.
+METHOD_VERSION = 2
 TEST_SETS = tuple(set_name(d) for d in TEST_DIFFICULTIES) + HUMAN_SETS
 
 
@@ -43,7 +47,7 @@ class Protocol:
     @property
     def key(self) -> str:
         """A short stable id of these settings (names cached results and result files)."""
-        text = json.dumps(self.as_dict(), sort_keys=True)
+        text = json.dumps({**self.as_dict(), "method": METHOD_VERSION}, sort_keys=True)
         return hashlib.sha256(text.encode()).hexdigest()[:10]
 
 
