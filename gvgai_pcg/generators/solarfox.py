@@ -21,6 +21,7 @@ from gvgai_pcg.levels.level import Level
 WIDTH, HEIGHT = 10, 11
 EMPTY, PILL, POWER_PILL = 0, 1, 2
 LEFT_RIGHT, TOP_BOTTOM, BOTH = 0, 1, 2
+MAX_ATTEMPTS = 100  # draws of one level; a draw has no pill with probability about 1e-5
 
 
 def parameters(difficulty: float, r: UniformStream) -> tuple[int, float, int, int]:
@@ -90,8 +91,21 @@ def place_pills(grid: list[list[int]], pills: int, concentration: float, r: Unif
 
 @register_generator("solarfox")
 def generate(difficulty: float, seed: int) -> Level:
-    """A 10x11 Solarfox level at ``difficulty``; the same seed gives the same level."""
-    r = UniformStream(np.random.default_rng(seed))
+    """A 10x11 Solarfox level at ``difficulty``; the same seed gives the same level.
+
+    The player's tile can erase the only pills (a few seeds in 100,000 at d = 0, where the pills
+    crowd the centre), which would leave a level won at its first tick; such a draw is redrawn
+    from the seed's next stream (docs/fidelity.md)."""
+    for attempt in range(MAX_ATTEMPTS):
+        rng = np.random.default_rng(seed if attempt == 0 else [seed, attempt])
+        rows = _draw(difficulty, UniformStream(rng))
+        if any("b" in row or "p" in row for row in rows):
+            return generated_level("solarfox", rows, difficulty, seed)
+    raise RuntimeError(f"solarfox: no draw with a pill in {MAX_ATTEMPTS} (d={difficulty}, seed={seed})")
+
+
+def _draw(difficulty: float, r: UniformStream) -> list[str]:
+    """The rows of one draw of the original algorithm."""
     pills, concentration, enemy_start, enemy_end = parameters(difficulty, r)
     grid = [[EMPTY] * WIDTH for _ in range(HEIGHT)]
     player_x = math.floor(WIDTH / 2 + 2 * r() - 1)
@@ -111,4 +125,4 @@ def generate(difficulty: float, seed: int) -> Level:
     chars[HEIGHT - 1][WIDTH // 2 + bottom] = "1"
     for row in chars:
         row[0] = row[-1] = "w"
-    return generated_level("solarfox", ["".join(row) for row in chars], difficulty, seed)
+    return ["".join(row) for row in chars]
