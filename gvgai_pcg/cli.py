@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import importlib.util
+import os
 import sys
 
 COMMANDS: dict[str, str] = {
@@ -23,6 +24,9 @@ COMMANDS: dict[str, str] = {
     "replay": "Render an episode of a trained agent as an animated GIF",
 }
 RAW_ARGUMENT_COMMANDS = {"train"}
+# What a command raises for bad input (a malformed level file is a ValueError naming its file,
+# line and column): one line on stderr, not a traceback. GVGAI_PCG_DEBUG=1 shows the traceback.
+USER_ERRORS = (ValueError, OSError, OverflowError)
 
 
 def _command_module(name: str):
@@ -55,7 +59,12 @@ def main(argv: list[str] | None = None) -> int:
         if name == chosen and name not in RAW_ARGUMENT_COMMANDS:
             _command_module(name).add_arguments(sub_parser)
     args = parser.parse_args(argv)
-    return int(_command_module(args.command).run(args) or 0)
+    try:
+        return int(_command_module(args.command).run(args) or 0)
+    except USER_ERRORS as error:
+        if os.environ.get("GVGAI_PCG_DEBUG"):
+            raise
+        parser.exit(2, f"gvgai-pcg {args.command}: error: {error}\n")
 
 
 if __name__ == "__main__":

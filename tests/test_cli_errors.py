@@ -1,0 +1,38 @@
+"""Bad input to a command ends in one line naming the problem, not a traceback."""
+
+from __future__ import annotations
+
+import pytest
+
+from gvgai_pcg.cli import main
+
+
+def _error_of(argv: list[str], capsys) -> str:
+    with pytest.raises(SystemExit) as exit_info:
+        main(argv)
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+    return err
+
+
+def test_a_malformed_level_file_names_file_line_and_column(tmp_path, capsys):
+    bad = tmp_path / "zelda_bad.txt"
+    bad.write_text("wwww\nwAgw\nwwXw\n")
+    err = _error_of(["play", "--game", "zelda", "--level", str(bad)], capsys)
+    assert f"{bad}, line 3, column 3" in err and "valid characters" in err
+
+
+@pytest.mark.parametrize(
+    ("argv", "says"),
+    [
+        (["play", "--game", "zelda", "--level", "missing_file.txt"], "No such file"),
+        (["play", "--game", "zelda", "--level", "zelda_lvl7"], "0..4"),
+        (["play", "--game", "zelda", "--level", "frogs_lvl0"], "frogs level, not a zelda one"),
+        (["analyze", "--game", "zelda", "--count", "30", "--eps", "-1"], "eps"),
+    ],
+)
+def test_bad_input_is_one_line(argv, says, capsys, tmp_path):
+    if argv[0] == "analyze":
+        argv = [*argv, "--out", str(tmp_path)]
+    assert says in _error_of(argv, capsys)
