@@ -19,6 +19,7 @@ import time
 from pathlib import Path
 
 from gvgai_pcg.levels import LEVEL_FORMATS, Level, human_levels
+from gvgai_pcg.levels.human import check_named_game
 
 DIFFICULTY_IN_NAME = re.compile(r"_d(?:if)?(\d+(?:\.\d+)?)(?:_|$)")
 
@@ -67,6 +68,8 @@ def generated_levels(args: argparse.Namespace) -> tuple[list[Level], list[float 
         paths = sorted(args.levels.glob("*.txt"))
         if not paths:
             raise SystemExit(f"--levels {args.levels}: no .txt level files there")
+        for path in paths:
+            check_named_game(path.stem, args.game)
         levels = [Level.load(path, args.game) for path in paths]
         return levels, [_difficulty_in_name(path.stem) for path in paths]
     from gvgai_pcg.generators import generate_level

@@ -79,11 +79,9 @@ class Level:
 
     @classmethod
     def parse(cls, text: str, game: str, source: str = "<string>", name: str | None = None) -> Level:
-        """Parse and validate a level text; one trailing newline (or none) is accepted."""
+        """Parse and validate a level text; trailing newlines (empty last lines) are dropped."""
         fmt = level_format(game)
-        text = text.replace("\r\n", "\n")
-        if text.endswith("\n"):
-            text = text[:-1]
+        text = text.replace("\r\n", "\n").rstrip("\n")
         if not text.strip():
             raise LevelFormatError(f"empty level (a {game} level needs at least one row)", source)
         rows = text.split("\n")

@@ -21,9 +21,21 @@ def test_human_levels_load_with_their_sizes(game):
         assert Level.parse(str(level), game) == level
 
 
-def test_trailing_newline_is_optional():
+def test_trailing_newlines_are_optional():
     assert Level.parse("wAgw\n", "zelda") == Level.parse("wAgw", "zelda")
     assert Level.parse("wAgw\r\n", "zelda").rows == ("wAgw",)
+    assert Level.parse("wwww\nwAgw\n\n\n", "zelda").rows == ("wwww", "wAgw")  # blank lines at the end
+    with pytest.raises(LevelFormatError, match="line 2"):
+        Level.parse("wwww\n\nwAgw\n", "zelda")  # but not between rows
+
+
+def test_a_level_named_after_another_game_is_refused(tmp_path):
+    path = tmp_path / "boulderdash_custom.txt"
+    path.write_text("wwww\nwAgw\nwwww\n")  # parses as zelda too
+    for spec in ("boulderdash_lvl0", str(path)):
+        with pytest.raises(ValueError, match="boulderdash level, not a zelda one"):
+            resolve_level(spec, "zelda")
+    assert resolve_level("zelda_lvl1", "zelda") == human_level("zelda", 1)
 
 
 def test_str_round_trips_a_file(tmp_path):
