@@ -15,6 +15,8 @@ from gvgai_pcg.generators import generate_level, registered_generators
 from gvgai_pcg.generators.registry import check_difficulty
 from gvgai_pcg.levels.level import Level
 
+MAX_SWEEP = 10_001  # difficulties in one sweep (0:1:0.0001)
+
 
 def difficulties(spec: str) -> list[float]:
     """``"0.5"`` -> [0.5]; ``"0:1:0.25"`` -> [0, 0.25, 0.5, 0.75, 1] (stop included)."""
@@ -29,7 +31,15 @@ def difficulties(spec: str) -> list[float]:
         sweep = values
     elif len(values) == 3 and values[2] > 0 and values[0] <= values[1]:
         start, stop, step = values
+        try:
+            check_difficulty(start), check_difficulty(stop)
+        except ValueError as error:
+            raise argparse.ArgumentTypeError(str(error)) from None
         steps = int((stop - start) / step + 1e-9)
+        if steps >= MAX_SWEEP:
+            raise argparse.ArgumentTypeError(
+                f"a difficulty sweep has at most {MAX_SWEEP:,} values, got {steps + 1:,} from {spec!r}"
+            )
         sweep = [round(start + i * step, 10) for i in range(steps + 1)]
     else:
         raise argparse.ArgumentTypeError(

@@ -46,6 +46,14 @@ def frame(rows: list[str], game: str, pad: str = "w") -> list[str]:
     return [full] * top + [left_pad + row + right_pad for row in rows] + [full] * (fmt.height - height - top)
 
 
+def difficulty_tag(difficulty: float) -> str:
+    """``d`` as level names write it: plain decimals (no exponent), to 10 places, so that distinct
+    difficulties of a sweep get distinct names and a PPCG value such as 0.37000000000000005
+    reads 0.37."""
+    return np.format_float_positional(difficulty, precision=10, trim="-")
+
+
 def generated_level(game: str, rows: list[str], difficulty: float, seed: int) -> Level:
     """The Level a generator returns, named ``<game>_d<d>_s<seed>`` and carrying its seed."""
-    return Level(game=game, rows=tuple(rows), name=f"{game}_d{difficulty:g}_s{seed}", seed=seed)
+    name = f"{game}_d{difficulty_tag(difficulty)}_s{seed}"
+    return Level(game=game, rows=tuple(rows), name=name, seed=seed)

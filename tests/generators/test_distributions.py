@@ -18,6 +18,7 @@ from generator_formulas import (
 from generator_samples import DIFFICULTIES, GAMES, sample
 
 from gvgai_pcg.generators import generate_level
+from gvgai_pcg.generators._common import difficulty_tag
 from gvgai_pcg.generators.counts import level_counts
 from gvgai_pcg.generators.validation import playability_problems
 from gvgai_pcg.levels.level import Level
@@ -41,7 +42,7 @@ def test_every_level_parses_validates_and_is_named(game, d):
         parsed = Level.parse(str(level), game)
         assert parsed == level and (parsed.width, parsed.height) == (level.format.width, level.format.height)
         assert playability_problems(level) == [], (seed, str(level))
-        assert level.seed == seed and level.name == f"{game}_d{d:g}_s{seed}"
+        assert level.seed == seed and level.name == f"{game}_d{difficulty_tag(d)}_s{seed}"
 
 
 @pytest.mark.parametrize("game", GAMES)

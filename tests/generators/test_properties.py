@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from gvgai_pcg.generators import generate_level
-from gvgai_pcg.generators._common import UniformStream
+from gvgai_pcg.generators._common import UniformStream, difficulty_tag
 from gvgai_pcg.generators.solarfox import _draw
 from gvgai_pcg.generators.validation import playability_problems
 from gvgai_pcg.levels.level import Level
@@ -26,7 +26,7 @@ def test_valid_full_size_reproducible(game, d, seed):
     assert (parsed.width, parsed.height) == (level.format.width, level.format.height)
     assert playability_problems(level) == []
     assert generate_level(game, d, seed).rows == level.rows
-    assert level.seed == seed and level.name == f"{game}_d{d:g}_s{seed}"
+    assert level.seed == seed and level.name == f"{game}_d{difficulty_tag(d)}_s{seed}"
 
 
 # Seeds whose first draw at d = 0 puts the player on the only pills (found by a sweep of 300,000).
