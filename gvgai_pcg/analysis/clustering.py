@@ -41,8 +41,11 @@ class Cluster:
 def project(features: np.ndarray, seed: int = 0) -> Projection:
     """PCA of ``features`` ``[N, F]`` to 2-D; ``seed`` fixes sklearn's randomized SVD solver."""
     pca = PCA(n_components=2, random_state=seed)
-    coords = pca.fit_transform(features.astype(np.float64))
-    return Projection(coords=coords, explained_variance_ratio=pca.explained_variance_ratio_)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        coords = pca.fit_transform(features.astype(np.float64))
+    # Identical levels have no variance to explain: sklearn's 0/0 ratios become 0 (NaN is no JSON).
+    ratio = np.nan_to_num(pca.explained_variance_ratio_, nan=0.0)
+    return Projection(coords=coords, explained_variance_ratio=ratio)
 
 
 def cluster_labels(coords: np.ndarray, eps: float = 0.5, min_samples: int = 10) -> np.ndarray:

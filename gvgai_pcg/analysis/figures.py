@@ -68,11 +68,7 @@ def scatter_figure(analysis: LevelDistribution, path: Path, by: str = "cluster")
     ax.set_xticks([])
     ax.set_yticks([])
     ax.set_title(f"PCA on {game_title(analysis.game)} levels")
-    fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
-    return path
+    return _save(fig, path, dpi=150)
 
 
 def _draw_clusters(ax: plt.Axes, analysis: LevelDistribution) -> None:
@@ -127,6 +123,11 @@ def representatives_figure(analysis: LevelDistribution, path: Path) -> Path:
     for human in analysis.humans:
         status = "outlier" if human.outlier else f"cluster {human.cluster}"
         panels.append((analysis.levels[human.point], f"human {human.index}: {status}"))
+    if not panels:  # all noise and no human level: say so rather than draw nothing
+        fig, ax = plt.subplots(figsize=(4, 1.2))
+        ax.axis("off")
+        ax.text(0.5, 0.5, "no clusters and no human levels", ha="center", va="center")
+        return _save(fig, path)
     images = level_images([level for level, _ in panels])
     columns = min(PANEL_COLUMNS, len(panels))
     rows = -(-len(panels) // columns)
@@ -141,8 +142,12 @@ def representatives_figure(analysis: LevelDistribution, path: Path) -> Path:
         ax.imshow(image, interpolation="nearest")
         ax.set_title(title, fontsize=8)
     fig.suptitle(f"{game_title(analysis.game)}: cluster representatives and human levels", fontsize=10)
+    return _save(fig, path)
+
+
+def _save(fig, path: Path, dpi: int = 120) -> Path:
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
+    fig.savefig(path, dpi=dpi)
     plt.close(fig)
     return path

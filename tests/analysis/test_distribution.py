@@ -1,7 +1,11 @@
+import json
+import warnings
+
 import numpy as np
 import pytest
 
 from gvgai_pcg.analysis import NOISE, analyze_levels
+from gvgai_pcg.analysis.figures import representatives_figure
 from gvgai_pcg.generators import generate_level
 from gvgai_pcg.levels import Level, human_levels
 
@@ -60,3 +64,20 @@ def test_a_human_level_far_from_everything_is_an_outlier_with_a_high_percentile(
 def test_too_few_generated_levels_are_refused():
     with pytest.raises(ValueError, match="at least 2 generated levels"):
         analyze_levels([generate_level("zelda", 1.0, 0)], human_levels("zelda"))
+
+
+def test_identical_levels_give_a_strict_json_summary():
+    """Identical levels leave PCA nothing to explain (sklearn's ratios are 0/0)."""
+    level = generate_level("zelda", 0.5, 1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        analysis = analyze_levels([level] * 20, [])
+    summary = json.loads(json.dumps(analysis.as_dict(), allow_nan=False))
+    assert summary["pca_explained_variance_ratio"] == [0.0, 0.0]
+
+
+def test_no_clusters_and_no_human_levels_still_draw_a_figure(tmp_path):
+    analysis = analyze_levels([generate_level("zelda", 1.0, s) for s in range(12)], [], eps=1e-6)
+    assert not analysis.clusters and not analysis.humans
+    path = representatives_figure(analysis, tmp_path / "representatives.png")
+    assert path.read_bytes()[:4] == b"\x89PNG"
