@@ -2,7 +2,8 @@
 
 RUNS are run directories or a Hydra multirun directory. Runs without results for the protocol
 are evaluated first (``--no-evaluate`` only reads existing results), the random agent comes from
-its cache, and the report is written to ``--out`` (default: ``<first RUNS>/report``): a table per
+its cache, and the report is written to ``--out`` (default: ``<first RUNS>/report``, or beside the
+run when the first of RUNS is a single run directory): a table per
 game as ``results.md``, ``results.csv`` and ``results.html``, and ``curves-<game>.png/.svg``.
 """
 
@@ -17,7 +18,9 @@ from gvgai_pcg.evaluation.checkpoints import is_run_dir
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("runs", nargs="+", type=Path, help="run directories or multirun directories")
-    parser.add_argument("--out", type=Path, help="report directory (default: <first RUNS>/report)")
+    parser.add_argument(
+        "--out", type=Path, help="report directory (default: <first RUNS>/report, beside it for a single run)"
+    )
     parser.add_argument("--no-evaluate", action="store_true", help="use existing results only")
     add_protocol_arguments(parser)
 

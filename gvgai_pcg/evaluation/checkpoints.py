@@ -80,7 +80,8 @@ def find_runs(paths: list[Path]) -> list[Path]:
         if not path.exists():
             raise FileNotFoundError(f"{path}: no such run or multirun directory")
         candidates = [path] if is_run_dir(path) else sorted(p.parent for p in path.rglob("config.yaml"))
-        found += [p for p in candidates if is_run_dir(p) and p not in found]
+        # Compared resolved: one run named twice (relative and absolute, via a link) counts once.
+        found += [p for p in map(Path.resolve, candidates) if is_run_dir(p) and p not in found]
     return found
 
 

@@ -116,6 +116,13 @@ def random_results_path(game: str, protocol: Protocol, cache_dir: Path | None = 
     return (cache_dir or default_cache_dir()) / "random" / f"{game}-{protocol.key}.jsonl"
 
 
+def records_are_current(records: list[LevelRecord], info: RunInfo) -> bool:
+    """Whether ``records`` were made from the run's present model (its checkpoint and frames)."""
+    return bool(records) and all(
+        r.frames == info.frames and r.checkpoint == str(info.checkpoint) for r in records
+    )
+
+
 def evaluate_run(
     info: RunInfo, protocol: Protocol, device: str = "cpu", progress: bool = True, force: bool = False
 ) -> list[LevelRecord]:
@@ -123,7 +130,7 @@ def evaluate_run(
     path = run_results_path(info.path, protocol)
     if path.is_file() and not force:
         records = read_records(path)
-        if records and all(r.frames == info.frames and r.checkpoint == str(info.checkpoint) for r in records):
+        if records_are_current(records, info):
             return records
     policy = load_policy(info, greedy=protocol.greedy, seed=protocol.seed, device=device)
     records = evaluate_policy(info.game, policy, protocol, str(info.path), info.obs, device, progress)

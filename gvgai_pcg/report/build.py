@@ -14,12 +14,13 @@ from gvgai_pcg.evaluation.evaluator import (
     evaluate_run,
     random_results_path,
     read_records,
+    records_are_current,
     run_results_path,
 )
 from gvgai_pcg.evaluation.protocol import Protocol, protocol_test_sets
 from gvgai_pcg.report.curves import plot_curves, pool_runs
 from gvgai_pcg.report.render import html_report, markdown_report, write_csv
-from gvgai_pcg.report.table import GameTable, RunResults, build_table
+from gvgai_pcg.report.table import GameTable, RunResults, build_table, format_frames
 
 log = logging.getLogger(__name__)
 
@@ -40,8 +41,18 @@ def run_results(
     path = run_results_path(info.path, protocol)
     if evaluate:
         records = evaluate_run(info, protocol, device, progress, force)
+    elif path.is_file() and records_are_current(records := read_records(path), info):
+        pass
     elif path.is_file():
-        records = read_records(path)
+        log.warning(
+            "%s: its results for protocol %s are of another model than its %s (%d frames); left out "
+            "(run without --no-evaluate)",
+            info.path,
+            protocol.key,
+            info.checkpoint.name,
+            info.frames,
+        )
+        return None
     else:
         log.warning(
             "%s has no results for protocol %s; left out (run without --no-evaluate)", info.path, protocol.key
@@ -93,9 +104,11 @@ def build_report(
         ]
         baseline = random_records(game, protocol, cache_dir, evaluate, device, progress, force)
         tables.append(build_table(game, protocol_test_sets(game, protocol), baseline, results))
+        # One figure panel per row of the table: a condition is a regimen and a frame count.
         conditions: dict[str, list[Path]] = {}
-        for info in game_runs:
-            conditions.setdefault(info.label, []).append(info.path)
+        in_table = {result.path for result in results}
+        for info in (info for info in game_runs if str(info.path) in in_table):
+            conditions.setdefault(f"{info.label} ({format_frames(info.frames)})", []).append(info.path)
         curves = [c for label, dirs in conditions.items() if (c := pool_runs(label, dirs)) is not None]
         if curves:
             figures[game] = plot_curves(game, curves, out_dir / f"curves-{game}")

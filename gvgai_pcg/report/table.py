@@ -60,10 +60,12 @@ class GameTable:
 
 
 def format_frames(frames: int) -> str:
-    """``40M``, ``1.5M``, ``200k``, ``640``."""
+    """``40M``, ``1.5M``, ``200k``, ``640`` (three significant digits, the unit chosen after
+    rounding: 999,600 is ``1M``, not ``1e+03k``)."""
+    rounded = float(f"{frames:.3g}")
     for unit, size in (("M", 1_000_000), ("k", 1_000)):
-        if frames >= size:
-            return f"{frames / size:.3g}{unit}"
+        if rounded >= size:
+            return f"{rounded / size:g}{unit}"
     return str(frames)
 
 

@@ -4,6 +4,7 @@ import csv
 import math
 
 import pytest
+import torch
 
 from gvgai_pcg.cli import main
 from gvgai_pcg.evaluation.evaluator import LevelRecord, random_results_path, run_results_path, write_records
@@ -11,6 +12,7 @@ from gvgai_pcg.evaluation.max_score import mean_max_score
 from gvgai_pcg.evaluation.protocol import Protocol, protocol_test_sets
 from gvgai_pcg.report import build_report
 from gvgai_pcg.report.render import markdown_table
+from gvgai_pcg.report.table import format_frames
 from tests.evaluation.conftest import make_run, write_log
 
 PROTOCOL = Protocol(test_levels=2, test_episodes=1, human_episodes=2, max_steps=10)
@@ -42,7 +44,8 @@ def multirun(tmp_path):
     for (regimen, seed), scores in runs.items():
         frames = 1000 if regimen == "lv0" else 2000
         run_dir = make_run(root, regimen, seed, frames=frames)
-        write_records(run_results_path(run_dir, PROTOCOL), fake_records(str(run_dir), scores, frames))
+        model = str((run_dir / "model.pt").resolve())
+        write_records(run_results_path(run_dir, PROTOCOL), fake_records(str(run_dir), scores, frames, model))
         write_log(run_dir, [(f, seed + f / 1000, 0.1 * f / 1000 if regimen == "ppcg" else math.nan) for f in
                             range(100, frames + 1, 100)])  # fmt: skip
     random = fake_records("random", {s: [-1.0] * 2 for s in ("pcg0.5", "pcg1", "lv0", *HUMAN)})
@@ -104,3 +107,57 @@ def test_report_command(multirun, tmp_path, capsys):
     assert main(["report", str(multirun), *args, *cache, "--no-evaluate"]) == 0
     assert (multirun / "report" / "results.md").is_file() and (multirun / "report" / "results.html").is_file()
     assert "PPCG (2k)" in capsys.readouterr().out
+
+
+def _rows(report) -> dict[str, int]:
+    """Trained row name -> number of runs behind it (from the CSV's Lv 0 column)."""
+    with open(report.csv) as handle:
+        rows = [r for r in csv.DictReader(handle) if r["test_set"] == "lv0"]
+    return {r["row"]: int(r["runs"]) for r in rows if r["row"] not in ("Max", "Random")}
+
+
+def _curve_labels(monkeypatch) -> list[str]:
+    labels: list[str] = []
+    monkeypatch.setattr(
+        "gvgai_pcg.report.build.plot_curves",
+        lambda game, curves, out: labels.extend(c.label for c in curves) or [],
+    )
+    return labels
+
+
+def test_curves_follow_the_rows_of_the_table(multirun, tmp_path, monkeypatch):
+    """A condition is a regimen and a frame count, in the curves as in the table."""
+    longer = make_run(multirun, "lv0", seed=2, frames=2000)
+    scores = {"pcg0.5": [0, 0], "pcg1": [0, 0], "lv0": [5, 5], **dict.fromkeys(HUMAN, [0, 0])}
+    model = str((longer / "model.pt").resolve())
+    write_records(run_results_path(longer, PROTOCOL), fake_records(str(longer), scores, 2000, model))
+    write_log(longer, [(f, 1.0, math.nan) for f in range(100, 2001, 100)])
+    labels = _curve_labels(monkeypatch)
+    report = build_report([multirun], tmp_path / "out", PROTOCOL, tmp_path / "cache", evaluate=False)
+    assert _rows(report) == {"Lv 0 (1k)": 2, "Lv 0 (2k)": 1, "PPCG (2k)": 1}
+    assert sorted(labels) == ["Lv 0 (1k)", "Lv 0 (2k)", "PPCG (2k)"]
+
+
+def test_results_of_an_older_model_are_left_out_without_evaluating(multirun, tmp_path, monkeypatch):
+    retrained = multirun / "zelda-lv0-seed1"
+    saved = torch.load(retrained / "model.pt", weights_only=False)
+    torch.save({**saved, "frames": 1500}, retrained / "model.pt")  # trained on; results are of 1k
+    labels = _curve_labels(monkeypatch)
+    report = build_report([multirun], tmp_path / "out", PROTOCOL, tmp_path / "cache", evaluate=False)
+    assert _rows(report) == {"Lv 0 (1k)": 1, "PPCG (2k)": 1}
+    assert sorted(labels) == ["Lv 0 (1k)", "PPCG (2k)"]
+
+
+def test_a_run_named_twice_counts_once(multirun, tmp_path, monkeypatch):
+    run = multirun / "zelda-ppcg-seed0"
+    monkeypatch.chdir(multirun)
+    paths = [run, run.relative_to(multirun), multirun]
+    report = build_report(paths, tmp_path / "out", PROTOCOL, tmp_path / "cache", evaluate=False)
+    assert _rows(report) == {"Lv 0 (1k)": 2, "PPCG (2k)": 1}
+
+
+@pytest.mark.parametrize(
+    ("frames", "text"), [(640, "640"), (1000, "1k"), (79_360, "79.4k"), (999_600, "1M"), (40_000_000, "40M")]
+)
+def test_frame_counts_are_written_short(frames, text):
+    assert format_frames(frames) == text
