@@ -19,9 +19,21 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--greedy", action="store_true", help="argmax actions instead of sampling")
     parser.add_argument("--max-steps", type=int, default=2000)
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--fps", type=float, default=10.0)
-    parser.add_argument("--scale", type=int, default=2, help="pixels per game pixel")
+    parser.add_argument("--fps", type=_positive(float), default=10.0)
+    parser.add_argument("--scale", type=_positive(int), default=2, help="pixels per game pixel")
     parser.add_argument("--device", default="cpu")
+
+
+def _positive(kind: type):
+    """An argparse type: a number of ``kind`` above zero."""
+
+    def parse(text: str):
+        value = kind(text)
+        if not value > 0:
+            raise argparse.ArgumentTypeError(f"must be above 0, got {text}")
+        return value
+
+    return parse
 
 
 def resolve_any_level(spec: str, game: str):

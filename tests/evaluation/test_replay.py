@@ -1,5 +1,6 @@
 """Replays: one frame per step plus the reset frame, written as an animated GIF."""
 
+import pytest
 import torch
 from PIL import Image
 
@@ -38,3 +39,11 @@ def test_replay_command(tiny_run, tmp_path, capsys):
     with Image.open(out) as gif:
         assert gif.n_frames == int(capsys.readouterr().out.split(": ")[1].split()[0])
         assert gif.n_frames <= 9
+
+
+@pytest.mark.parametrize("option", [["--fps", "0"], ["--fps", "-5"], ["--scale", "0"]])
+def test_replay_refuses_a_frame_rate_or_scale_that_is_not_positive(option, tiny_run, tmp_path, capsys):
+    with pytest.raises(SystemExit):
+        main(["replay", str(tiny_run), "--level", "zelda_lvl0", "--out", str(tmp_path / "a.gif"), *option])
+    assert "must be above 0" in capsys.readouterr().err
+    assert not (tmp_path / "a.gif").exists()
