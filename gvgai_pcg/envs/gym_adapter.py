@@ -142,14 +142,17 @@ class Regimen:
             device=device,
         )
 
-    def apply_options(self, options: dict[str, Any] | None, env_indices: Sequence[int]) -> None:
-        """Reset options: ``level`` (played by the resetting envs this episode), ``difficulty``."""
+    def apply_options(
+        self, options: dict[str, Any] | None, env_indices: Sequence[int], vector: bool = False
+    ) -> None:
+        """Reset options: ``level`` (played by the resetting envs this episode), ``difficulty``,
+        and for a vector env ``reset_mask`` (read by the vector env itself)."""
         options = options or {}
-        unknown = set(options) - {"level", "difficulty", "reset_mask"}
+        valid = ("level", "difficulty", "reset_mask") if vector else ("level", "difficulty")
+        unknown = set(options) - set(valid)
         if unknown:
-            raise ValueError(
-                f"unknown reset options {sorted(unknown)}; valid options are: level, difficulty, reset_mask"
-            )
+            choices = ", ".join(valid)
+            raise ValueError(f"unknown reset options {sorted(unknown)}; valid options are: {choices}")
         if options.get("difficulty") is not None:
             self.set_difficulty(float(options["difficulty"]))
         if options.get("level") is not None:

@@ -98,11 +98,11 @@ class GVGAIVectorEnv(VectorEnv):
         options = options or {}
         mask = torch.ones(self.num_envs, dtype=torch.bool)
         if options.get("reset_mask") is not None:
-            mask = torch.as_tensor(np.asarray(options["reset_mask"], dtype=bool))
+            mask = torch.as_tensor(_reset_mask(options["reset_mask"], self.num_envs))
         if not self._started:
             mask = torch.ones(self.num_envs, dtype=torch.bool)
         self._started = True
-        self.regimen.apply_options(options, mask.nonzero().flatten().tolist())
+        self.regimen.apply_options(options, mask.nonzero().flatten().tolist(), vector=True)
         out = self._reset_engine(mask.to(self.engine.device), self._last)
         if self._last is not None and not bool(mask.all()):
             out = _take(mask.to(self.engine.device), out, self._last, self._kept_keys)
@@ -116,6 +116,9 @@ class GVGAIVectorEnv(VectorEnv):
         if not self._started:
             raise RuntimeError("call reset() before step()")
         device = self.engine.device
+        if not self.action_space.contains(np.asarray(actions)):
+            highest = self.engine.game.num_actions - 1
+            raise ValueError(f"invalid actions {actions!r}; {self.num_envs} integers in 0..{highest}")
         action = torch.as_tensor(np.asarray(actions), dtype=torch.int64, device=device).reshape(self.num_envs)
         out = self.engine.step(TensorDict({"action": action}, batch_size=[self.num_envs], device=device))
         out = out.get("next")
@@ -203,3 +206,11 @@ def _take(
         where = mask.reshape(-1, *([1] * (source[key].dim() - 1)))
         merged.set(key, torch.where(where, source[key], target[key]))
     return merged
+
+
+def _reset_mask(value: Any, num_envs: int) -> np.ndarray:
+    """The ``reset_mask`` option as ``[num_envs]`` bool, or a clear error."""
+    mask = np.asarray(value)
+    if mask.shape != (num_envs,) or mask.dtype != np.bool_:
+        raise ValueError(f"reset_mask must be {num_envs} booleans, got {value!r}")
+    return mask

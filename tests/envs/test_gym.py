@@ -183,3 +183,26 @@ def test_vector_env_autoresets_raise_no_torchrl_warnings(mode: str) -> None:
             _, _, terminated, truncated, _ = vec.step(rng.integers(0, 5, 64))
             finished += int((terminated | truncated).sum())
     assert finished > 64  # Frogs under random play: many partial resets
+
+
+@pytest.mark.parametrize("actions", [[0, 6, 0], [0, -1, 0], [0.7, 1.9, 0.0], [0, 9, 0], [0, 0]])
+def test_vector_env_refuses_invalid_actions_and_goes_on(actions) -> None:
+    vec = gym.make_vec("gvgai_pcg/Zelda-v0", num_envs=3)
+    vec.reset(seed=0)
+    with pytest.raises(ValueError, match="invalid actions"):
+        vec.step(np.array(actions))
+    vec.step(np.zeros(3, dtype=np.int64))  # the env is untouched
+
+
+@pytest.mark.parametrize("mask", [[True], True, [1, 0], [True, False, True]])
+def test_vector_env_refuses_a_malformed_reset_mask(mask) -> None:
+    vec = gym.make_vec("gvgai_pcg/Zelda-v0", num_envs=2)
+    vec.reset(seed=0)
+    with pytest.raises(ValueError, match="reset_mask must be 2 booleans"):
+        vec.reset(options={"reset_mask": np.array(mask)})
+
+
+def test_single_env_refuses_a_reset_mask() -> None:
+    env = GVGAIGymEnv("zelda")
+    with pytest.raises(ValueError, match="valid options are: level, difficulty$"):
+        env.reset(options={"reset_mask": [False]})
