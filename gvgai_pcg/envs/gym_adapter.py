@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import gymnasium as gym
@@ -116,6 +117,9 @@ class Regimen:
         return self.curriculum.difficulty if self.curriculum is not None else 0.0
 
     def set_difficulty(self, value: float) -> None:
+        self.curriculum.shared_difficulty[0] = self._checked_difficulty(value)
+
+    def _checked_difficulty(self, value: float) -> float:
         if self.curriculum is None:
             raise ValueError(
                 f"regimen {self.name!r} plays human levels, so a difficulty has no effect; "
@@ -123,7 +127,7 @@ class Regimen:
             )
         if not 0.0 <= value <= 1.0:
             raise ValueError(f"difficulty must be in [0, 1], got {value}")
-        self.curriculum.shared_difficulty[0] = float(value)
+        return float(value)
 
     def record(self, next_td: TensorDictBase, finished: torch.Tensor) -> None:
         """Move the difficulty once per finished episode (``finished``: ``[B]`` bool), in env order."""
@@ -142,21 +146,35 @@ class Regimen:
             device=device,
         )
 
-    def apply_options(
-        self, options: dict[str, Any] | None, env_indices: Sequence[int], vector: bool = False
-    ) -> None:
-        """Reset options: ``level`` (played by the resetting envs this episode), ``difficulty``,
-        and for a vector env ``reset_mask`` (read by the vector env itself)."""
+    def check_options(self, options: dict[str, Any] | None, vector: bool = False) -> ResetOptions:
+        """Reset options, checked before anything changes: ``level`` (played by the resetting envs
+        this episode), ``difficulty``, and for a vector env ``reset_mask`` (which it reads itself)."""
         options = options or {}
         valid = ("level", "difficulty", "reset_mask") if vector else ("level", "difficulty")
         unknown = set(options) - set(valid)
         if unknown:
             choices = ", ".join(valid)
             raise ValueError(f"unknown reset options {sorted(unknown)}; valid options are: {choices}")
-        if options.get("difficulty") is not None:
-            self.set_difficulty(float(options["difficulty"]))
-        if options.get("level") is not None:
-            self.source.request(env_indices, _resolve(self.game, options["level"]))
+        difficulty = options.get("difficulty")
+        level = options.get("level")
+        return ResetOptions(
+            None if difficulty is None else self._checked_difficulty(float(difficulty)),
+            None if level is None else _resolve(self.game, level),
+        )
+
+    def apply_options(self, options: ResetOptions, env_indices: Sequence[int]) -> None:
+        if options.difficulty is not None:
+            self.set_difficulty(options.difficulty)
+        if options.level is not None:
+            self.source.request(env_indices, options.level)
+
+
+@dataclass(frozen=True)
+class ResetOptions:
+    """The checked options of one reset."""
+
+    difficulty: float | None
+    level: Level | None
 
 
 def observation_space(game: str, obs: str) -> gym.spaces.Box:
@@ -223,13 +241,14 @@ class GVGAIGymEnv(gym.Env):
     ) -> tuple[np.ndarray, dict[str, Any]]:
         """Start an episode. ``options``: ``level`` (a Level, name, path or human index, for this
         episode) and ``difficulty`` (for generated levels, from now on)."""
+        checked = self.regimen.check_options(options)  # a bad option changes nothing
         super().reset(seed=seed)
         if seed is not None:
             self.engine.set_seed(seed)
         elif not self._started:
             self.engine.set_seed(int(self.np_random.integers(2**31)))
         self._started = True
-        self.regimen.apply_options(options, [0])
+        self.regimen.apply_options(checked, [0])
         mask = torch.ones(1, dtype=torch.bool)
         out = self.engine.reset(self.regimen.reset_tensordict(mask, self.engine.device))
         self._finished = False

@@ -90,19 +90,20 @@ class GVGAIVectorEnv(VectorEnv):
         ``difficulty`` (see ``GVGAIGymEnv.reset``)."""
         if seed is not None and not isinstance(seed, int | np.integer):
             raise ValueError(f"seed must be one int (env seeds are derived from it), got {seed!r}")
+        options = options or {}
+        checked = self.regimen.check_options(options, vector=True)  # a bad option changes nothing
+        mask = torch.ones(self.num_envs, dtype=torch.bool)
+        if options.get("reset_mask") is not None:
+            mask = torch.as_tensor(_reset_mask(options["reset_mask"], self.num_envs))
         super().reset(seed=seed)
         if seed is not None:
             self.engine.set_seed(int(seed))
         elif not self._started:
             self.engine.set_seed(int(self.np_random.integers(2**31)))
-        options = options or {}
-        mask = torch.ones(self.num_envs, dtype=torch.bool)
-        if options.get("reset_mask") is not None:
-            mask = torch.as_tensor(_reset_mask(options["reset_mask"], self.num_envs))
         if not self._started:
             mask = torch.ones(self.num_envs, dtype=torch.bool)
         self._started = True
-        self.regimen.apply_options(options, mask.nonzero().flatten().tolist(), vector=True)
+        self.regimen.apply_options(checked, mask.nonzero().flatten().tolist())
         out = self._reset_engine(mask.to(self.engine.device), self._last)
         if self._last is not None and not bool(mask.all()):
             out = _take(mask.to(self.engine.device), out, self._last, self._kept_keys)

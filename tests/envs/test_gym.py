@@ -206,3 +206,17 @@ def test_single_env_refuses_a_reset_mask() -> None:
     env = GVGAIGymEnv("zelda")
     with pytest.raises(ValueError, match="valid options are: level, difficulty$"):
         env.reset(options={"reset_mask": [False]})
+
+
+def test_a_reset_refused_for_a_bad_option_changes_nothing() -> None:
+    env = GVGAIGymEnv("zelda", regimen="ppcg")
+    with pytest.raises(ValueError, match="level"):
+        env.reset(seed=3, options={"difficulty": 0.7, "level": "zelda_lvl9"})
+    assert env.regimen.difficulty == 0.0
+    with pytest.raises(RuntimeError, match="reset"):
+        env.step(0)  # still not started
+    vec = gym.make_vec("gvgai_pcg/Zelda-v0", num_envs=2, regimen="ppcg")
+    vec.reset(seed=0)
+    with pytest.raises(ValueError, match="reset_mask"):
+        vec.reset(options={"difficulty": 0.3, "reset_mask": np.array([True])})
+    assert vec.unwrapped.regimen.difficulty == 0.0
