@@ -61,6 +61,9 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         return int(_command_module(args.command).run(args) or 0)
+    except BrokenPipeError:  # the reader went away (`gvgai-pcg generate ... | head`): not an error
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no second error at exit
+        return 0
     except USER_ERRORS as error:
         if os.environ.get("GVGAI_PCG_DEBUG"):
             raise

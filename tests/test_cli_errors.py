@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import pytest
 
 from gvgai_pcg.cli import main
@@ -36,3 +39,11 @@ def test_bad_input_is_one_line(argv, says, capsys, tmp_path):
     if argv[0] == "analyze":
         argv = [*argv, "--out", str(tmp_path)]
     assert says in _error_of(argv, capsys)
+
+
+def test_output_cut_short_by_the_reader_is_not_an_error():
+    generate = "generate --game zelda --difficulty 0:1:0.01 --count 5"
+    command = f"{sys.executable} -m gvgai_pcg.cli {generate} | head -1"
+    done = subprocess.run(command, shell=True, capture_output=True, text=True, timeout=120)
+    assert done.stdout == "# game=zelda d=0 seed=0\n"
+    assert done.stderr == ""
