@@ -125,7 +125,7 @@ def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
             env,
             policy,
             frames_per_batch=frames_per_batch,
-            total_frames=max(remaining, 1),
+            total_frames=max(remaining, frames_per_batch),  # a finished run collects nothing
             auto_register_policy_transforms=False,
         )
     else:
@@ -136,7 +136,7 @@ def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
             [functools.partial(make_env, worker=i) for i in range(workers)],
             policy,
             frames_per_batch=frames_per_batch,
-            total_frames=max(remaining, 1),
+            total_frames=max(remaining, frames_per_batch),  # a finished run collects nothing
         )
 
     run_log = RunLog(run_dir, list(cfg.log.backends), resume_frames=frames if saved else None)

@@ -7,6 +7,7 @@ import signal
 import subprocess
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import pytest
@@ -135,3 +136,13 @@ def test_collector_workers_move_one_difficulty(make_config, tmp_path):
     train(cfg, tmp_path / "run")
     saved = torch.load(tmp_path / "run" / "checkpoints" / "last.pt", weights_only=False)
     assert float(saved["difficulty"]["shared_difficulty"][0]) == pytest.approx(0.16 * 5, abs=1e-6)
+
+
+def test_a_finished_run_started_again_trains_no_further(make_config, tmp_path):
+    cfg = make_config(["regimen=lv", *SMALL, "total_frames=320", f"out_dir={tmp_path}", "log.curve=false"])
+    first = train(cfg, tmp_path / "run")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        again = train(cfg, tmp_path / "run")
+    assert again.frames == first.frames == 320
+    assert not [w for w in caught if "divisible" in str(w.message)]  # no empty collector set up oddly
