@@ -37,8 +37,8 @@ def merge_reset_rows(
     reset = tensordict.get(RESET_KEY, None) if list(reset_keys) == [RESET_KEY] else None
     if reset is None or reset.ndim > tensordict.ndim + 1 or tensordict.ndim != 1:
         return _update_during_reset(tensordict_reset, tensordict, reset_keys)
+    tensordict.pop(RESET_KEY)
     mask = reset.reshape(tensordict.shape)
-    tensordict = tensordict.exclude(RESET_KEY)
     if mask.all():
         return tensordict.update(tensordict_reset.exclude(RESET_KEY), update_batch_size=True)
     rows = mask.nonzero().squeeze(-1)
@@ -82,6 +82,14 @@ def check_reset_not_done(env: EnvBase, tensordict: TensorDictBase, tensordict_re
             )
 
 
+def take_complete_entries(env: EnvBase) -> dict | None:
+    """The complete entries (see :class:`RowResetEnv`) of ``env``'s last reset output, once."""
+    complete = getattr(env, "_complete_entries", None)
+    if complete is not None:
+        env._complete_entries = None
+    return complete
+
+
 class RowResetEnv(EnvBase):
     """An ``EnvBase`` whose partial resets are merged by :func:`merge_reset_rows`.
 
@@ -95,7 +103,7 @@ class RowResetEnv(EnvBase):
 
     def _reset_proc_data(self, tensordict, tensordict_reset):
         self._complete_done(self.full_done_spec, tensordict_reset)
-        complete, self._complete_entries = self._complete_entries, None
+        complete = take_complete_entries(self)
         if tensordict is None:
             self._reset_check_done(tensordict, tensordict_reset)
             return tensordict_reset
@@ -110,9 +118,7 @@ class RowResetTransformedEnv(TransformedEnv):
 
     def _reset_proc_data(self, tensordict, tensordict_reset):
         self._reset_check_done(tensordict, tensordict_reset)
-        complete = getattr(self.base_env, "_complete_entries", None)
-        if complete is not None:
-            self.base_env._complete_entries = None
+        complete = take_complete_entries(self.base_env)
         if tensordict is not None:
             pool = getattr(self.base_env, "buffers", None)
             tensordict_reset = merge_reset_rows(tensordict_reset, tensordict, self.reset_keys, pool, complete)

@@ -15,8 +15,6 @@ from pathlib import Path
 import torch
 from tensordict import TensorDictBase
 
-from gvgai_pcg.evaluation.runner import SAMPLE_KEY
-
 FINAL_MODEL = "model.pt"
 LAST_CHECKPOINT = Path("checkpoints") / "last.pt"
 
@@ -136,8 +134,7 @@ class ActorCriticPolicy:
     def __call__(self, tensordict: TensorDictBase) -> torch.Tensor:
         from gvgai_pcg.rl.agent import policy_actions
 
-        draws = tensordict.get(SAMPLE_KEY, None)
-        return policy_actions(self.net, tensordict.get(self.obs_key), self.greedy, self.generator, draws)
+        return policy_actions(self.net, tensordict, self.obs_key, self.greedy, self.generator)
 
 
 def observation_shape(game: str, obs: str) -> tuple[int, int, int]:

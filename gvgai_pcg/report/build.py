@@ -41,23 +41,23 @@ def run_results(
     path = run_results_path(info.path, protocol)
     if evaluate:
         records = evaluate_run(info, protocol, device, progress, force)
-    elif path.is_file() and records_are_current(records := read_records(path), info):
-        pass
-    elif path.is_file():
-        log.warning(
-            "%s: its results for protocol %s are of another model than its %s (%d frames); left out "
-            "(run without --no-evaluate)",
-            info.path,
-            protocol.key,
-            info.checkpoint.name,
-            info.frames,
-        )
-        return None
-    else:
+    elif not path.is_file():
         log.warning(
             "%s has no results for protocol %s; left out (run without --no-evaluate)", info.path, protocol.key
         )
         return None
+    else:
+        records = read_records(path)
+        if not records_are_current(records, info):
+            log.warning(
+                "%s: its results for protocol %s are of another model than its %s (%d frames); "
+                "left out (run without --no-evaluate)",
+                info.path,
+                protocol.key,
+                info.checkpoint.name,
+                info.frames,
+            )
+            return None
     return RunResults(info.label, info.frames, info.training_sets, records, str(info.path))
 
 

@@ -15,18 +15,16 @@ from gvgai_pcg.rl.models import ActorCritic, make_actor_critic
 
 
 def policy_actions(
-    net: ActorCritic,
-    observation: torch.Tensor,
-    greedy: bool,
-    generator: torch.Generator,
-    draws: torch.Tensor | None = None,
+    net: ActorCritic, tensordict: TensorDictBase, obs_key: str, greedy: bool, generator: torch.Generator
 ) -> torch.Tensor:
-    """``[B]`` actions of an actor-critic: the argmax, or sampled from its softmax, with the
-    evaluation runner's per-env uniform ``draws`` if given, else with ``generator``."""
-    logits, _ = net(observation)
+    """``[B]`` actions of an actor-critic on the observation ``obs_key``: the argmax, or sampled
+    from its softmax, with the evaluation runner's per-env uniform draws (``SAMPLE_KEY``) where
+    the tensordict has them, else with ``generator``."""
+    logits, _ = net(tensordict.get(obs_key))
     if greedy:
         return logits.argmax(-1)
     probabilities = logits.float().softmax(-1)
+    draws = tensordict.get(SAMPLE_KEY, None)
     if draws is not None:
         return sample_actions(probabilities, draws)
     return torch.multinomial(probabilities, 1, generator=generator).squeeze(-1)
@@ -61,5 +59,4 @@ class TrainedAgent:
 
     @torch.no_grad()
     def __call__(self, tensordict: TensorDictBase) -> torch.Tensor:
-        draws = tensordict.get(SAMPLE_KEY, None)
-        return policy_actions(self.net, tensordict.get(self.obs_key), self.greedy, self.generator, draws)
+        return policy_actions(self.net, tensordict, self.obs_key, self.greedy, self.generator)

@@ -137,8 +137,9 @@ def cut_torchrl_csv(scalars_dir: Path, frames: int) -> None:
     """Drop the ``step,value`` lines after ``frames`` from TorchRL's CSV logger files (and a last
     line cut short)."""
     for path in scalars_dir.glob("*.csv") if scalars_dir.is_dir() else []:
-        lines = path.read_text().splitlines()
-        if lines and not path.read_text().endswith("\n"):
+        text = path.read_text()
+        lines = text.splitlines()
+        if lines and not text.endswith("\n"):
             lines.pop()  # the run was killed while writing it
         kept = [line for line in lines if line and float(line.split(",")[0]) <= frames]
         path.write_text("".join(line + "\n" for line in kept))
