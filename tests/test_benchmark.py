@@ -1,5 +1,6 @@
 """The benchmark harness runs and reports (its numbers are for `make bench`, never asserted)."""
 
+import pytest
 import torch
 
 from gvgai_pcg import benchmark
@@ -46,3 +47,27 @@ def test_the_env_measure_reports_windows_and_counts_resets():
     result = benchmark.measure_env("frogs", batch=4, obs="tiles", min_seconds=0.0, max_steps=60)
     assert 0 < result.rate.low <= result.steps_per_s <= result.rate.high
     assert result.resets > 0  # random frogs drown within 60 steps
+
+
+def test_the_training_benchmark_times_the_network_both_ways_and_splits_a_batch(make_small_config):
+    from gvgai_pcg.rl import benchmark as training
+
+    cfg = make_small_config
+    costs = training.network_costs(cfg, seconds=0.2)
+    assert set(costs) == {"acting_and_update", "reused_graph"}
+    assert all(cost.wall > 0 and cost.cpu > 0 for cost in costs.values())
+    parts = training.batch_breakdown(cfg, batches=3)
+    assert {"acting", "env", "update", "rest", "total"} <= set(parts)
+    named = parts["acting"].cpu + parts["env"].cpu + parts["update"].cpu
+    assert 0 < named <= parts["total"].cpu + 1e-9
+    assert abs(named + parts["rest"].cpu - parts["total"].cpu) < 1e-9
+
+
+@pytest.fixture
+def make_small_config():
+    from hydra import compose, initialize_config_dir
+
+    from gvgai_pcg.commands.train import CONFIG_DIR
+
+    with initialize_config_dir(config_dir=str(CONFIG_DIR), version_base="1.3"):
+        return compose("config", overrides=["env.num_envs=4", "regimen=lv", "model.hidden=16"])

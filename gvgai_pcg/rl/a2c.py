@@ -20,8 +20,7 @@ from pathlib import Path
 import numpy as np
 import torch
 from omegaconf import DictConfig, OmegaConf
-from tensordict.nn import TensorDictModule
-from torchrl.collectors import Collector, MultiSyncCollector
+from torchrl.collectors import MultiSyncCollector
 from torchrl.modules import ProbabilisticActor
 from tqdm.auto import tqdm
 
@@ -29,7 +28,8 @@ from gvgai_pcg.rl.a2c_loss import A2CLoss
 from gvgai_pcg.rl.checkpoint import CHECKPOINT_NAME, load_checkpoint, restore, save_checkpoint
 from gvgai_pcg.rl.curves import plot_curve
 from gvgai_pcg.rl.environment import EnvFactory, make_difficulty, share_through_files
-from gvgai_pcg.rl.models import make_actor_critic
+from gvgai_pcg.rl.models import as_tensordict_module, make_actor_critic
+from gvgai_pcg.rl.rollout import ActingRollouts
 from gvgai_pcg.rl.run_log import EpisodeTracker, RunLog
 
 log = logging.getLogger(__name__)
@@ -97,7 +97,7 @@ def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
         env.action_spec.space.n,
         int(cfg.model.hidden),
     ).to(cfg.device)
-    actor_critic = TensorDictModule(net, in_keys=[obs_key], out_keys=["logits", "state_value"])
+    actor_critic = as_tensordict_module(net, obs_key)
     policy = ProbabilisticActor(
         actor_critic,
         in_keys=["logits"],
@@ -121,13 +121,8 @@ def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
     remaining = max(0, int(cfg.total_frames) - frames)
     remaining = math.ceil(remaining / frames_per_batch) * frames_per_batch
     if workers == 1:
-        collector = Collector(
-            env,
-            policy,
-            frames_per_batch=frames_per_batch,
-            total_frames=max(remaining, frames_per_batch),  # a finished run collects nothing
-            auto_register_policy_transforms=False,
-        )
+        # the acting passes keep their graph for the update (see gvgai_pcg.rl.rollout)
+        collector = ActingRollouts(env, net, obs_key, int(algo.n_steps))
     else:
         env.close()
         if difficulty is not None:
@@ -172,7 +167,8 @@ def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
         loss.backward()
         torch.nn.utils.clip_grad_norm_(net.parameters(), algo.max_grad_norm)
         optimizer.step()
-        collector.update_policy_weights_()
+        if workers > 1:
+            collector.update_policy_weights_()
         frames += rollout.numel()
         bar.update(rollout.numel())
         losses_since_row.append(

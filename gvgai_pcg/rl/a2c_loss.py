@@ -94,13 +94,23 @@ class A2CLoss(LossModule):
             bootstrap[truncated] = self._evaluate(next_obs[truncated])[1]
         return bootstrap
 
-    def forward(self, rollout: TensorDictBase) -> TensorDict:
-        """``rollout [B, T]`` with the observation, ``action``, and ``("next", reward | done |
-        terminated | truncated | <observation>)``."""
+    def policy_outputs(self, rollout: TensorDictBase) -> tuple[torch.Tensor, torch.Tensor]:
+        """``logits [B, T, A]`` and ``values [B, T]`` of the rollout's observations, with their
+        graph: the acting passes' own when they kept it (``ActingRollouts``; the weights have not
+        changed since), else a forward pass over every frame."""
+        logits, values = rollout.get("logits", None), rollout.get("state_value", None)
+        if logits is not None and values is not None and logits.requires_grad and values.requires_grad:
+            return logits, values.squeeze(-1)
         b, t = rollout.batch_size
         obs = rollout.get(self.obs_key)
         logits, values = self._evaluate(obs.reshape(b * t, *obs.shape[2:]))
-        logits, values = logits.reshape(b, t, -1), values.reshape(b, t)
+        return logits.reshape(b, t, -1), values.reshape(b, t)
+
+    def forward(self, rollout: TensorDictBase) -> TensorDict:
+        """``rollout [B, T]`` with the observation, ``action``, and ``("next", reward | done |
+        terminated | truncated | <observation>)``; ``logits`` and ``state_value`` that carry
+        their autograd graph are used as they are."""
+        logits, values = self.policy_outputs(rollout)
         with torch.no_grad():
             returns = nstep_returns(
                 rollout.get(("next", "reward")).squeeze(-1),

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 
 import torch
+from tensordict.nn import TensorDictModule
 from torch import nn
 
 MODELS = ("nature", "compact")
@@ -93,3 +94,9 @@ def make_actor_critic(
 ) -> ActorCritic:
     """The network ``name`` for observations of kind ``obs_kind`` (pixels are scaled by 1/255)."""
     return ActorCritic(name, obs_shape, num_actions, hidden, scale=255.0 if obs_kind == "pixels" else 1.0)
+
+
+def as_tensordict_module(net: nn.Module, obs_key: str) -> TensorDictModule:
+    """``net`` reading ``obs_key`` and writing ``"logits"`` and ``"state_value"`` (the entries the
+    A2C loss and the acting policy use)."""
+    return TensorDictModule(net, in_keys=[obs_key], out_keys=["logits", "state_value"])
