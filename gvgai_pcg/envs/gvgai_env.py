@@ -237,9 +237,12 @@ class GVGAIEnv(RowResetEnv):
     def _compile(self, levels: list[Level], episode_seeds: torch.Tensor) -> TensorDict:
         """The initial states of ``levels``. Levels that recur (human levels, a fixed list) come
         from the bank of compiled levels, so their resets cost a gather, not a parse; a batch of
-        mostly unseen levels (generated ones) is compiled in one call."""
+        mostly unseen levels is compiled in one call, and so are the levels of a source whose
+        levels do not recur (``levels_recur = False``: generated ones), which the bank would only
+        churn through."""
         unseen = [level for level in set(levels) if level not in self._bank]
-        if len(unseen) > max(1, len(levels) // 2):
+        recurring = getattr(self.level_source, "levels_recur", True)
+        if not recurring or len(unseen) > max(1, len(levels) // 2):
             padded = [pad_level(lv, self.grid_height, self.grid_width, self.game.pad_char) for lv in levels]
             return self.game.compile(padded, episode_seeds, self.device)
         return self._bank.initial_states(levels, episode_seeds)

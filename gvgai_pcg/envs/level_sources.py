@@ -130,6 +130,8 @@ class GeneratedLevels:
     can be regenerated from (game, difficulty, seed) and is reported as ``level_seed``.
     """
 
+    levels_recur = False  # a level comes back once in 2**31 episodes: compiling it is the cheaper way
+
     def __init__(self, game: str) -> None:
         from gvgai_pcg.generators import get_generator
 

@@ -74,3 +74,18 @@ def test_small_partial_resets_of_recurring_levels_compile_nothing(monkeypatch):
         mask[rows] = True
         env.reset(TensorDict({"_reset": mask}, batch_size=[10]))
     assert calls == []
+
+
+def test_generated_levels_do_not_go_through_the_bank():
+    from tensordict import TensorDict
+
+    from gvgai_pcg.envs import GVGAIEnv
+    from gvgai_pcg.envs.level_sources import GeneratedLevels
+
+    env = GVGAIEnv("frogs", num_envs=6, levels=GeneratedLevels("frogs"), seed=0)
+    env.reset()
+    for rows in ([0], [2, 3], [5]):  # small partial resets, each of levels never seen before
+        mask = torch.zeros(6, dtype=torch.bool)
+        mask[rows] = True
+        env.reset(TensorDict({"_reset": mask}, batch_size=[6]))
+    assert len(env._bank) == 0  # a level comes back once in 2**31 episodes: banking it only churns

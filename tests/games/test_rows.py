@@ -72,3 +72,24 @@ def test_copy_rows_equals_indexed_assignment():
     expected[index] = source
     copy_rows(target, source, index)
     assert (target == expected).all()
+
+
+def test_merging_fresh_states_with_fewer_slots_equals_merging_padded_ones():
+    from gvgai_pcg.games import get_game
+    from gvgai_pcg.games.base import entity_capacities, merge_states, pad_entity_tables, pad_level
+    from gvgai_pcg.generators import generate_level
+
+    game = get_game("frogs")
+    fmt = game.level_format
+    levels = [
+        pad_level(generate_level("frogs", d, seed), fmt.height, fmt.width, game.pad_char)
+        for seed, d in enumerate((1.0, 0.9, 0.0, 0.1))
+    ]
+    state = game.compile(levels[:2], torch.arange(2), torch.device("cpu"))
+    fresh = game.compile(levels[2:], torch.arange(2, 4), torch.device("cpu"))
+    sizes = entity_capacities(state)
+    assert any(entity_capacities(fresh)[key] < size for key, size in sizes.items())  # fewer slots
+    expected = state.clone()
+    copy_rows(expected, pad_entity_tables(fresh.clone(), sizes), torch.tensor([1, 0]))
+    merged = merge_states(state.clone(), fresh, torch.tensor([1, 0]))
+    assert (merged == expected).all()
