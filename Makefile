@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: setup run test lint bench docs clean
+.PHONY: setup run test lint bench docs clean reproduce
 
 setup: $(STAMP)
 
@@ -26,6 +26,12 @@ test: $(STAMP)
 lint: $(STAMP)
 	$(BIN)/ruff format gvgai_pcg tests
 	$(BIN)/ruff check --fix gvgai_pcg tests
+
+# The study from sweep to Table 1 (BUDGET=smoke|small|paper; JOBS runs side by side); resumable.
+BUDGET ?= smoke
+JOBS ?= 2
+reproduce: $(STAMP)
+	$(BIN)/gvgai-pcg reproduce --budget $(BUDGET) --jobs $(JOBS) --out reproduce/$(BUDGET) --publish results/$(BUDGET)
 
 bench: $(STAMP)
 	$(BIN)/gvgai-pcg bench --output docs/benchmarks.md

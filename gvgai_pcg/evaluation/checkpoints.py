@@ -65,9 +65,14 @@ class RunInfo:
         return ()
 
 
+# A published run (``gvgai_pcg.study.pipeline.publish``) names its model here instead of holding
+# it: its results and logs rebuild a report (``--no-evaluate``) without the model file.
+PUBLISHED = "published.json"
+
+
 def is_run_dir(path: Path) -> bool:
-    return (path / "config.yaml").is_file() and (
-        (path / FINAL_MODEL).is_file() or (path / LAST_CHECKPOINT).is_file()
+    return (path / "config.yaml").is_file() and any(
+        (path / name).is_file() for name in (FINAL_MODEL, LAST_CHECKPOINT, PUBLISHED)
     )
 
 
@@ -100,6 +105,8 @@ def run_info(run_dir: Path, checkpoint: Path | None = None) -> RunInfo:
     run_dir = Path(run_dir).resolve()
     if checkpoint is None:
         found = [run_dir / name for name in (FINAL_MODEL, LAST_CHECKPOINT) if (run_dir / name).is_file()]
+        if not found and (run_dir / PUBLISHED).is_file():
+            return published_run_info(run_dir)
         if not found:
             raise FileNotFoundError(
                 f"{run_dir}: no model to evaluate (looked for {FINAL_MODEL} and {LAST_CHECKPOINT}); "
@@ -114,6 +121,17 @@ def run_info(run_dir: Path, checkpoint: Path | None = None) -> RunInfo:
         state = load_state(Path(checkpoint))
     checkpoint = Path(checkpoint).resolve()
     return RunInfo(run_dir, state["config"], checkpoint, int(state.get("frames", 0)))
+
+
+def published_run_info(run_dir: Path) -> RunInfo:
+    """A published run: its config from ``config.yaml``, its model as ``published.json`` names it."""
+    import json
+
+    from omegaconf import OmegaConf
+
+    model = json.loads((run_dir / PUBLISHED).read_text())
+    config = OmegaConf.to_container(OmegaConf.load(run_dir / "config.yaml"), resolve=True)
+    return RunInfo(run_dir, config, Path(model["checkpoint"]), int(model["frames"]))
 
 
 class ActorCriticPolicy:

@@ -1,0 +1,83 @@
+"""The study pipeline: its conditions, how a sweep is shared and ordered, and publish -> rebuild."""
+
+from __future__ import annotations
+
+import csv
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from hydra import compose, initialize_config_dir
+
+from gvgai_pcg.commands.train import CONFIG_DIR
+from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
+from gvgai_pcg.study import BUDGETS, STUDY_CONDITIONS, reproduce
+from gvgai_pcg.study.conditions import EXTRA_CONDITIONS, known_conditions
+from gvgai_pcg.study.pipeline import share_conditions, sweep_arguments
+
+REGIMEN_NAMES = {"lv0": "lv", "lv4": "lv", "lv0-3": "lv0-3", "pcg0.5": "pcg", "pcg1": "pcg", "ppcg": "ppcg"}
+
+
+@pytest.mark.parametrize("condition", known_conditions())
+def test_every_condition_is_a_config_of_its_game_and_regimen(condition):
+    game, tag = condition.split("-", 1)
+    with initialize_config_dir(config_dir=str(CONFIG_DIR), version_base="1.3"):
+        cfg = compose("config", overrides=[f"condition={condition}"])
+    assert cfg.game.name == game and cfg.regimen.name == REGIMEN_NAMES[tag]
+    assert cfg.regimen.tag.removesuffix(".0") == tag  # pcg1 is tagged pcg1.0 in run names
+    assert cfg.run_name.startswith(f"{game}-")
+
+
+def test_the_study_conditions_are_table_1_and_the_extras_are_the_rest():
+    assert len(STUDY_CONDITIONS) == 12 and sum(c.startswith("zelda") for c in STUDY_CONDITIONS) == 6
+    assert len(set(STUDY_CONDITIONS) | set(EXTRA_CONDITIONS)) == 24
+    assert all(set(budget.conditions) == set(STUDY_CONDITIONS) for budget in BUDGETS.values())
+    assert BUDGETS["small"].frames >= 5_000_000 and len(BUDGETS["small"].seeds) == 3
+    assert BUDGETS["paper"].frames == 40_000_000 and "preset=paper" in BUDGETS["paper"].overrides
+
+
+def test_parallel_jobs_share_the_conditions_by_cost_and_keep_their_order():
+    shares = share_conditions(STUDY_CONDITIONS, jobs=2)
+    assert sorted(c for share in shares for c in share) == sorted(STUDY_CONDITIONS)
+    for share in shares:
+        assert share == [c for c in STUDY_CONDITIONS if c in share]
+    frogs_and_boulderdash = [sum(c.startswith(("frogs", "boulder")) for c in share) for share in shares]
+    assert frogs_and_boulderdash == [2, 2]  # the costly games are not all in one share
+    assert share_conditions(["zelda-lv0"], jobs=4) == [["zelda-lv0"]]
+
+
+def test_a_sweep_varies_the_seed_slowest_and_passes_the_launcher_and_overrides():
+    budget = BUDGETS["small"]
+    arguments = sweep_arguments(budget, ["zelda-lv0", "frogs-ppcg"], Path("/r"), "ray", ["algo.lr=1e-3"])
+    assert arguments[:3] == ["-m", "seed=0,1,2", "condition=zelda-lv0,frogs-ppcg"]
+    assert "total_frames=5000000" in arguments and "out_dir=/r" in arguments
+    assert arguments[-2:] == ["hydra/launcher=ray", "algo.lr=1e-3"]
+
+
+def test_a_published_run_rebuilds_the_report_without_its_model(tmp_path):
+    out, published = tmp_path / "out", tmp_path / "published"
+    budget = BUDGETS["smoke"]
+    reproduce(budget, ["zelda-lv0"], out, publish_to=published, progress=False)
+    [run] = find_runs([published / "runs"])
+    assert not (run / "model.pt").exists() or (run / "model.pt").stat().st_size < 1_000_000
+    assert run_info(run).frames == budget.frames
+    rebuilt = tmp_path / "rebuilt"
+    protocol = ["--test-levels", "2", "--human-episodes", "1", "--max-steps", "100"]
+    command = [sys.executable, "-m", "gvgai_pcg.cli", "report", "--no-evaluate", str(published / "runs")]
+    command += ["--cache-dir", str(published / "random"), "--out", str(rebuilt), "--no-progress", *protocol]
+    subprocess.run(command, check=True, capture_output=True)
+    original = list(csv.reader(open(out / "report" / "results.csv")))
+    assert list(csv.reader(open(rebuilt / "results.csv"))) == original
+    assert any(row[1].startswith("Lv 0") for row in original)  # the trained run is in the table
+
+
+@pytest.mark.slow
+def test_the_smoke_budget_runs_every_condition_end_to_end(tmp_path):
+    command = [sys.executable, "-m", "gvgai_pcg.cli", "reproduce", "--budget", "smoke", "--jobs", "2"]
+    command += ["--out", str(tmp_path / "smoke"), "--publish", str(tmp_path / "published"), "--no-progress"]
+    subprocess.run(command, check=True, capture_output=True, timeout=1800)
+    rows = list(csv.DictReader(open(tmp_path / "smoke" / "report" / "results.csv")))
+    games = {row["game"] for row in rows}
+    assert games == {"zelda", "solarfox", "frogs", "boulderdash"}
+    assert len(find_runs([tmp_path / "published" / "runs"])) == len(STUDY_CONDITIONS)
