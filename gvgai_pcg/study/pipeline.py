@@ -132,6 +132,16 @@ def publish(out: Path, dest: Path) -> Path:
     return dest
 
 
+def write_claims(runs_dir: Path, random_cache: Path, protocol, path: Path) -> Path:
+    """The study's claims tested on the runs under ``runs_dir`` (``gvgai_pcg.study.claims``)."""
+    from gvgai_pcg.evaluation.checkpoints import find_runs
+    from gvgai_pcg.study.claims import claims_markdown, collect, study_claims
+
+    games = collect(find_runs([runs_dir]), random_cache, protocol)
+    path.write_text(claims_markdown(study_claims(games), games))
+    return path
+
+
 def reproduce(
     budget: Budget,
     conditions: Sequence[str],
@@ -151,12 +161,8 @@ def reproduce(
     out = Path(out).resolve()
     seconds = run_sweep(budget, conditions, out, jobs, launcher, overrides) if train else 0.0
     report_dir = out / "report"
-    build_report(
-        [out / "runs"],
-        report_dir,
-        Protocol(**budget.protocol),
-        cache_dir=out / "random",
-        progress=progress,
-    )
+    protocol = Protocol(**budget.protocol)
+    build_report([out / "runs"], report_dir, protocol, cache_dir=out / "random", progress=progress)
+    write_claims(out / "runs", out / "random", protocol, report_dir / "claims.md")
     published = publish(out, Path(publish_to)) if publish_to is not None else None
     return Outcome(out, out / "runs", report_dir, published, seconds)

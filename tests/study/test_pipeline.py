@@ -70,6 +70,8 @@ def test_a_published_run_rebuilds_the_report_without_its_model(tmp_path):
     original = list(csv.reader(open(out / "report" / "results.csv")))
     assert list(csv.reader(open(rebuilt / "results.csv"))) == original
     assert any(row[1].startswith("Lv 0") for row in original)  # the trained run is in the table
+    claims = (out / "report" / "claims.md").read_text()
+    assert "| zelda | A policy trained on one human level" in claims and "Lv 0 1 run(s)" in claims
 
 
 @pytest.mark.slow

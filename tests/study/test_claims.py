@@ -1,0 +1,77 @@
+"""The claims' verdict rules on hand-made results: each verdict can come out every way."""
+
+from __future__ import annotations
+
+from gvgai_pcg.study.claims import (
+    GameResults,
+    SetResult,
+    four_levels_marginal,
+    frogs_ppcg_wins_hard,
+    one_level_overfits,
+    ppcg_best,
+    ppcg_stalls,
+)
+
+SETS = ("pcg0.5", "pcg1", "lv0", "lv1", "lv2", "lv3", "lv4")
+
+
+def result(means: list[float], wins: float = 0.0) -> SetResult:
+    return SetResult(seed_means=means, seed_wins=[wins] * len(means), scores=means * 10)
+
+
+def game(conditions: dict[str, dict[str, SetResult]], name: str = "zelda", reached=None) -> GameResults:
+    return GameResults(
+        name,
+        conditions,
+        {label: [5_000_000] for label in conditions},
+        random={s: 0.0 for s in SETS},
+        maximum={s: 10.0 for s in SETS},
+        max_difficulty={"PPCG": reached or []},
+    )
+
+
+def flat(value: float, **overrides: float) -> dict[str, SetResult]:
+    return {s: result([overrides.get(s, value)] * 3) for s in SETS}
+
+
+def test_one_level_overfits_holds_only_near_the_max_there_and_near_random_elsewhere():
+    overfit = game({"Lv 0": flat(0.5, lv0=9.5), "Lv 4": flat(1.0, lv4=9.0)})
+    assert one_level_overfits(overfit).verdict == "holds"
+    general = game({"Lv 0": flat(6.0, lv0=9.5), "Lv 4": flat(6.0, lv4=9.0)})
+    assert one_level_overfits(general).verdict == "does not hold"
+    assert one_level_overfits(game({"PPCG": flat(1.0)})).verdict == "not run"
+
+
+def test_four_levels_are_marginal_unless_clearly_better_on_the_held_out_sets():
+    close = game({"Lv 0": flat(1.0), "Lv 0-3": flat(1.5)})
+    assert four_levels_marginal(close).verdict == "holds"
+    much = game({"Lv 0": flat(1.0), "Lv 0-3": flat(6.0)})
+    assert four_levels_marginal(much).verdict == "does not hold"
+    noisy = {"Lv 0": flat(1.0), "Lv 0-3": {s: result([0.0, 4.0, 2.0]) for s in SETS}}
+    assert four_levels_marginal(game(noisy)).verdict == "inconclusive"
+
+
+def test_ppcg_best_needs_to_lead_every_held_out_column():
+    assert ppcg_best(game({"PPCG": flat(5.0), "PCG 1": flat(2.0), "Lv 0": flat(1.0)})).verdict == "holds"
+    assert ppcg_best(game({"PPCG": flat(2.0), "PCG 1": flat(5.0)})).verdict == "does not hold"
+    # a row that trained on a level is no rival there: Lv 0's 9 on lv0 does not count
+    assert ppcg_best(game({"PPCG": flat(5.0), "Lv 0": flat(1.0, lv0=9.0)})).verdict == "holds"
+
+
+def test_frogs_ppcg_wins_hard_levels_only_when_pcg1_wins_none():
+    def frogs(ppcg_wins: float, pcg_wins: float) -> GameResults:
+        return game(
+            {"PPCG": {"pcg1": result([0.5], ppcg_wins)}, "PCG 1": {"pcg1": result([0.0], pcg_wins)}}, "frogs"
+        )
+
+    assert frogs_ppcg_wins_hard(frogs(0.6, 0.0)).verdict == "holds"
+    assert frogs_ppcg_wins_hard(frogs(0.0, 0.0)).verdict == "does not hold"
+    assert frogs_ppcg_wins_hard(frogs(0.2, 0.0)).verdict == "inconclusive"
+
+
+def test_ppcg_stalls_needs_both_a_stalled_difficulty_and_pcg1_ahead():
+    conditions = {"PPCG": flat(1.0), "PCG 1": flat(4.0)}
+    assert ppcg_stalls(game(conditions, "solarfox", reached=[0.4, 0.5])).verdict == "holds"
+    assert ppcg_stalls(game(conditions, "solarfox", reached=[1.0, 0.5])).verdict == "does not hold"
+    behind = {"PPCG": flat(4.0), "PCG 1": flat(1.0)}
+    assert ppcg_stalls(game(behind, "solarfox", reached=[0.4])).verdict == "does not hold"
