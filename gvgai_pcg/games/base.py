@@ -120,7 +120,7 @@ class Game(ABC):
 
     @abstractmethod
     def snapshot(self, state: TensorDict, index: int) -> dict:
-        """Env ``index`` in the golden-trace format (``../shared/gvgai/golden/README.md``)."""
+        """Env ``index`` in the golden-trace format (``docs/spec/golden-traces.md``)."""
 
     @abstractmethod
     def max_score(self, level: Level) -> int:
