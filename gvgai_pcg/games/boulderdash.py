@@ -22,9 +22,10 @@ cell leave two diamonds). Boulders are an entity table in level (row-major) orde
 appear, disappear or move sideways, so each keeps its column and its neighbour below for the
 whole episode (``below``, computed at compile time). That makes the sequential ``boulder ×
 boulder`` stepBack a single gather, see :func:`boulder_stepback`. Done in list order as §1.3
-says, that rule leaves the top boulder of a stack of three 2 px inside the middle one whenever the
-bottom one is stopped (RULES.md §7.7 says supported boulders always rest aligned; the golden traces
-have no such stack). Cleanup edits the dirt, diamond and exitdoor grids in place.
+says, that rule leaves every boulder above the second-lowest of a stopped stack 2 px inside the one
+below it (RULES.md §7.7; the Java engine does the same: golden traces ``boulderdash_stack3_resting``,
+``boulderdash_stack5_fall``, ``boulderdash_two_stacks_merge``, ``boulderdash_three_stack_fall``).
+Cleanup edits the dirt, diamond and exitdoor grids in place.
 """
 
 from __future__ import annotations

@@ -241,10 +241,10 @@ def test_batched_equals_single():
 
 def test_boulders_persist_and_end_every_tick_aligned_falling_or_stacked():
     """2,000 random ticks on the human levels. A boulder is cell-aligned or fell 2 px this tick, except
-    in one faithful corner case of rule 12 (list order): when three touching boulders fall together
-    and the bottom one lands, the middle one is stepped back by rule 12 after the top one already
-    fell, so the top one rests 2 px inside the middle one; it then misaligns and is held until the
-    one below it moves away."""
+    in one corner case of rule 12 (list order, RULES.md §7.7, confirmed by the Java traces): when
+    three touching boulders fall together and the bottom one lands, the middle one is stepped back
+    by rule 12 after the top one already fell, so the top one rests 2 px inside the middle one; it
+    then misaligns and is held until the one below it moves away."""
     levels = [human_level("boulderdash", i % 5) for i in range(10)]
     state = GAME.compile(levels, torch.arange(10), torch.device("cpu"))
     counts = [level.count("o") for level in levels]
@@ -262,9 +262,10 @@ def test_boulders_persist_and_end_every_tick_aligned_falling_or_stacked():
 
 
 def test_rule_12_in_list_order_leaves_the_top_of_a_three_stack_2px_low():
-    """Faithful to RULES.md §1.3, though §7.7 says a supported boulder stays put: in rule 12 the top
-    boulder is checked against the middle one's moved position (no overlap, it stays moved), then
-    the middle one is stepped back onto the bottom one, so the top one ends 2 px inside it."""
+    """RULES.md §7.7, as the Java engine does it (golden traces ``boulderdash_stack3_resting``,
+    ``boulderdash_three_stack_fall``): in rule 12 the top boulder is checked against the middle
+    one's moved position (no overlap, it stays moved), then the middle one is stepped back onto the
+    bottom one, so the top one ends 2 px inside it."""
     level = ["wwwww", "w.o.w", "w.o.w", "w.o.w", "wA..w", "w.-.w", "wwwwe"]
     snaps = play(level, ["NIL", "NIL", "RIGHT"] + ["NIL"] * 12)
     column = [[y for _, y in sprites(s, "boulder")] for s in snaps]
