@@ -193,7 +193,7 @@ class Boulderdash(Game):
         }
         sword = {"x": zeros.clone(), "y": zeros.clone(), "age": zeros.clone(), "exists": zeros.bool()}
         state = {
-            **common_state(seeds, device),
+            **common_state(levels, seeds, device),
             "wall": char_grid(levels, "w", device),
             "dirt": char_grid(levels, ".", device),
             "diamond": char_grid(levels, "x", device).to(torch.uint8),
