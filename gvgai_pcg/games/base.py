@@ -172,6 +172,18 @@ def screen_size(level: Level) -> tuple[int, int]:
     return height, len(level.rows[0].rstrip(OUTSIDE))
 
 
+def open_border(closed: torch.Tensor, height: torch.Tensor, width: torch.Tensor) -> torch.Tensor:
+    """``[B]`` bool: whether some cell on the border of each env's own screen (``height`` x
+    ``width`` cells, ``[B]``) is not ``closed`` (``[B, H, W]`` bool, e.g. the walls). In a game
+    whose walls stop everything that moves, only such a level lets sprites leave its screen."""
+    _, rows, columns = closed.shape
+    r = torch.arange(rows, device=closed.device).view(1, rows, 1)
+    c = torch.arange(columns, device=closed.device).view(1, 1, columns)
+    h, w = height.view(-1, 1, 1), width.view(-1, 1, 1)
+    border = (r < h) & (c < w) & ((r == 0) | (r == h - 1) | (c == 0) | (c == w - 1))
+    return (border & ~closed).flatten(1).any(-1)
+
+
 def char_codes(levels: Sequence[Level]) -> np.ndarray:
     """``[B, H, W]`` uint8: the character codes of ``levels``, smaller ones padded with ``OUTSIDE``
     to the largest height and width (shared: do not modify)."""

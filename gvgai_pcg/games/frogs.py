@@ -49,7 +49,7 @@ from gvgai_pcg.games.base import (
     golden_record,
     single_sprite_layer,
 )
-from gvgai_pcg.games.geometry import CELL, cell_of, pick
+from gvgai_pcg.games.geometry import CELL, cell_of, off_screen, pick
 from gvgai_pcg.games.registry import register_game
 from gvgai_pcg.levels import Level
 
@@ -450,7 +450,7 @@ class Frogs(Game):
     ) -> tuple[torch.Tensor, torch.Tensor]:
         """E1: a frog not entirely inside its env's screen (``screen_h``, ``screen_w`` ``[B]`` px)
         goes back to where it started the tick (RULES.md §1.1)."""
-        edge = (x < 0) | (y < 0) | (x + CELL > screen_w) | (y + CELL > screen_h)
+        edge = off_screen(x, y, screen_h, screen_w)
         return torch.where(edge, lastx, x), torch.where(edge, lasty, y)
 
     # --- step 4c: collision rules in declaration order ---

@@ -70,3 +70,17 @@ def test_the_open_levels_reach_their_edges():
             truck_xs |= {x for name, x, _ in snap["sprites"] if game_name == "frogs" and "truck" in name}
     assert left == {"zelda", "solarfox", "boulderdash"}
     assert min(truck_xs) == 0 and max(truck_xs) == 30
+
+
+def test_a_boulderdash_avatar_off_its_screen_never_touches_the_other_envs_cells():
+    """Env 0's avatar walks right off its 2x2 screen, through the cells where env 1, a larger level,
+    has dirt, a diamond, walls and a boulder: nothing stops it, nothing is dug or collected in
+    either env, and env 1 is as if it were alone."""
+    small = Level("boulderdash", ("--", "A-"))
+    big = Level("boulderdash", ("wwwwwwwww", "w...x.o.w", "wA......w", "wwwwwwwwe"))
+    actions = torch.tensor([[0, 0]] + [[3, 0]] * 8)  # RIGHT (it faces right: a step a tick), NIL
+    batched = snapshots("boulderdash", [small, big], torch.tensor([0, 1]), actions)
+    assert [s[0]["avatar"]["x"] for s in batched] == [10 * t for t in range(9)]
+    assert all(s[0]["avatar"]["y"] == 10 and s[0]["score"] == 0 for s in batched)
+    alone = snapshots("boulderdash", [big], torch.tensor([1]), actions[:, 1:])
+    assert [s[1] for s in batched] == [s[0] for s in alone]
