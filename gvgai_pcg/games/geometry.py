@@ -9,7 +9,8 @@ border lets sprites leave its screen, and they keep colliding out there. The gam
 and cell-aligned sprites up by grid cell, which is exact on the screen: a cell holds what is
 there. Off an env's own screen (:func:`off_screen`, :func:`screen_cell`) no cell holds anything,
 so a rule must test a sprite out there against the sprites it may meet by their rectangles
-(:func:`overlaps_any`). Nothing is ever written into cells off an env's screen, padding included.
+(:func:`overlaps_any`). No grid of a state holds a sprite off its env's screen, in the padding
+that grows a smaller level to its batch's grid (gvgai_pcg/games/base.py) or anywhere else.
 """
 
 from __future__ import annotations
