@@ -28,7 +28,6 @@ from tqdm.auto import tqdm
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.shards import ShardedStepper
 from gvgai_pcg.games import registered_games
-from gvgai_pcg.games.base import pad_level
 
 BATCH_SIZES = (1, 64, 1024, 4096)
 ENGINE_BATCH = 4096
@@ -116,9 +115,7 @@ def measure_engine(game: str, batch: int = 4096, shards: int = 1, min_seconds: f
     from gvgai_pcg.levels import human_levels
 
     engine = get_game(game)
-    levels = [human_levels(game)[i % 5] for i in range(batch)]
-    height, width = max(lv.height for lv in levels), max(lv.width for lv in levels)
-    levels = [pad_level(lv, height, width, engine.pad_char) for lv in levels]
+    levels = [human_levels(game)[i % 5] for i in range(batch)]  # of mixed sizes in Frogs
     state = engine.compile(levels, torch.arange(batch), torch.device("cpu"))
     stepper = ShardedStepper(shards, min_shard=1)
     generator = torch.Generator().manual_seed(0)

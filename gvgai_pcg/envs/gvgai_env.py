@@ -243,7 +243,7 @@ class GVGAIEnv(RowResetEnv):
         unseen = [level for level in set(levels) if level not in self._bank]
         recurring = getattr(self.level_source, "levels_recur", True)
         if not recurring or len(unseen) > max(1, len(levels) // 2):
-            padded = [pad_level(lv, self.grid_height, self.grid_width, self.game.pad_char) for lv in levels]
+            padded = [pad_level(lv, self.grid_height, self.grid_width) for lv in levels]
             return self.game.compile(padded, episode_seeds, self.device)
         return self._bank.initial_states(levels, episode_seeds)
 

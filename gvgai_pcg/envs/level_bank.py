@@ -51,7 +51,7 @@ class CompiledLevelBank:
 
     def _add(self, levels: list[Level], keep: set[Level]) -> None:
         for level in levels:
-            padded = pad_level(level, self.height, self.width, self.game.pad_char)
+            padded = pad_level(level, self.height, self.width)
             self._rows[level] = len(self._states)
             self._states.append(self.game.compile([padded], torch.zeros(1, dtype=torch.int64), self.device))
         while len(self._rows) > self.capacity:

@@ -3,9 +3,14 @@
 A game is a set of rules over a batched state (a ``TensorDict`` with batch size ``[B]``):
 static tiles as ``[B, H, W]`` bool grids, moving sprites as entity tables (nested
 TensorDicts with batch size ``[B, K]`` and an ``alive`` mask). Every state carries the common
-entries ``seed``, ``tick``, ``score``, ``won`` and ``lost`` (all ``[B]``). ``tick`` runs one
-game cycle for all B environments with tensor ops only (RULES.md §1.3); the engine never loops
-over environments or sprites in Python.
+entries ``seed``, ``tick``, ``score``, ``won``, ``lost`` and each env's own screen size in cells,
+``height`` and ``width`` (all ``[B]``). ``tick`` runs one game cycle for all B environments with
+tensor ops only (RULES.md §1.3); the engine never loops over environments or sprites in Python.
+
+Levels of one batch may differ in size. The grids take the largest size, and a smaller level is
+padded with ``OUTSIDE`` cells: beyond its screen, where nothing is (no wall, no sprite), so a level
+behaves the same whatever it is batched with. Every edge test (EOS, wrapAround) and every
+off-grid test uses the env's own ``height`` and ``width``, never the batch's grid.
 """
 
 from __future__ import annotations
@@ -24,6 +29,10 @@ from tensordict import TensorDict
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.games.rows import copy_tensor_rows_
 from gvgai_pcg.levels import Level, LevelFormat, level_format
+
+# A cell beyond a level's screen, where padding grows the level to a batch's grid. No legend has
+# this character (and Level.parse refuses it), so nothing is there: no wall, no sprite.
+OUTSIDE = " "
 
 
 @dataclass(frozen=True)
@@ -85,8 +94,6 @@ class Game(ABC):
     # Observation channels of ``tiles``, one per sprite type that matters (decoration left out).
     tile_types: ClassVar[tuple[str, ...]]
     art: ClassVar[dict[str, SpriteArt]]
-    # The row used to pad a level that is smaller than the batch's grid (RULES.md §8, frogs lvl4).
-    pad_char: ClassVar[str] = "w"
 
     @property
     def level_format(self) -> LevelFormat:
@@ -98,7 +105,9 @@ class Game(ABC):
 
     @abstractmethod
     def compile(self, levels: Sequence[Level], seeds: torch.Tensor, device: torch.device) -> TensorDict:
-        """The initial state of ``len(levels)`` envs, before the reset tick (``tick == -1``)."""
+        """The initial state of ``len(levels)`` envs, before the reset tick (``tick == -1``). Levels
+        of different sizes (or padded with :func:`pad_level`) share the largest grid, each keeping
+        its own screen (see the module docstring)."""
 
     @abstractmethod
     def tick(self, state: TensorDict, action: torch.Tensor) -> None:
@@ -140,28 +149,52 @@ def golden_record(state: TensorDict, avatar: dict | None, sprites: list[list]) -
     }
 
 
-def common_state(seeds: torch.Tensor, device: torch.device) -> dict[str, torch.Tensor]:
+def common_state(
+    levels: Sequence[Level], seeds: torch.Tensor, device: torch.device
+) -> dict[str, torch.Tensor]:
     """The entries every game state has, for a fresh episode (the reset tick makes ``tick`` 0)."""
     batch = seeds.shape[0]
+    heights, widths = zip(*map(screen_size, levels), strict=True)
     return {
         "seed": seeds.to(device=device, dtype=torch.int64).clone(),  # never shared with the caller
         "tick": torch.full((batch,), -1, dtype=torch.int64, device=device),
         "score": torch.zeros(batch, dtype=torch.int64, device=device),
         "won": torch.zeros(batch, dtype=torch.bool, device=device),
         "lost": torch.zeros(batch, dtype=torch.bool, device=device),
+        "height": torch.tensor(heights, dtype=torch.int64, device=device),
+        "width": torch.tensor(widths, dtype=torch.int64, device=device),
     }
 
 
+def screen_size(level: Level) -> tuple[int, int]:
+    """(height, width) in cells of ``level``'s own screen: its grid without the ``OUTSIDE``
+    rows at the bottom and columns at the right that :func:`pad_level` added."""
+    height = sum(1 for row in level.rows if not row.startswith(OUTSIDE))
+    return height, len(level.rows[0].rstrip(OUTSIDE))
+
+
+def open_border(closed: torch.Tensor, height: torch.Tensor, width: torch.Tensor) -> torch.Tensor:
+    """``[B]`` bool: whether some cell on the border of each env's own screen (``height`` x
+    ``width`` cells, ``[B]``) is not ``closed`` (``[B, H, W]`` bool, e.g. the walls). In a game
+    whose walls stop everything that moves, only such a level lets sprites leave its screen."""
+    _, rows, columns = closed.shape
+    r = torch.arange(rows, device=closed.device).view(1, rows, 1)
+    c = torch.arange(columns, device=closed.device).view(1, 1, columns)
+    h, w = height.view(-1, 1, 1), width.view(-1, 1, 1)
+    border = (r < h) & (c < w) & ((r == 0) | (r == h - 1) | (c == 0) | (c == w - 1))
+    return (border & ~closed).flatten(1).any(-1)
+
+
 def char_codes(levels: Sequence[Level]) -> np.ndarray:
-    """``[B, H, W]`` uint8: the character codes of levels of one size (shared: do not modify)."""
+    """``[B, H, W]`` uint8: the character codes of ``levels``, smaller ones padded with ``OUTSIDE``
+    to the largest height and width (shared: do not modify)."""
     return _char_codes(tuple(levels))
 
 
 @lru_cache(maxsize=4)  # a compile looks up the same levels once per sprite type
 def _char_codes(levels: tuple[Level, ...]) -> np.ndarray:
-    height, width = levels[0].height, levels[0].width
-    if any(level.height != height or level.width != width for level in levels):
-        raise ValueError("levels of one batch must have one size (pad them first)")
+    height, width = max(level.height for level in levels), max(level.width for level in levels)
+    levels = tuple(pad_level(level, height, width) for level in levels)
     text = "".join("".join(level.rows) for level in levels).encode("utf-32-le")
     codes = np.frombuffer(text, dtype=np.uint32)
     # Characters beyond 255 belong to no legend: they read as code 0, which none uses either.
@@ -217,15 +250,18 @@ def avatar_cell(levels: Sequence[Level], chars: str) -> tuple[torch.Tensor, torc
     return CELL * torch.tensor(xs, dtype=torch.int64), CELL * torch.tensor(ys, dtype=torch.int64)
 
 
-def pad_level(level: Level, height: int, width: int, pad_char: str) -> Level:
-    """``level`` grown to ``height x width`` with ``pad_char`` rows at the bottom and columns at
-    the right (the study's padding of frogs lvl4)."""
+def pad_level(level: Level, height: int, width: int) -> Level:
+    """``level`` grown to ``height x width`` with ``OUTSIDE`` rows at the bottom and columns at the
+    right: cells beyond its screen, which hold nothing and keep its edge where it was (a level
+    already that size is returned as is)."""
     if level.height > height or level.width > width:
         raise ValueError(
             f"level {level.name or ''} is {level.width}x{level.height}, larger than {width}x{height}"
         )
-    rows = [row + pad_char * (width - level.width) for row in level.rows]
-    rows += [pad_char * width] * (height - level.height)
+    if (level.height, level.width) == (height, width):
+        return level
+    rows = [row + OUTSIDE * (width - level.width) for row in level.rows]
+    rows += [OUTSIDE * width] * (height - level.height)
     return Level(level.game, tuple(rows), name=level.name, seed=level.seed)
 
 

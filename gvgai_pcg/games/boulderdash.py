@@ -22,9 +22,21 @@ cell leave two diamonds). Boulders are an entity table in level (row-major) orde
 appear, disappear or move sideways, so each keeps its column and its neighbour below for the
 whole episode (``below``, computed at compile time). That makes the sequential ``boulder ×
 boulder`` stepBack a single gather, see :func:`boulder_stepback`. Done in list order as §1.3
-says, that rule leaves the top boulder of a stack of three 2 px inside the middle one whenever the
-bottom one is stopped (RULES.md §7.7 says supported boulders always rest aligned; the golden traces
-have no such stack). Cleanup edits the dirt, diamond and exitdoor grids in place.
+says, that rule leaves every boulder above the second-lowest of a stopped stack resting 2 px inside
+the one below it (RULES.md §7.7; the Java engine does the same: golden traces ``boulderdash_stack3_resting``,
+``boulderdash_stack5_fall``, ``boulderdash_two_stacks_merge``, ``boulderdash_three_stack_fall``).
+Cleanup edits the dirt, diamond and exitdoor grids in place.
+
+Off the screen. boulderdash.txt has no EOS rule, so in a level without a full wall border the
+avatar and the monsters can walk off the grid and boulders fall out of it, and the rules still
+apply out there on pixel rectangles (RULES.md §1.1, §7.7; golden traces ``boulderdash_offgrid_*``).
+The grids hold what is on each env's own screen, so a sprite off it is tested by rectangles
+instead (``geometry.overlaps_any``): rule 5 against the boulders for the avatar and the monsters,
+and rules 3, 11 and 14 against the diamonds that butterflies turned into off the screen (rule 16),
+kept in ``gems`` (one slot per monster slot) since no cell can hold them. Everything else needs
+nothing there: dirt, walls and the exit never leave the screen, and rules 6-8 and 15-16 compare
+positions. Only a level whose border is not all wall (``open``) lets a sprite leave its screen,
+so the tick does this work only in a batch that holds one.
 """
 
 from __future__ import annotations
@@ -46,9 +58,21 @@ from gvgai_pcg.games.base import (
     char_grid,
     common_state,
     golden_record,
+    open_border,
     single_sprite_layer,
 )
-from gvgai_pcg.games.geometry import CELL, DIRECTION_NAMES, NONE, RIGHT, any_last, pick
+from gvgai_pcg.games.geometry import (
+    CELL,
+    DIRECTION_NAMES,
+    NONE,
+    RIGHT,
+    any_last,
+    count_last,
+    overlaps_any,
+    pick,
+    screen_cell,
+)
+from gvgai_pcg.games.geometry import small_cell_of as cell_of
 from gvgai_pcg.games.registry import register_game
 from gvgai_pcg.levels import Level
 
@@ -85,21 +109,6 @@ def enemy_directions(seed: torch.Tensor, tick: torch.Tensor, slots: torch.Tensor
     draw_tick = tick - (1 - tick % 2)
     drawn = draw_enemy_directions(seed, draw_tick, slots)
     return torch.where((tick > 0).unsqueeze(-1), drawn, torch.full_like(drawn, NONE))
-
-
-def cell_of(v: torch.Tensor) -> torch.Tensor:
-    """``v // 10`` for 0 <= v < 1029 without an integer division (slow on CPU)."""
-    return (v * 205) >> 11
-
-
-def cell_index(
-    x: torch.Tensor, y: torch.Tensor, height: int, width: int
-) -> tuple[torch.Tensor, torch.Tensor]:
-    """Flat cell index of cell-aligned sprites at ``x, y`` (any shape), clamped into the grid, and
-    whether the sprite is inside the grid at all (a level without border walls lets sprites out)."""
-    x_in, y_in = x.clamp(0, CELL * (width - 1)), y.clamp(0, CELL * (height - 1))
-    inside = (x_in == x) & (y_in == y)
-    return cell_of(y_in) * width + cell_of(x_in), inside
 
 
 def boulder_cells(y: torch.Tensor, column: torch.Tensor, height: int, width: int) -> torch.Tensor:
@@ -145,6 +154,23 @@ def below_neighbours(
     return torch.where(has_below, nearest, slots.expand_as(nearest)), has_below
 
 
+def collect_gems(
+    gx: torch.Tensor,
+    gy: torch.Tensor,
+    galive: torch.Tensor,
+    ax: torch.Tensor,
+    ay: torch.Tensor,
+    off: torch.Tensor,
+    held: torch.Tensor,
+) -> tuple[torch.Tensor, torch.Tensor]:
+    """Rule 3 off the screen: an avatar at ``ax, ay`` (``[B]``) where ``off`` collects the gems at
+    its place (``gx, gy, galive`` ``[B, E]``, cell-aligned like it), one at a time while it holds
+    fewer than 10. Returns which gems are taken (``[B, E]``, removed at cleanup) and how many."""
+    here = galive & (gx == ax.unsqueeze(-1)) & (gy == ay.unsqueeze(-1)) & off.unsqueeze(-1)
+    taken = torch.minimum(count_last(here).long(), DIAMOND_LIMIT - held)
+    return here & (here.cumsum(-1) <= taken.unsqueeze(-1)), taken
+
+
 @register_game("boulderdash")
 class Boulderdash(Game):
     actions = ("NIL", "USE", "LEFT", "RIGHT", "DOWN", "UP")
@@ -183,6 +209,15 @@ class Boulderdash(Game):
             "has_below": has_below,
         }
         enemies = char_entities(levels, ENEMY_CHARS, device)
+        # Diamonds off the screen: the one each monster slot's butterfly may turn into out there.
+        gems = TensorDict(
+            {
+                key: torch.zeros(enemies.batch_size, dtype=enemies.get(key).dtype)
+                for key in ("x", "y", "alive")
+            },
+            batch_size=enemies.batch_size,
+            device=enemies.device,
+        )
         avatar = {
             "x": ax,
             "y": ay,
@@ -191,9 +226,12 @@ class Boulderdash(Game):
             "alive": torch.ones(batch, dtype=torch.bool),
         }
         sword = {"x": zeros.clone(), "y": zeros.clone(), "age": zeros.clone(), "exists": zeros.bool()}
+        common = common_state(levels, seeds, device)
+        wall = char_grid(levels, "w", device)
         state = {
-            **common_state(seeds, device),
-            "wall": char_grid(levels, "w", device),
+            **common,
+            "wall": wall,
+            "open": open_border(wall, common["height"], common["width"]),
             "dirt": char_grid(levels, ".", device),
             "diamond": char_grid(levels, "x", device).to(torch.uint8),
             "exitdoor": char_grid(levels, "e", device),
@@ -202,6 +240,7 @@ class Boulderdash(Game):
             "sword": TensorDict(sword, batch_size=[batch]).to(device),
             "boulders": TensorDict(boulders, batch_size=table.batch_size),
             "enemies": enemies,
+            "gems": gems,
         }
         return TensorDict(state, batch_size=[batch], device=device)
 
@@ -210,8 +249,10 @@ class Boulderdash(Game):
         tick = state.get("tick") + 1
         state.set("tick", tick)
         avatar, sword = state.get("avatar"), state.get("sword")
-        enemies, boulders = state.get("enemies"), state.get("boulders")
+        enemies, boulders, gems = state.get("enemies"), state.get("boulders"), state.get("gems")
         dx, dy = self._unit(tick.device)
+        # Whether a sprite may be off its screen in this batch (one check, see the module docstring).
+        leaving = bool(any_last(state.get("open")))
 
         # Step 2, the avatar (ShootAvatar): a new direction only turns it, the faced one moves it 10 px;
         # USE places the pickaxe in the faced cell unless one exists (singleton).
@@ -243,16 +284,19 @@ class Boulderdash(Game):
         wall, dirt, diamond, exitdoor = (state.get(k) for k in ("wall", "dirt", "diamond", "exitdoor"))
         batch, height, width = wall.shape
         cells = height * width
+        # Each env's last on-screen position of a cell-aligned sprite (its own screen, not the grid's).
+        last_x, last_y = CELL * (state.get("width") - 1), CELL * (state.get("height") - 1)
+        last_ex, last_ey = last_x.unsqueeze(-1), last_y.unsqueeze(-1)
         wall_f, dirt_f = wall.view(batch, cells), dirt.view(batch, cells)
         diamond_f, exit_f = diamond.view(batch, cells), exitdoor.view(batch, cells)
         score = state.get("score")
 
         # 1 dirt × avatar, 2 dirt × sword: the dirt is killed (it stays, as second sprite, until cleanup).
-        a_cell, a_inside = cell_index(ax, ay, height, width)
-        a_here = alive & a_inside
-        s_cell, s_inside = cell_index(sx, sy, height, width)
+        a_cell, a_on = screen_cell(ax, ay, last_x, last_y, width)
+        a_here = alive & a_on
+        s_cell, s_on = screen_cell(sx, sy, last_x, last_y, width)
         dig_cells = torch.stack([a_cell, s_cell], dim=-1)
-        dig = torch.stack([a_here, exists & s_inside], dim=-1)
+        dig = torch.stack([a_here, exists & s_on], dim=-1)
 
         # 3 diamond × avatar: collectResource, one diamond at a time while the avatar holds < 10 (+2 each).
         held = avatar.get("diamonds")
@@ -262,27 +306,40 @@ class Boulderdash(Game):
         collected = collected * a_here
         held = held + collected
         score = score + DIAMOND_SCORE * collected
+        if leaving:  # off the screen, the diamonds butterflies left there
+            gx, gy, galive = gems.get("x"), gems.get("y"), gems.get("alive")
+            gems_taken, from_gems = collect_gems(gx, gy, galive, ax, ay, alive & ~a_on, held)
+            held = held + from_gems
+            score = score + DIAMOND_SCORE * from_gems
 
         # 4 moving × wall, 5 moving × boulder: stepBack, against the boulders where step 3 moved them.
         padded = cells + width  # one empty row under the grid for boulders that fell out of it
         b_cells = boulder_cells(by, boulders.get("column"), height, width)
         covered = torch.zeros(batch, padded, dtype=torch.uint8, device=tick.device)
         covered.scatter_add_(1, b_cells, boulders.get("weight").view(batch, -1))
+        # Off the screen (no wall is there): against the boulders' rectangles.
         a_index = a_cell.unsqueeze(-1)
         blocked = wall_f.gather(1, a_index) | (covered.gather(1, a_index) > 0)
         back = a_here & blocked.squeeze(-1)
+        bx, balive = boulders.get("x"), boulders.get("alive")
+        if leaving:
+            back |= overlaps_any(ax, ay, alive & ~a_on, bx, by, balive)
         ax, ay = torch.where(back, lastx, ax), torch.where(back, lasty, ay)
-        e_cell, e_inside = cell_index(ex, ey, height, width)
-        back = present & e_inside & (wall_f.gather(1, e_cell) | (covered.gather(1, e_cell) > 0))
+        e_cell, e_on = screen_cell(ex, ey, last_ex, last_ey, width)
+        back = present & e_on & (wall_f.gather(1, e_cell) | (covered.gather(1, e_cell) > 0))
+        if leaving:
+            back |= overlaps_any(ex, ey, present & ~e_on, bx, by, balive)
         ex, ey = torch.where(back, elastx, ex), torch.where(back, elasty, ey)
 
         # 6 avatar × boulder: killIfFromAbove, −1 if a boulder that was > 5 px higher moved down onto it.
         # An avatar that moved and stayed overlaps no boulder (rule 5), so only one at its start-of-tick
         # place can die. Every boulder moved 2 px in step 3 (from tick 1), so "was > 5 px higher and
         # overlaps now" is: same column and by − ay in (−10, 2 − 5).
+        # Off the screen the avatar's column is clamped to one beside the grid, where no boulder is.
         still = alive & (ax == lastx) & (ay == lasty) & (tick > 0)
-        offset = boulders.get("key") + by - (cell_of(ax) * _COLUMN_KEY + ay).int().unsqueeze(-1)
-        from_above = (offset > -CELL) & (offset < BOULDER_FALL - 5) & boulders.get("alive")
+        column = cell_of(ax.clamp(-CELL, CELL * width) if leaving else ax)
+        offset = boulders.get("key") + by - (column * _COLUMN_KEY + ay).int().unsqueeze(-1)
+        from_above = (offset > -CELL) & (offset < BOULDER_FALL - 5) & balive
         crushed = still & any_last(from_above)
         score = score + DEATH_SCORE * crushed.long()
         # 7 avatar × butterfly, 8 avatar × crab: kill, −1 per monster (everything here is cell-aligned;
@@ -291,18 +348,25 @@ class Boulderdash(Game):
         score = score + DEATH_SCORE * touching.sum(-1)
         disabled = crushed | any_last(touching)
 
-        # 9-11 boulder × dirt, wall, diamond: stepBack (dead dirt and collected diamonds still count).
+        # 9-11 boulder × dirt, wall, diamond: stepBack (dead dirt and collected diamonds still count;
+        # a boulder reaching off the screen meets only the diamonds there).
         solid = torch.zeros(batch, padded, dtype=torch.bool, device=tick.device)
         torch.bitwise_or(dirt_f | wall_f, diamond_f.bool(), out=solid[:, :cells])
         hit = solid.gather(1, b_cells).view(batch, -1, 2)
         hit = hit[..., 0] | hit[..., 1]
+        if leaving:
+            off = balive & (by > last_ey) & any_last(galive).unsqueeze(-1)
+            hit |= overlaps_any(bx, by, off, gx, gy, galive)
         by = torch.where(hit, blasty, by)
         # 12 boulder × boulder: stepBack, in list order (see boulder_stepback).
         by = torch.where(boulder_stepback(by, boulders.get("below"), boulders.get("has_below")), blasty, by)
 
-        # 13-14 enemy × dirt, diamond: stepBack (an enemy is never inside a wall by now).
-        e_cell, e_inside = cell_index(ex, ey, height, width)
-        back = present & e_inside & solid.gather(1, e_cell)
+        # 13-14 enemy × dirt, diamond: stepBack (an enemy is never inside a wall by now; off the
+        # screen only diamonds are there).
+        e_cell, e_on = screen_cell(ex, ey, last_ex, last_ey, width)
+        back = present & e_on & solid.gather(1, e_cell)
+        if leaving:
+            back |= overlaps_any(ex, ey, present & ~e_on, gx, gy, galive)
         ex, ey = torch.where(back, elastx, ex), torch.where(back, elasty, ey)
 
         # 15 crab × butterfly: kill the crab. 16 butterfly × crab: transformTo diamond, +1 per butterfly
@@ -315,15 +379,24 @@ class Boulderdash(Game):
         score = score + BUTTERFLY_SCORE * turns.sum(-1)
 
         # 17 exitdoor × avatar: killIfOtherHasMore, the exit goes if the avatar holds >= 9 diamonds.
-        a_cell, a_inside = cell_index(ax, ay, height, width)
+        a_cell, a_on = screen_cell(ax, ay, last_x, last_y, width)
         exit_here = exit_f.gather(1, a_cell.unsqueeze(-1)).squeeze(-1)
-        opens = alive & a_inside & exit_here & (held >= EXIT_DIAMONDS)
+        opens = alive & a_on & exit_here & (held >= EXIT_DIAMONDS)
 
-        # Step 5, cleanup: killed sprites go now; the new diamonds stay.
+        # Step 5, cleanup: killed sprites go now; the new diamonds stay (off the screen, as gems).
         dirt_f.scatter_reduce_(1, dig_cells, ~dig, reduce="amin")
         diamond_f.scatter_add_(1, dig_cells[:, :1], (-collected).to(torch.uint8).unsqueeze(-1))
-        e_cell, e_inside = cell_index(ex, ey, height, width)
-        diamond_f.scatter_add_(1, e_cell, (turns & e_inside).to(torch.uint8))
+        e_cell, e_on = screen_cell(ex, ey, last_ex, last_ey, width)
+        diamond_f.scatter_add_(1, e_cell, (turns & e_on).to(torch.uint8))
+        if leaving:
+            made = turns & ~e_on
+            gems.update(
+                {
+                    "x": torch.where(made, ex, gx),
+                    "y": torch.where(made, ey, gy),
+                    "alive": galive & ~gems_taken | made,
+                }
+            )
         exit_f.scatter_(1, a_cell.unsqueeze(-1), (exit_here & ~opens).unsqueeze(-1))
         exits = state.get("exits") - opens.long()
         alive = alive & ~disabled
@@ -381,6 +454,9 @@ class Boulderdash(Game):
         diamond = s.get("diamond")
         for r, c in diamond.nonzero().tolist():
             sprites += [["diamond", CELL * c, CELL * r]] * int(diamond[r, c])
+        gems = s.get("gems")
+        for k in gems.get("alive").nonzero().flatten().tolist():
+            sprites.append(["diamond", gems.get("x")[k].item(), gems.get("y")[k].item()])
         if s.get(("sword", "exists")).item():
             sprites.append(["sword", s.get(("sword", "x")).item(), s.get(("sword", "y")).item()])
         boulders = s.get("boulders")

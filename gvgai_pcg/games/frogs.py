@@ -47,10 +47,9 @@ from gvgai_pcg.games.base import (
     char_grid,
     common_state,
     golden_record,
-    pad_level,
     single_sprite_layer,
 )
-from gvgai_pcg.games.geometry import CELL, cell_of, pick
+from gvgai_pcg.games.geometry import CELL, cell_of, off_screen, pick
 from gvgai_pcg.games.registry import register_game
 from gvgai_pcg.levels import Level
 
@@ -213,12 +212,8 @@ class Frogs(Game):
     }
 
     def compile(self, levels: Sequence[Level], seeds: torch.Tensor, device: torch.device) -> TensorDict:
-        """Levels of different sizes are padded to the largest with wall rows/columns (frogs lvl4).
-
-        Positions are int32 (half the memory traffic of int64 in the tick and the renderer).
-        """
-        height, width = max(level.height for level in levels), max(level.width for level in levels)
-        levels = [pad_level(level, height, width, self.pad_char) for level in levels]
+        """Positions are int32 (half the memory traffic of int64 in the tick and the renderer)."""
+        width = max(level.width for level in levels)
         batch = len(levels)
         cpu = torch.device("cpu")
 
@@ -275,7 +270,7 @@ class Frogs(Game):
             table.set("row", table.get("y") // CELL)
             trucks[name] = table
         state = {
-            **common_state(seeds, device),
+            **common_state(levels, seeds, device),
             "wall": char_grid(levels, WALL_CHARS, device),
             "water": char_grid(levels, WATER_CHARS, device),
             "goal": char_grid(levels, GOAL_CHARS, device),
@@ -304,12 +299,13 @@ class Frogs(Game):
         pressed = alive & (action != NIL)
         lastx, lasty = x, y
         x, y = self._update_avatar(action, pressed, x, y)
-        height, width = state.get("wall").shape[1:]
-        self._update_trucks(state, tick, width)
+        # Each env's own screen in px (a level padded to the batch's grid keeps its edges).
+        screen_w, screen_h = CELL * state.get("width"), CELL * state.get("height")
+        self._update_trucks(state, tick, screen_w)
         schedule = self._spawn_schedule(state.get("spawners"), tick)
         fresh = self._update_logs(state, tick, schedule)
         spawned = self._update_spawners(state, tick, schedule)
-        x, y = self._apply_eos(x, y, lastx, lasty, height, width)
+        x, y = self._apply_eos(x, y, lastx, lasty, screen_h, screen_w)
         unmoved = fresh | spawned
         self._apply_rules(state, tick, alive, pressed, schedule, unmoved, x, y, lastx, lasty)
         self._cleanup_logs(state, tick, schedule)
@@ -339,14 +335,16 @@ class Frogs(Game):
 
     # --- step 3: trucks, logs (Missiles, first update skipped), then spawners ---
     @staticmethod
-    def _update_trucks(state: TensorDict, tick: torch.Tensor, width: int) -> None:
+    def _update_trucks(state: TensorDict, tick: torch.Tensor, screen_w: torch.Tensor) -> None:
         """Level trucks have their first update in tick 0 and drive from tick 1; EOS rule E3
-        (wrapAround) is applied right away, as nothing in between reads the trucks.
+        (wrapAround, at each env's own screen width ``screen_w`` ``[B]`` px) is applied right away,
+        as nothing in between reads the trucks.
 
         Padding slots drive and wrap too; they are never drawn nor hit (``alive``, ``lane``).
         """
         running = (tick >= 1).to(torch.int32).unsqueeze(-1)
-        last = CELL * width - CELL  # the last x at which a truck is fully on the screen
+        # The last x at which a truck is fully on the screen, ``[B, 1]``.
+        last = (screen_w - CELL).to(torch.int32).unsqueeze(-1)
         for name, velocity in zip(TRUCK_TYPES, TRUCK_VELOCITY, strict=True):
             tx = state.get(name).get("x")
             tx.add_(running * velocity)
@@ -443,9 +441,16 @@ class Frogs(Game):
     # --- step 4b: EOS rules E1 (frog stepBack), E2 (log kill, at cleanup), E3 (truck wrap, above) ---
     @staticmethod
     def _apply_eos(
-        x: torch.Tensor, y: torch.Tensor, lastx: torch.Tensor, lasty: torch.Tensor, height: int, width: int
+        x: torch.Tensor,
+        y: torch.Tensor,
+        lastx: torch.Tensor,
+        lasty: torch.Tensor,
+        screen_h: torch.Tensor,
+        screen_w: torch.Tensor,
     ) -> tuple[torch.Tensor, torch.Tensor]:
-        edge = (x < 0) | (y < 0) | (x + CELL > CELL * width) | (y + CELL > CELL * height)
+        """E1: a frog not entirely inside its env's screen (``screen_h``, ``screen_w`` ``[B]`` px)
+        goes back to where it started the tick (RULES.md §1.1)."""
+        edge = off_screen(x, y, screen_h, screen_w)
         return torch.where(edge, lastx, x), torch.where(edge, lasty, y)
 
     # --- step 4c: collision rules in declaration order ---

@@ -3,6 +3,14 @@
 
 All sprites in these games are 10x10 px and positions are integer pixels (RULES.md §1.1), so a
 rectangle at (x, y) overlaps at most the 2x2 cells {x//10, (x+9)//10} x {y//10, (y+9)//10}.
+
+GVGAI tests every interaction on pixel rectangles, wherever the sprites are: a level without a
+border lets sprites leave its screen, and they keep colliding out there. The games look static
+and cell-aligned sprites up by grid cell, which is exact on the screen: a cell holds what is
+there. Off an env's own screen (:func:`off_screen`, :func:`screen_cell`) no cell holds anything,
+so a rule must test a sprite out there against the sprites it may meet by their rectangles
+(:func:`overlaps_any`). No grid of a state holds a sprite off its env's screen, in the padding
+that grows a smaller level to its batch's grid (gvgai_pcg/games/base.py) or anywhere else.
 """
 
 from __future__ import annotations
@@ -25,6 +33,11 @@ def _table(values: tuple[int, ...], device: torch.device) -> torch.Tensor:
     return torch.tensor(values, dtype=torch.int64, device=device)
 
 
+@cache
+def _zero(dtype: torch.dtype, device: torch.device) -> torch.Tensor:
+    return torch.zeros((), dtype=dtype, device=device)
+
+
 def pick(table: torch.Tensor, codes: torch.Tensor) -> torch.Tensor:
     """``table[codes]`` for a 1-D lookup table and codes of any shape, by ``index_select``
     (several times cheaper than advanced indexing on the CPU)."""
@@ -44,6 +57,38 @@ def direction_dy(direction: torch.Tensor) -> torch.Tensor:
 def overlaps(ax: torch.Tensor, ay: torch.Tensor, bx: torch.Tensor, by: torch.Tensor) -> torch.Tensor:
     """Strict overlap of 10x10 rectangles (edge-adjacent cells do not overlap); broadcasts."""
     return (ax < bx + CELL) & (bx < ax + CELL) & (ay < by + CELL) & (by < ay + CELL)
+
+
+def off_screen(
+    x: torch.Tensor, y: torch.Tensor, screen_h: torch.Tensor, screen_w: torch.Tensor
+) -> torch.Tensor:
+    """RULES.md §1.1's "at the edge": whether 10x10 rectangles at ``x, y`` are not entirely inside
+    their env's screen of ``screen_h`` x ``screen_w`` px (each env's own, broadcast against x, y)."""
+    return (x < 0) | (y < 0) | (x + CELL > screen_w) | (y + CELL > screen_h)
+
+
+def overlaps_any(
+    x: torch.Tensor,
+    y: torch.Tensor,
+    which: torch.Tensor,
+    tx: torch.Tensor,
+    ty: torch.Tensor,
+    present: torch.Tensor,
+) -> torch.Tensor:
+    """Whether each sprite at ``x, y`` (``[B]`` or ``[B, E]``) that ``which`` selects overlaps a
+    ``present`` sprite of the table ``tx, ty`` (``[B, K]``) of its env, by pixel rectangles; false
+    for the sprites not selected.
+
+    This is how rules see sprites off the screen, where no cell holds them. They are few, so they
+    are found first (one ``nonzero``) and only they are compared with their env's table."""
+    hit = torch.zeros_like(which)
+    flat = hit.view(which.shape[0], -1)
+    env, slot = which.reshape(flat.shape).nonzero(as_tuple=True)
+    if env.numel():
+        sx, sy = x.reshape(flat.shape)[env, slot], y.reshape(flat.shape)[env, slot]
+        near = overlaps(sx.unsqueeze(-1), sy.unsqueeze(-1), tx[env], ty[env]) & present[env]
+        flat[env, slot] = any_last(near)
+    return hit
 
 
 def overlaps_aligned(ax: torch.Tensor, ay: torch.Tensor, bx: torch.Tensor, by: torch.Tensor) -> torch.Tensor:
@@ -72,6 +117,26 @@ def cell_of(position: torch.Tensor) -> torch.Tensor:
     positions in [-10000, 33000) px, far beyond any screen here.
     """
     return ((position.long() + 10000) * 52429 >> 19) - 1000
+
+
+def small_cell_of(position: torch.Tensor) -> torch.Tensor:
+    """``position // 10`` for 0 <= position < 1029 (positions on a screen of up to 101 cells): a
+    multiply and a shift, cheaper still than :func:`cell_of`, in the input's dtype."""
+    return (position * 205) >> 11
+
+
+def screen_cell(
+    x: torch.Tensor, y: torch.Tensor, last_x: torch.Tensor, last_y: torch.Tensor, width: int
+) -> tuple[torch.Tensor, torch.Tensor]:
+    """For cell-aligned rectangles at ``x, y`` (any shape): the flat index (in a grid ``width``
+    cells wide) of the cell they cover, clamped onto their env's screen, and whether they are on
+    that screen, the only place where the cell holds what they overlap. ``last_x, last_y`` are each
+    env's last on-screen position, ``10 * (own width - 1)`` and ``10 * (own height - 1)``,
+    broadcast against x, y (at most 1010 px)."""
+    zero = _zero(x.dtype, x.device)
+    x_in, y_in = torch.clamp(x, zero, last_x), torch.clamp(y, zero, last_y)
+    on = (x_in == x) & (y_in == y)
+    return small_cell_of(y_in) * width + small_cell_of(x_in), on
 
 
 def covered_cells(

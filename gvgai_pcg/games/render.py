@@ -299,14 +299,11 @@ def render_pixels(game: Game, state: TensorDict) -> torch.Tensor:
 
 def level_pictures(levels: list[Level]) -> np.ndarray:
     """``[N, 10H, 10W, 3]`` uint8 RGB pictures of levels of one game as they start (before the
-    reset tick), padded to the batch's largest grid like the env pads them."""
-    from gvgai_pcg.games.base import pad_level
+    reset tick), in the batch's largest grid like the env shows them."""
     from gvgai_pcg.games.registry import get_game
 
     game = get_game(levels[0].game)
-    height, width = max(lv.height for lv in levels), max(lv.width for lv in levels)
-    padded = [pad_level(level, height, width, game.pad_char) for level in levels]
-    state = game.compile(padded, torch.zeros(len(padded), dtype=torch.int64), torch.device("cpu"))
+    state = game.compile(levels, torch.zeros(len(levels), dtype=torch.int64), torch.device("cpu"))
     return render_pixels(game, state).permute(0, 2, 3, 1).numpy()
 
 

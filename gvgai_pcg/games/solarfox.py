@@ -198,7 +198,7 @@ class Solarfox(Game):
         ground = char_grid(levels, ".12", device)
         blib, powerblib = char_grid(levels, "b", device), char_grid(levels, "p", device)
         state = {
-            **common_state(seeds, device),
+            **common_state(levels, seeds, device),
             "wall": wall,
             "enemyground": ground,
             "deadly": wall | ground,  # a cell holds a wall or an enemyground, never both
@@ -391,12 +391,12 @@ class Solarfox(Game):
         flight. Both move at most 1 px per tick, so such a shot can never overlap the ship again,
         and off screen it is neither drawn nor in ``tiles``."""
         shots, avatar, enemies = state.get("shots"), state.get("avatar"), state.get("enemies")
-        screen_h = CELL * state.get("wall").shape[1]
+        screen_h = (CELL * state.get("height")).to(torch.int32).unsqueeze(-1)  # each env's own screen
         # Along the flight (y dy, y grows downward) an upshot is gone from -y = 10 - min(0, ship_y)
         # on, a downshot from y = max(screen_h, ship_y + 10) on; the ship's bound only while alive
         # (a ship y of 0 leaves both at the screen's).
         ship_y = (avatar.get("y") * avatar.get("alive")).unsqueeze(-1)
-        up, down = CELL - ship_y.clamp(max=0), (ship_y + CELL).clamp(min=screen_h)
+        up, down = CELL - ship_y.clamp(max=0), torch.maximum(ship_y + CELL, screen_h)
         bound = torch.where(enemies.get("kind") == BTM, up, down)
         alive = shots.get("alive")
         flight = (shots.get("y") * shots.get("dy")).view(*bound.shape, SHOTS_PER_ENEMY)

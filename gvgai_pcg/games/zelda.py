@@ -133,7 +133,7 @@ class Zelda(Game):
             "killed": zeros.bool(),
         }
         state = {
-            **common_state(seeds, device),
+            **common_state(levels, seeds, device),
             "wall": char_grid(levels, "w", device),
             "goal": char_grid(levels, "g", device),
             "key": char_grid(levels, "+", device),

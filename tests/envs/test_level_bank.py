@@ -20,7 +20,7 @@ def test_banked_states_equal_compiled_states():
     seeds = torch.arange(6) * 7
     got = store.initial_states(levels, seeds)
     game = get_game("frogs")
-    padded = [pad_level(lv, 11, 28, game.pad_char) for lv in levels]
+    padded = [pad_level(lv, 11, 28) for lv in levels]
     want = game.compile(padded, seeds, torch.device("cpu"))
     for state in (got, want):
         game.tick(state, torch.zeros(6, dtype=torch.int64))

@@ -202,6 +202,115 @@ def test_opening_the_exit_while_dying_loses(monkeypatch):
     assert last["status"] == "lose" and last["score"] == 9 * 2 - 1
 
 
+# --- off the screen (no border wall: RULES.md §1.1, §7.7) ---
+#
+# boulderdash.txt has no EOS rule, and nothing in the rules depends on where the screen ends: a
+# level surrounded by more background plays exactly the same, moved by the margin. So the same
+# scenario is played on the open level (its sprites leave the screen, where the engine tests them
+# by rectangles) and with a margin of background around it (they stay on the screen, where it
+# reads grid cells): every snapshot must agree. The avatar's side is also checked against the
+# Java engine (golden traces boulderdash_offgrid_*); the monsters' cannot be, as they move at
+# random there, so these scenarios script their directions.
+
+MARGIN = 4
+
+
+def surrounded(rows: list[str], margin: int = MARGIN) -> list[str]:
+    """``rows`` with ``margin`` cells of background on every side."""
+    width = len(rows[0]) + 2 * margin
+    return (
+        ["-" * width] * margin + ["-" * margin + row + "-" * margin for row in rows] + ["-" * width] * margin
+    )
+
+
+def moved_back(snap: dict, margin: int = MARGIN) -> dict:
+    """A snapshot of the surrounded level in the open level's coordinates."""
+    d = 10 * margin
+    avatar = snap["avatar"] and {**snap["avatar"], "x": snap["avatar"]["x"] - d, "y": snap["avatar"]["y"] - d}
+    sprites = sorted(([k, x - d, y - d] for k, x, y in snap["sprites"]), key=lambda s: (s[0], s[2], s[1]))
+    return {**snap, "avatar": avatar, "sprites": sprites}
+
+
+def play_open_and_surrounded(rows: list[str], actions: list[str], seed: int = 0) -> list[dict]:
+    """Snapshots of the open level, checked tick by tick against the surrounded one."""
+    snaps = play(rows, actions, seed)
+    for tick, (open_snap, inner) in enumerate(zip(snaps, play(surrounded(rows), actions, seed), strict=True)):
+        assert open_snap == moved_back(inner), f"tick {tick}"
+    return snaps
+
+
+def test_a_crab_following_a_boulder_out_of_the_screen_is_stepped_back_by_it(monkeypatch):
+    """Rule 5 (moving × boulder) for a monster off the screen: the crab, held by the wall on its
+    right until tick 5, then walks down after the boulder that falls out of the level, and is
+    stepped back whenever its step would overlap it, so it keeps one cell behind it."""
+    force_directions(monkeypatch, lambda tick, slot: RIGHT if tick < 5 else DOWN)
+    snaps = play_open_and_surrounded(["cw-A", "o---"], ["NIL"] * 16)
+    assert [sprites(s, "boulder") for s in snaps] == [[(0, 10 + 2 * t)] for t in range(17)]
+    assert [sprites(s, "crab")[0][1] for s in snaps] == [0] * 5 + [10] * 5 + [20] * 5 + [30] * 2
+
+
+def test_a_butterfly_turned_into_a_diamond_off_the_screen_stops_a_boulder_and_a_crab(monkeypatch):
+    """Rules 16, 11 and 14 off the screen: the butterfly (slot 0) and a crab (slot 1) walk out of the
+    bottom and meet at (20, 30): +1, a diamond there. The other crab (slot 2) walking into it is
+    stepped back (rule 14), and the boulder falling out of the level lands on it (rule 11)."""
+    plan = {1: (DOWN, DOWN, DOWN), 3: (RIGHT, LEFT, LEFT), 5: (UP, UP, LEFT)}
+    force_directions(monkeypatch, lambda tick, slot: plan.get(tick, (UP, UP, RIGHT))[slot])
+    snaps = play_open_and_surrounded(["Awo-ww", "wb-c-c"], ["NIL"] * 14)
+    assert snaps[2]["score"] == 0 and snaps[3]["score"] == 1
+    assert all(sprites(s, "diamond") == [(20, 30)] for s in snaps[3:])
+    assert sprites(snaps[3], "butterfly") == [] and sprites(snaps[3], "crab") == [(40, 30)]
+    assert [sprites(s, "crab")[0][0] for s in snaps[4:10]] == [30, 30, 30, 40, 50, 60]  # back at 5, 6
+    assert [sprites(s, "boulder")[0][1] for s in snaps[9:]] == [18, 20, 20, 20, 20, 20]
+
+
+def test_the_avatar_collects_a_diamond_off_the_screen(monkeypatch):
+    """Rule 3 off the screen: the diamond a butterfly left below the screen at tick 3 is collected
+    (+2) when the avatar walks onto it at tick 6, and is gone."""
+    plan = {1: (DOWN, DOWN), 3: (RIGHT, LEFT)}
+    force_directions(monkeypatch, lambda tick, slot: plan.get(tick, (UP, UP))[slot])
+    snaps = play_open_and_surrounded(
+        ["A--", "b-c"], ["DOWN", "DOWN", "DOWN", "DOWN", "RIGHT", "RIGHT", "NIL"]
+    )
+    assert sprites(snaps[5], "diamond") == [(10, 30)] and snaps[5]["score"] == 1
+    assert (snaps[6]["avatar"]["x"], snaps[6]["avatar"]["y"]) == (10, 30)
+    assert snaps[6]["score"] == 3 and snaps[6]["avatar"]["resources"] == {"diamond": 1}
+    assert sprites(snaps[6], "diamond") == sprites(snaps[7], "diamond") == []
+
+
+def test_only_a_level_without_a_full_wall_border_lets_sprites_leave_its_screen():
+    """The tick does its off-screen work only in a batch holding such a level (``open``): walls
+    stop everything that moves, so a full wall border keeps every sprite on the screen. An exit
+    on the border is walkable, so it opens the border. Every human level is closed."""
+    closed, gap, exit_corner = ("wwww", "wA-w", "wwww"), ("wwww", "wA--", "wwww"), ("wwwe", "wA-w", "wwww")
+    levels = [human_level("boulderdash", i) for i in range(5)]
+    levels += [Level("boulderdash", rows) for rows in (closed, gap, exit_corner)]
+    state = GAME.compile(levels, torch.arange(8), torch.device("cpu"))
+    assert state.get("open").tolist() == [False] * 6 + [True, True]
+
+
+@pytest.mark.parametrize(
+    "rows",
+    [("A-o", "o.x", "-cb"), ("--e", "Ao-"), ("oe", "--", "A-"), ("b-o-c", "-o-o-", "c-A-b"), ("Aoooo",)],
+)
+def test_an_open_level_plays_as_with_a_margin_around_it(rows):
+    """Random actions and monsters, four seeds at once: the avatar, the monsters and the boulders
+    leave the screen on every side and meet out there, as they would on a larger screen."""
+    seeds, ticks = torch.arange(4), 120
+    actions = torch.randint(0, 6, (ticks, 4), generator=torch.Generator().manual_seed(len(rows[0])))
+    actions[0] = 0
+    states = [
+        GAME.compile([Level("boulderdash", r)] * 4, seeds, torch.device("cpu"))
+        for r in (rows, surrounded(rows))
+    ]
+    for tick in range(ticks):
+        for state in states:
+            GAME.tick(state, actions[tick])
+        for env in range(4):
+            assert GAME.snapshot(states[0], env) == moved_back(GAME.snapshot(states[1], env)), (
+                f"{env}, {tick}"
+            )
+
+
 # --- scores ---
 
 
@@ -241,10 +350,10 @@ def test_batched_equals_single():
 
 def test_boulders_persist_and_end_every_tick_aligned_falling_or_stacked():
     """2,000 random ticks on the human levels. A boulder is cell-aligned or fell 2 px this tick, except
-    in one faithful corner case of rule 12 (list order): when three touching boulders fall together
-    and the bottom one lands, the middle one is stepped back by rule 12 after the top one already
-    fell, so the top one rests 2 px inside the middle one; it then misaligns and is held until the
-    one below it moves away."""
+    in one corner case of rule 12 (list order, RULES.md §7.7, confirmed by the Java traces): when
+    three touching boulders fall together and the bottom one lands, the middle one is stepped back
+    by rule 12 after the top one already fell, so the top one rests 2 px inside the middle one; it
+    then misaligns and is held until the one below it moves away."""
     levels = [human_level("boulderdash", i % 5) for i in range(10)]
     state = GAME.compile(levels, torch.arange(10), torch.device("cpu"))
     counts = [level.count("o") for level in levels]
@@ -262,9 +371,10 @@ def test_boulders_persist_and_end_every_tick_aligned_falling_or_stacked():
 
 
 def test_rule_12_in_list_order_leaves_the_top_of_a_three_stack_2px_low():
-    """Faithful to RULES.md §1.3, though §7.7 says a supported boulder stays put: in rule 12 the top
-    boulder is checked against the middle one's moved position (no overlap, it stays moved), then
-    the middle one is stepped back onto the bottom one, so the top one ends 2 px inside it."""
+    """RULES.md §7.7, as the Java engine does it (golden traces ``boulderdash_stack3_resting``,
+    ``boulderdash_three_stack_fall``): in rule 12 the top boulder is checked against the middle
+    one's moved position (no overlap, it stays moved), then the middle one is stepped back onto the
+    bottom one, so the top one ends 2 px inside it."""
     level = ["wwwww", "w.o.w", "w.o.w", "w.o.w", "wA..w", "w.-.w", "wwwwe"]
     snaps = play(level, ["NIL", "NIL", "RIGHT"] + ["NIL"] * 12)
     column = [[y for _, y in sprites(s, "boulder")] for s in snaps]

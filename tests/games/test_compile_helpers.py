@@ -3,7 +3,6 @@
 import pytest
 import torch
 
-from gvgai_pcg.games import get_game
 from gvgai_pcg.games.base import char_entities, char_grid, pad_level
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.levels import Level, human_levels
@@ -27,7 +26,7 @@ def reference_entities(levels, kinds, capacity=None):
 def padded_human_levels(game: str) -> list[Level]:
     levels = human_levels(game)
     height, width = max(lv.height for lv in levels), max(lv.width for lv in levels)
-    return [pad_level(lv, height, width, get_game(game).pad_char) for lv in levels]
+    return [pad_level(lv, height, width) for lv in levels]
 
 
 @pytest.mark.parametrize("game", ["zelda", "solarfox", "frogs", "boulderdash"])
@@ -56,9 +55,12 @@ def test_grids_mark_every_listed_character():
     assert torch.equal(grid, expected)
 
 
-def test_levels_of_different_sizes_are_refused():
-    with pytest.raises(ValueError, match="one size"):
-        char_grid([Level("zelda", ("www",)), Level("zelda", ("ww",))], "w", torch.device("cpu"))
+def test_levels_of_different_sizes_share_the_largest_grid_with_nothing_outside_their_screens():
+    grid = char_grid([Level("zelda", ("www",)), Level("zelda", ("ww", "wA"))], "w", torch.device("cpu"))
+    assert grid.tolist() == [
+        [[True, True, True], [False, False, False]],
+        [[True, True, False], [True, False, False]],
+    ]
 
 
 def test_characters_of_no_legend_are_ignored():

@@ -262,7 +262,7 @@ def test_spawned_and_level_logs_are_removed_in_the_tick_they_reach_x_minus_1(spa
 
 def test_log_keys_follow_the_logs_and_dead_slots_are_never_near():
     levels = [human_level("frogs", i) for i in range(5)]
-    state = GAME.compile([pad_level(level, 11, 28, "w") for level in levels], torch.arange(5), CPU)
+    state = GAME.compile([pad_level(level, 11, 28) for level in levels], torch.arange(5), CPU)
     for _ in range(400):
         GAME.tick(state, torch.zeros(5, dtype=torch.int64))
         logs = state.get("logs")
@@ -327,11 +327,12 @@ def test_level_4_starts_the_frog_on_a_drifting_three_log_raft():
         assert [x for x, y in sprites(s, "log") if y == 80] == [170 - tick, 180 - tick, 190 - tick]
 
 
-def test_level_4_is_padded_with_a_wall_row_in_a_batch_of_full_levels():
+def test_level_4_keeps_its_10_row_screen_in_a_batch_of_full_levels():
     levels = [human_level("frogs", 0), human_level("frogs", 4)]
     state = GAME.compile(levels, torch.tensor([0, 1]), CPU)
     assert state.get("wall").shape == (2, 11, 28)
-    assert state.get("wall")[1, 10].all() and not state.get("water")[1, 10].any()
+    assert state.get("height").tolist() == [11, 10] and state.get("width").tolist() == [28, 28]
+    assert not any(state.get(grid)[1, 10].any() for grid in ("wall", "water", "grass", "goal"))
 
 
 @pytest.mark.parametrize("index", range(5))
@@ -340,7 +341,7 @@ def test_max_score_is_one_goal_per_level(index):
 
 
 def test_batched_equals_single():
-    levels = [pad_level(human_level("frogs", i % 5), 11, 28, "w") for i in range(6)]
+    levels = [pad_level(human_level("frogs", i % 5), 11, 28) for i in range(6)]
     seeds = torch.tensor([11, 22, 33, 44, 55, 66])
     actions = torch.randint(0, 5, (60, len(levels)), generator=torch.Generator().manual_seed(7))
     batched = GAME.compile(levels, seeds, CPU)

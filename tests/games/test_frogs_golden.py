@@ -3,9 +3,10 @@ import pytest
 from tests.games.golden_replay import assert_replays, golden_files
 
 
+@pytest.mark.parametrize("batched", [False, True], ids=["alone", "batched"])
 @pytest.mark.parametrize("path", golden_files("frogs"), ids=lambda p: p.stem)
-def test_frogs_matches_gvgai_trace(path):
-    assert_replays(path)
+def test_frogs_matches_gvgai_trace(path, batched):
+    assert_replays(path, batched)
 
 
 def test_every_frogs_trace_is_replayed():

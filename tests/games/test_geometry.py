@@ -52,3 +52,40 @@ def test_aligned_overlap_and_step_back_equal_the_general_ones_for_cell_aligned_s
     aligned = step_back_in_order(x, y, lastx, lasty, first, second, aligned=True)
     assert torch.equal(general[0], aligned[0]) and torch.equal(general[1], aligned[1])
     assert not torch.equal(general[0], x) or not torch.equal(general[1], y)  # some went back
+
+
+def test_off_screen_is_not_entirely_inside_each_envs_own_screen():
+    from gvgai_pcg.games.geometry import off_screen
+
+    x = torch.tensor([[0, 20, 21, -1], [0, 40, 41, 5]])
+    y = torch.tensor([[10, 10, 10, 0], [0, 0, 0, -5]])
+    screen_h, screen_w = torch.tensor([[20], [10]]), torch.tensor([[30], [50]])
+    assert off_screen(x, y, screen_h, screen_w).tolist() == [
+        [False, False, True, True],
+        [False, False, True, True],
+    ]
+
+
+def test_screen_cell_looks_up_cells_only_on_each_envs_own_screen():
+    from gvgai_pcg.games.geometry import screen_cell
+
+    x = torch.tensor([[0, 20, 30, -10], [20, 20, 10, 10]])
+    y = torch.tensor([[10, 10, 10, 0], [0, 10, 20, 0]])
+    last_x, last_y = torch.tensor([[20], [40]]), torch.tensor([[10], [0]])  # screens 3x2 and 5x1
+    index, on = screen_cell(x, y, last_x, last_y, width=6)
+    assert on.tolist() == [[True, True, False, False], [True, False, False, True]]
+    assert index[on].tolist() == [6, 8, 2, 1]
+    assert ((index >= 0) & (index < 6 * 2)).all()  # clamped onto the screen: never another row's cell
+
+
+def test_overlaps_any_tests_only_the_selected_sprites_by_rectangles():
+    from gvgai_pcg.games.geometry import overlaps_any
+
+    tx, ty = torch.tensor([[0, 30], [0, 0]]), torch.tensor([[25, 0], [0, 0]])
+    present = torch.tensor([[True, True], [False, False]])
+    x, y = torch.tensor([[0, 0, 9, 21], [0, 0, 0, 0]]), torch.tensor([[16, 35, 30, 5], [0, 0, 0, 0]])
+    which = torch.tensor([[True, True, True, False], [True, False, False, False]])
+    # (0, 16) and (9, 30) overlap the sprite at (0, 25); (0, 35) only touches it; (21, 5) overlaps
+    # the one at (30, 0) but is not selected; env 1's sprites are not present.
+    assert overlaps_any(x, y, which, tx, ty, present).tolist() == [[True, False, True, False], [False] * 4]
+    assert overlaps_any(x[:, 0], y[:, 0], which[:, 0], tx, ty, present).tolist() == [True, False]

@@ -163,7 +163,7 @@ def test_pixels_equal_painting_each_sprite_on_its_own(name):
     game = get_game(name)
     levels = human_levels(name)
     height, width = max(lv.height for lv in levels), max(lv.width for lv in levels)
-    levels = [pad_level(levels[i % 5], height, width, game.pad_char) for i in range(3)]
+    levels = [pad_level(levels[i % 5], height, width) for i in range(3)]
     state = game.compile(levels, torch.arange(3), torch.device("cpu"))
     generator = torch.Generator().manual_seed(4)
     for _ in range(25):

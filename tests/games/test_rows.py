@@ -82,7 +82,7 @@ def test_merging_fresh_states_with_fewer_slots_equals_merging_padded_ones():
     game = get_game("frogs")
     fmt = game.level_format
     levels = [
-        pad_level(generate_level("frogs", d, seed), fmt.height, fmt.width, game.pad_char)
+        pad_level(generate_level("frogs", d, seed), fmt.height, fmt.width)
         for seed, d in enumerate((1.0, 0.9, 0.0, 0.1))
     ]
     state = game.compile(levels[:2], torch.arange(2), torch.device("cpu"))
