@@ -24,6 +24,7 @@ from tqdm.auto import tqdm
 from gvgai_pcg.envs import GVGAIEnv, LevelPerEnv
 from gvgai_pcg.games.rng import derive_seeds, mix64, uniform
 from gvgai_pcg.levels import Level
+from gvgai_pcg.levels.winnable import warn_unwinnable
 
 Policy = Callable[[TensorDictBase], torch.Tensor]
 SAMPLE_KEY = "action_uniform"  # [B] float64 U[0, 1): the env's own random number for this step
@@ -71,7 +72,9 @@ def play_episodes(
     device: torch.device | str = "cpu",
     progress: bool = True,
 ) -> EpisodeResults:
-    """One episode per entry of ``levels`` (repeat a level to play it several times)."""
+    """One episode per entry of ``levels`` (repeat a level to play it several times); a level
+    that cannot be won is played all the same, with a warning (``gvgai_pcg.levels.winnable``)."""
+    warn_unwinnable(levels, "evaluation")
     env = GVGAIEnv(
         game,
         num_envs=len(levels),
