@@ -370,7 +370,10 @@ def _check_together(config: dict) -> None:
         try:
             load_level_set(config["game"]["name"], regimen["path"])
         except (ValueError, OSError) as error:
-            raise ConfigError(f"regimen.path={_shown(regimen['path'])}: {error}") from None
+            path, message = regimen["path"], str(error)
+            if isinstance(path, str):
+                message = message.removeprefix(f"{path}: ")  # named once is enough
+            raise ConfigError(f"regimen.path={_shown(path)}: {message}") from None
     if config["model"]["name"] == "nature" and config["env"]["obs"] != "pixels":
         raise ConfigError(
             f"env.obs={_shown(config['env']['obs'])}: expected pixels with model=nature "
