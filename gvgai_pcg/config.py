@@ -392,8 +392,8 @@ def validate(cfg: DictConfig | Mapping) -> dict:
         try:
             values = OmegaConf.to_container(cfg, resolve=True)
         except Exception as error:  # an interpolation that does not resolve
-            first = str(error).splitlines()[0]
-            raise ConfigError(f"the config does not resolve: {first}") from None
+            key, first = getattr(error, "full_key", None) or "the config", str(error).splitlines()[0]
+            raise ConfigError(f"{key}: does not resolve ({first})") from None
     else:
         values = dict(cfg)
     values.pop("hydra", None)

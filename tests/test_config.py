@@ -58,6 +58,7 @@ def refusal(argv: list[str], capsys, tmp_path) -> str:
         (["regimen.foo=2"], "regimen.foo=2: unknown key; the keys of regimen are name, alpha"),
         (["+algo.momentum=0.9"], "algo.momentum=0.9: unknown key; the keys of algo are name, n_steps"),
         (["regimen=levels"], "regimen.path: missing (???); expected a folder of level files"),
+        (["run_name=${nope}"], "run_name: does not resolve (Interpolation key 'nope' not found)"),
         (
             ["regimen=pcg", "regimen.start_seed=3"],
             "regimen.start_seed=3: expected 0 with regimen.num_levels=0 (unlimited levels)",

@@ -64,7 +64,9 @@ def test_a_level_set_plays_its_files_and_names_an_unwinnable_one(make_config, tm
     folder = tmp_path / "mine"
     folder.mkdir()
     (folder / "open.txt").write_text("wwwwww\nwA.+gw\nwwwwww\n")
-    (folder / "locked.txt").write_text("wwwwww\nwA..gw\nwwwwww\n")  # no key
+    (folder / "locked.txt").write_text(
+        "wwwwwwww\nwA....gw\nwwwwwwww\n"
+    )  # no key (a level no other test warns about)
     (folder / "notes.md").write_text("not a level")
     with caplog.at_level(logging.WARNING, logger="gvgai_pcg.levels.winnable"):
         env = training_env(make_config, ["regimen=levels", f"regimen.path={folder}"])
