@@ -50,3 +50,12 @@ def test_evaluating_an_unwinnable_level_warns_with_its_name(tmp_path, caplog):
     with caplog.at_level(logging.WARNING, logger="gvgai_pcg.levels.winnable"):
         evaluate_levels("zelda", [Level.load(path)], RandomAgent(5), episodes=1, max_steps=5, progress=False)
     assert "evaluation level zelda_nokey cannot be won (key (+)" in caplog.text
+
+
+@pytest.mark.parametrize("game", sorted(LEVEL_FORMATS))
+def test_generated_levels_can_be_won(game):
+    # why training checks only given levels: the generators always place what a win needs
+    from gvgai_pcg.generators import generate_level
+
+    levels = [generate_level(game, d, seed) for d in (0.0, 0.5, 1.0) for seed in range(40)]
+    assert [(lv.name, missing_to_win(lv)) for lv in levels if missing_to_win(lv)] == []
