@@ -23,11 +23,11 @@ from pathlib import Path
 
 import torch
 from tensordict import TensorDict
-from tqdm.auto import tqdm
 
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.shards import ShardedStepper
 from gvgai_pcg.games import registered_games
+from gvgai_pcg.progress import track
 
 BATCH_SIZES = (1, 64, 1024, 4096)
 ENGINE_BATCH = 4096
@@ -182,7 +182,7 @@ def run_benchmarks(
     games = games or registered_games()
     configs = [(g, o, b) for g in games for o in observations for b in batch_sizes]
     results = []
-    for game, obs, batch in tqdm(configs, desc="env throughput", disable=not progress):
+    for game, obs, batch in track(configs, "env throughput", "config", progress):
         results.append(measure_env(game, batch, obs, device, min_seconds))
     lines = [
         f"Measured {time.strftime('%Y-%m-%d')} with `make bench`. {machine_description(device)}.",
@@ -215,7 +215,7 @@ def _engine_rates(games: list[str], min_seconds: float, progress: bool) -> dict[
     """Engine steps/s per game: intra-op threads (GVGAIEnv's default), one thread, one shard per thread."""
     threads = torch.get_num_threads()
     rates = {}
-    for game in tqdm(games, desc="engine throughput", disable=not progress):
+    for game in track(games, "engine throughput", "game", progress):
         intra = measure_engine(game, ENGINE_BATCH, 1, min_seconds)
         torch.set_num_threads(1)
         try:

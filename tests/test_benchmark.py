@@ -67,7 +67,7 @@ def test_the_training_benchmark_times_the_network_both_ways_and_splits_a_batch(m
 def make_small_config():
     from hydra import compose, initialize_config_dir
 
-    from gvgai_pcg.commands.train import CONFIG_DIR
+    from gvgai_pcg.config import config_dir
 
-    with initialize_config_dir(config_dir=str(CONFIG_DIR), version_base="1.3"):
+    with initialize_config_dir(config_dir=str(config_dir()), version_base="1.3"):
         return compose("config", overrides=["env.num_envs=4", "regimen=lv", "model.hidden=16"])

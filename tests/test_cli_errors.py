@@ -26,6 +26,13 @@ def test_a_malformed_level_file_names_file_line_and_column(tmp_path, capsys):
     assert f"{bad}, line 3, column 3" in err and "valid characters" in err
 
 
+def test_a_level_file_that_is_not_utf8_is_named(tmp_path, capsys):
+    bad = tmp_path / "zelda_latin1.txt"
+    bad.write_bytes(b"wwwww\nwA\xe9gw\nwwwww\n")
+    err = _error_of(["evaluate", "--game", "zelda", "--levels", str(bad), "--episodes", "1"], capsys)
+    assert f"{bad}, line 2, column 3: not UTF-8 text (byte 0xe9 cannot be decoded)" in err
+
+
 @pytest.mark.parametrize(
     ("argv", "says"),
     [

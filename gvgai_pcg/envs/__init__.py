@@ -14,6 +14,7 @@ _EXPORTS = {
     "GVGAIEnv": "gvgai_pcg.envs.gvgai_env",
     "FixedLevel": "gvgai_pcg.envs.level_sources",
     "GeneratedLevels": "gvgai_pcg.envs.level_sources",
+    "GeneratedLevelSet": "gvgai_pcg.envs.level_sources",
     "LevelPerEnv": "gvgai_pcg.envs.level_sources",
     "LevelSource": "gvgai_pcg.envs.level_sources",
     "UniformLevels": "gvgai_pcg.envs.level_sources",
@@ -25,6 +26,7 @@ __all__ = [
     "DifficultyTransform",
     "FixedLevel",
     "GVGAIEnv",
+    "GeneratedLevelSet",
     "GeneratedLevels",
     "LevelPerEnv",
     "LevelSource",
@@ -38,6 +40,7 @@ if TYPE_CHECKING:
     from gvgai_pcg.envs.level_sources import (
         FixedLevel,
         GeneratedLevels,
+        GeneratedLevelSet,
         LevelPerEnv,
         LevelSource,
         UniformLevels,

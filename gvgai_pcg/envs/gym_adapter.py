@@ -12,6 +12,7 @@ from __future__ import annotations
 import sys
 from collections.abc import Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import gymnasium as gym
@@ -21,18 +22,22 @@ from tensordict import TensorDict, TensorDictBase
 
 from gvgai_pcg.envs.difficulty import DifficultyTransform
 from gvgai_pcg.envs.gvgai_env import OBSERVATION_KINDS, GVGAIEnv
-from gvgai_pcg.envs.level_sources import GeneratedLevels, LevelSource, as_level_source
+from gvgai_pcg.envs.level_sources import GeneratedLevels, GeneratedLevelSet, LevelSource, as_level_source
 from gvgai_pcg.games import get_game
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.levels import Level, human_level, resolve_level
+from gvgai_pcg.levels.sets import load_level_set
+from gvgai_pcg.levels.winnable import warn_unwinnable
 
-# Human-level regimens, then the generated ones (whose difficulty a reset option may set).
-HUMAN_REGIMENS = ("lv", "lv0-3", "human")
+# Given levels (human ones or your own), then the generated ones (whose difficulty a reset option
+# may set).
+HUMAN_REGIMENS = ("lv", "lv0-3", "human", "levels")
 GENERATED_REGIMENS = ("pcg", "ppcg")
 REGIMENS = HUMAN_REGIMENS + GENERATED_REGIMENS
 RENDER_MODES = ("rgb_array", "ansi", "human")
 
 LevelSpec = Level | str | int
+LevelSetSpec = str | Path | Sequence[Level | str | Path]
 
 
 def _resolve(game: str, spec: LevelSpec) -> Level:
@@ -44,6 +49,17 @@ def _resolve(game: str, spec: LevelSpec) -> Level:
     if isinstance(spec, int | np.integer):
         return human_level(game, int(spec))
     return resolve_level(str(spec), game)
+
+
+def _level_set(game: str, spec: LevelSetSpec) -> list[Level]:
+    """The levels of a set: a folder or file path, or a list of paths and Levels."""
+    if isinstance(spec, str | Path):
+        return load_level_set(game, spec)
+    return [
+        lv
+        for item in spec
+        for lv in ([_resolve(game, item)] if isinstance(item, Level) else load_level_set(game, item))
+    ]
 
 
 class LevelOverrides:
@@ -78,10 +94,16 @@ class Regimen:
         game: the game name.
         regimen: ``"lv"`` (every episode on ``level``: a human level index, a name, a path or a
             Level, or a list of them played uniformly), ``"lv0-3"`` (human levels 0-3
-            uniformly), ``"human"`` (all five human levels), ``"pcg"`` (generated levels at the
-            fixed ``difficulty``) or ``"ppcg"`` (generated levels; the difficulty starts at
-            ``difficulty`` and moves by ``alpha`` per finished episode).
+            uniformly), ``"human"`` (all five human levels), ``"levels"`` (your own set
+            ``levels``, uniformly), ``"pcg"`` (generated levels at the fixed ``difficulty``: a
+            new one every episode, or a set of ``num_levels`` from seed ``start_seed``) or
+            ``"ppcg"`` (generated levels; the difficulty starts at ``difficulty`` and moves by
+            ``alpha`` per finished episode).
         win_rule: what raises the PPCG difficulty (see ``DifficultyTransform``).
+        levels: the ``levels`` regimen's set: a folder of level files, a file, or a list of
+            files, folders and Levels.
+        num_levels: ``pcg`` only: 0 for a new level every episode, N for a fixed set of N.
+        start_seed: ``pcg`` with ``num_levels``: the seed of the set's first level.
     """
 
     def __init__(
@@ -93,18 +115,35 @@ class Regimen:
         difficulty: float = 0.0,
         alpha: float = 0.01,
         win_rule: str = "game",
+        levels: LevelSetSpec | None = None,
+        num_levels: int = 0,
+        start_seed: int = 0,
     ) -> None:
         if regimen not in REGIMENS:
             raise ValueError(f"unknown regimen {regimen!r}; valid regimens are: {', '.join(REGIMENS)}")
-        self.game, self.name = game, regimen
+        if (levels is not None) != (regimen == "levels"):
+            raise ValueError("levels= gives the set of regimen='levels', and that regimen needs it")
+        if (num_levels or start_seed) and regimen != "pcg":
+            raise ValueError(f"num_levels and start_seed are for regimen='pcg', not {regimen!r}")
+        self.game, self.name, self.finite = game, regimen, num_levels > 0
         self.curriculum: DifficultyTransform | None = None
         if regimen in GENERATED_REGIMENS:
             mode = "progressive" if regimen == "ppcg" else "fixed"
             self.curriculum = DifficultyTransform(mode, alpha, difficulty, win_rule, game=game)
-            source: LevelSource = GeneratedLevels(game)
+            source: LevelSource = (
+                GeneratedLevelSet(game, difficulty, num_levels, start_seed)
+                if self.finite
+                else GeneratedLevels(game)
+            )
+        elif regimen == "levels":
+            given = _level_set(game, levels)
+            warn_unwinnable(given, "training")
+            source = as_level_source(game, given)
         elif regimen == "lv":
             specs = level if isinstance(level, list | tuple) else [level]
-            source = as_level_source(game, [_resolve(game, spec) for spec in specs])
+            given = [_resolve(game, spec) for spec in specs]
+            warn_unwinnable(given, "training")
+            source = as_level_source(game, given)
         elif regimen == "lv0-3":
             source = as_level_source(game, [human_level(game, i) for i in range(4)])
         else:
@@ -122,8 +161,13 @@ class Regimen:
     def _checked_difficulty(self, value: float) -> float:
         if self.curriculum is None:
             raise ValueError(
-                f"regimen {self.name!r} plays human levels, so a difficulty has no effect; "
+                f"regimen {self.name!r} plays {'your own' if self.name == 'levels' else 'human'} levels, "
+                "so a difficulty has no effect; "
                 f"use regimen='pcg' or 'ppcg' for generated levels"
+            )
+        if self.finite:
+            raise ValueError(
+                "a fixed set of generated levels (num_levels >= 1) keeps the difficulty it was made at"
             )
         if not 0.0 <= value <= 1.0:
             raise ValueError(f"difficulty must be in [0, 1], got {value}")
@@ -203,6 +247,9 @@ class GVGAIGymEnv(gym.Env):
         alpha: the PPCG step per finished episode.
         win_rule: what counts as a PPCG win (``"game"`` or ``"study"``).
         device: where the engine runs; observations are always returned as NumPy arrays.
+        levels: the set of the ``levels`` regimen: a folder of level files, or a list of files.
+        num_levels: ``pcg``: a fixed set of this many generated levels (0: a new one each episode).
+        start_seed: ``pcg`` with ``num_levels``: the seed of the set's first level.
     """
 
     metadata = {"render_modes": list(RENDER_MODES), "render_fps": 15}
@@ -219,13 +266,18 @@ class GVGAIGymEnv(gym.Env):
         alpha: float = 0.01,
         win_rule: str = "game",
         device: str = "cpu",
+        levels: LevelSetSpec | None = None,
+        num_levels: int = 0,
+        start_seed: int = 0,
     ) -> None:
         if render_mode is not None and render_mode not in RENDER_MODES:
             raise ValueError(
                 f"unknown render mode {render_mode!r}; valid modes are: {', '.join(RENDER_MODES)}"
             )
         self.render_mode = render_mode
-        self.regimen = Regimen(game, regimen, 1, level, difficulty, alpha, win_rule)
+        self.regimen = Regimen(
+            game, regimen, 1, level, difficulty, alpha, win_rule, levels, num_levels, start_seed
+        )
         self.engine = GVGAIEnv(
             game, 1, self.regimen.source, obs=obs, max_steps=max_steps, device=device, difficulty=difficulty
         )

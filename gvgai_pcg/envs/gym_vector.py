@@ -20,7 +20,7 @@ from gymnasium.vector.utils import batch_space
 from tensordict import TensorDict, TensorDictBase
 
 from gvgai_pcg.envs.gvgai_env import GVGAIEnv
-from gvgai_pcg.envs.gym_adapter import LevelSpec, Regimen, observation_space
+from gvgai_pcg.envs.gym_adapter import LevelSetSpec, LevelSpec, Regimen, observation_space
 
 INFO_KEYS = ("won", "score", "difficulty", "level_seed")
 DONE_KEYS = ("done", "terminated", "truncated")
@@ -53,6 +53,9 @@ class GVGAIVectorEnv(VectorEnv):
         win_rule: str = "game",
         device: str = "cpu",
         autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
+        levels: LevelSetSpec | None = None,
+        num_levels: int = 0,
+        start_seed: int = 0,
     ) -> None:
         autoreset_mode = AutoresetMode(autoreset_mode)
         if autoreset_mode == AutoresetMode.DISABLED:
@@ -62,7 +65,9 @@ class GVGAIVectorEnv(VectorEnv):
             raise ValueError(f"unknown render mode {render_mode!r}; valid modes are: {', '.join(modes)}")
         self.metadata = {**self.metadata, "autoreset_mode": autoreset_mode}
         self.autoreset_mode, self.render_mode, self.num_envs = autoreset_mode, render_mode, num_envs
-        self.regimen = Regimen(game, regimen, num_envs, level, difficulty, alpha, win_rule)
+        self.regimen = Regimen(
+            game, regimen, num_envs, level, difficulty, alpha, win_rule, levels, num_levels, start_seed
+        )
         self.engine = GVGAIEnv(
             game,
             num_envs,

@@ -12,6 +12,7 @@ prepares the next episodes of many envs at once, ahead of their resets
 from __future__ import annotations
 
 from collections.abc import Sequence
+from functools import lru_cache
 from typing import Protocol, runtime_checkable
 
 import torch
@@ -149,3 +150,63 @@ class GeneratedLevels:
 
     def __repr__(self) -> str:
         return f"GeneratedLevels({self.game!r})"
+
+
+# Generated levels of a finite set are kept for reuse: a set of up to this many levels is made once.
+GENERATED_CACHE = 4096
+
+
+@lru_cache(maxsize=GENERATED_CACHE)
+def _generated(game: str, difficulty: float, seed: int) -> Level:
+    from gvgai_pcg.generators import generate_level
+
+    return generate_level(game, difficulty, seed)
+
+
+class GeneratedLevelSet:
+    """A fixed, finite set of generated levels: the ``num_levels`` seeds ``start_seed``,
+    ``start_seed + 1``, ... at one ``difficulty``, one drawn uniformly each episode from the
+    episode seed (PCG X with ``num_levels``; Procgen's ``num_levels`` and ``start_level``).
+
+    Levels are generated when first drawn (and kept, up to ``GENERATED_CACHE``), so a set of a
+    million levels costs no more to start than one of ten.
+    """
+
+    prepare_ahead = True  # a function of the env index and episode seed only
+
+    def __init__(self, game: str, difficulty: float, num_levels: int, start_seed: int = 0) -> None:
+        from gvgai_pcg.generators import get_generator
+
+        get_generator(game)  # refuses a game without a generator, listing the registered ones
+        if not 0.0 <= difficulty <= 1.0:
+            raise ValueError(f"difficulty must be in [0, 1], got {difficulty}")
+        if num_levels < 1:
+            raise ValueError(f"a generated level set needs num_levels >= 1, got {num_levels}")
+        if start_seed < 0 or start_seed + num_levels > TRAINING_SEED_SPACE:
+            raise ValueError(
+                f"the seeds {start_seed} .. {start_seed + num_levels - 1} must lie in [0, 2**31) "
+                "(the training seeds; the frozen test sets' seeds lie above them)"
+            )
+        self.game, self.num_levels, self.start_seed = game, int(num_levels), int(start_seed)
+        self.difficulty = round(float(difficulty), 4)  # as GeneratedLevels makes them
+
+    def level(self, index: int) -> Level:
+        """The set's level ``index`` (0 .. num_levels - 1): seed ``start_seed + index``."""
+        if not 0 <= index < self.num_levels:
+            raise IndexError(f"level {index} of a set of {self.num_levels}")
+        return _generated(self.game, self.difficulty, self.start_seed + index)
+
+    def first(self, count: int) -> list[Level]:
+        """The set's first ``count`` levels (all of them when it has fewer)."""
+        return [self.level(i) for i in range(min(count, self.num_levels))]
+
+    def next_levels(
+        self, env_indices: torch.Tensor, episode_seeds: torch.Tensor, difficulties: torch.Tensor
+    ) -> list[Level]:
+        return [self.level(i) for i in (episode_seeds % self.num_levels).tolist()]
+
+    def __repr__(self) -> str:
+        return (
+            f"GeneratedLevelSet({self.game!r}, d={self.difficulty:g}, {self.num_levels} levels "
+            f"from seed {self.start_seed})"
+        )

@@ -19,7 +19,13 @@ FINAL_MODEL = "model.pt"
 LAST_CHECKPOINT = Path("checkpoints") / "last.pt"
 
 # The report's row names of each regimen (the study's Table 1).
-REGIMEN_LABELS = {"lv": "Lv {level}", "lv0-3": "Lv 0-3", "pcg": "PCG {difficulty:g}", "ppcg": "PPCG"}
+REGIMEN_LABELS = {
+    "lv": "Lv {level}",
+    "lv0-3": "Lv 0-3",
+    "levels": "Levels {set}",
+    "pcg": "PCG {difficulty:g}",
+    "ppcg": "PPCG",
+}
 
 
 @dataclass
@@ -49,20 +55,54 @@ class RunInfo:
 
     @property
     def label(self) -> str:
-        """The regimen as the study names it: ``Lv 0``, ``Lv 0-3``, ``PCG 1``, ``PPCG``."""
+        """The regimen as the study names it: ``Lv 0``, ``Lv 0-3``, ``PCG 1``, ``PPCG``; a finite
+        generated set ``PCG 1, 100 levels``, a level set ``Levels mine``."""
+        from gvgai_pcg.config import level_set_tag
+
         regimen = self.regimen
         template = REGIMEN_LABELS.get(regimen["name"], regimen["name"])
-        return template.format(level=regimen.get("level", ""), difficulty=float(regimen.get("difficulty", 0)))
+        label = template.format(
+            level=regimen.get("level", ""),
+            difficulty=float(regimen.get("difficulty", 0)),
+            set=level_set_tag(regimen.get("path", "")),
+        )
+        count = int(regimen.get("num_levels", 0) or 0)
+        return f"{label}, {count} level{'s' if count != 1 else ''}" if count else label
+
+    @property
+    def has_training_set(self) -> bool:
+        """Whether the run trained on a set of levels of its own (a level set, a finite generated
+        set): the evaluation plays it as the run's ``train`` test set."""
+        regimen = self.regimen
+        return regimen["name"] == "levels" or (
+            regimen["name"] == "pcg" and int(regimen.get("num_levels", 0) or 0) > 0
+        )
+
+    def training_levels(self, limit: int | None = None) -> list:
+        """The first ``limit`` (default: all) levels of the run's own training set."""
+        from gvgai_pcg.rl.environment import training_levels
+
+        if not self.has_training_set:
+            raise ValueError(f"{self.path}: regimen {self.regimen['name']!r} has no training set of its own")
+        return training_levels(self.game, self.regimen, limit)
 
     @property
     def training_sets(self) -> tuple[str, ...]:
-        """The test-set columns this run trained on (its own human levels; generated sets are held out)."""
+        """The test sets this run trained on: its own human levels, its ``train`` set, and any
+        test set with a level that is also in a level set of its own (generated training levels
+        are held out by their seeds)."""
         regimen = self.regimen
         if regimen["name"] == "lv":
             return (f"lv{int(regimen['level'])}",)
         if regimen["name"] == "lv0-3":
             return tuple(f"lv{int(i)}" for i in regimen["levels"])
-        return ()
+        from gvgai_pcg.evaluation.protocol import TRAINING_SET, Protocol, protocol_test_sets
+
+        if regimen["name"] == "levels":
+            own = set(self.training_levels())
+            shared = [s.name for s in protocol_test_sets(self.game, Protocol()) if own & set(s.levels)]
+            return (TRAINING_SET, *shared)
+        return (TRAINING_SET,) if self.has_training_set else ()
 
 
 # A published run (``gvgai_pcg.study.pipeline.publish``) names its model here instead of holding

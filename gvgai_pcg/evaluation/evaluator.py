@@ -11,12 +11,13 @@ from __future__ import annotations
 
 import json
 import os
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from gvgai_pcg.evaluation.checkpoints import RunInfo, load_policy
 from gvgai_pcg.evaluation.max_score import level_max_score
-from gvgai_pcg.evaluation.protocol import Protocol, protocol_test_sets
+from gvgai_pcg.evaluation.protocol import EvalSet, Protocol, protocol_test_sets, training_test_set
 from gvgai_pcg.evaluation.random_agent import RandomAgent
 from gvgai_pcg.evaluation.runner import Policy, play_episodes
 from gvgai_pcg.games import get_game
@@ -30,7 +31,7 @@ class LevelRecord:
 
     agent: str  # "random" or the run directory
     game: str
-    test_set: str  # pcg0.5, pcg1, lv0 … lv4
+    test_set: str  # pcg0.5, pcg1, lv0 … lv4; train (the run's own training levels)
     level: str
     level_seed: int | None
     episodes: int
@@ -63,9 +64,11 @@ def evaluate_policy(
     obs: str = "tiles",
     device: str = "cpu",
     progress: bool = True,
+    extra_sets: Sequence[EvalSet] = (),
 ) -> list[LevelRecord]:
-    """Play every (test set, level, episode) of the protocol at once; one record per level."""
-    sets = protocol_test_sets(game, protocol)
+    """Play every (test set, level, episode) of the protocol, and of ``extra_sets``, at once; one
+    record per level."""
+    sets = [*protocol_test_sets(game, protocol), *extra_sets]
     batch = [level for s in sets for level in s.levels for _ in range(s.episodes)]
     results = play_episodes(game, batch, policy, protocol.max_steps, protocol.seed, obs, device, progress)
     records, start = [], 0
@@ -133,7 +136,14 @@ def evaluate_run(
         if records_are_current(records, info):
             return records
     policy = load_policy(info, greedy=protocol.greedy, seed=protocol.seed, device=device)
-    records = evaluate_policy(info.game, policy, protocol, str(info.path), info.obs, device, progress)
+    own = (
+        training_test_set(info.training_levels(protocol.test_levels), protocol)
+        if info.has_training_set
+        else None
+    )
+    records = evaluate_policy(
+        info.game, policy, protocol, str(info.path), info.obs, device, progress, [own] if own else []
+    )
     for record in records:
         record.frames, record.checkpoint = info.frames, str(info.checkpoint)
     write_records(path, records)

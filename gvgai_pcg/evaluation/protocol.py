@@ -3,13 +3,18 @@
 Test sets, in the report's column order: ``pcg0.5`` and ``pcg1`` (the frozen generated levels,
 each played ``test_episodes`` times, once in the study) and ``lv0`` … ``lv4`` (the human levels,
 each played ``human_episodes`` times, 30 in the study); 2000 steps per episode; actions sampled
-from the policy (``greedy`` is our addition, the study had none).
+from the policy (``greedy`` is our addition, the study had none). A run that trained on a set
+of levels of its own (``regimen=levels``, ``regimen=pcg`` with ``num_levels``) also plays that
+set, as its ``train`` test set (``training_test_set``): train against test is its
+generalisation gap.
 """
 
 from __future__ import annotations
 
 import hashlib
 import json
+import math
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 
 from gvgai_pcg.levels import Level, human_levels
@@ -21,6 +26,7 @@ HUMAN_SETS = tuple(f"lv{i}" for i in range(5))
 # results cached under an older method are not reused.
 METHOD_VERSION = 2
 TEST_SETS = tuple(set_name(d) for d in TEST_DIFFICULTIES) + HUMAN_SETS
+TRAINING_SET = "train"  # a run's own training levels (a level set, a finite generated set)
 
 
 @dataclass(frozen=True)
@@ -71,3 +77,14 @@ def protocol_test_sets(game: str, protocol: Protocol) -> list[EvalSet]:
         for name, level in zip(HUMAN_SETS, human_levels(game), strict=True)
     ]
     return [s for s in sets if s.episodes > 0]
+
+
+def training_test_set(levels: Sequence[Level], protocol: Protocol) -> EvalSet | None:
+    """A run's own training levels as its ``train`` test set: the first ``test_levels`` of them,
+    each played often enough that the set has as many episodes as a generated test set
+    (``test_levels * test_episodes``); ``None`` when that is no episode."""
+    levels = tuple(levels[: protocol.test_levels])
+    episodes = protocol.test_levels * protocol.test_episodes
+    if not levels or episodes == 0:
+        return None
+    return EvalSet(TRAINING_SET, levels, math.ceil(episodes / len(levels)))

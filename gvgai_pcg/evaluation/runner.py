@@ -19,11 +19,12 @@ from dataclasses import dataclass
 
 import torch
 from tensordict import TensorDictBase
-from tqdm.auto import tqdm
 
 from gvgai_pcg.envs import GVGAIEnv, LevelPerEnv
 from gvgai_pcg.games.rng import derive_seeds, mix64, uniform
 from gvgai_pcg.levels import Level
+from gvgai_pcg.levels.winnable import warn_unwinnable
+from gvgai_pcg.progress import progress as progress_display
 
 Policy = Callable[[TensorDictBase], torch.Tensor]
 SAMPLE_KEY = "action_uniform"  # [B] float64 U[0, 1): the env's own random number for this step
@@ -71,7 +72,9 @@ def play_episodes(
     device: torch.device | str = "cpu",
     progress: bool = True,
 ) -> EpisodeResults:
-    """One episode per entry of ``levels`` (repeat a level to play it several times)."""
+    """One episode per entry of ``levels`` (repeat a level to play it several times); a level
+    that cannot be won is played all the same, with a warning (``gvgai_pcg.levels.winnable``)."""
+    warn_unwinnable(levels, "evaluation")
     env = GVGAIEnv(
         game,
         num_envs=len(levels),
@@ -88,7 +91,7 @@ def play_episodes(
     wins = torch.zeros(n, dtype=torch.bool, device=env.device)
     finished = torch.zeros(n, dtype=torch.bool, device=env.device)
     td = env.reset()
-    bar = tqdm(total=max_steps, desc=f"{game}: {n} episodes", unit="step", disable=not progress, leave=False)
+    bar = progress_display(max_steps, f"{game}: {n} episodes", "step", enabled=progress, leave=False)
     for step in range(1, max_steps + 1):
         draws = uniform(env_seeds, torch.full_like(env_seeds, step), 0, STREAM_ACTIONS)
         td.set(SAMPLE_KEY, draws.to(env.device))

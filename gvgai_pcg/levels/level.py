@@ -12,6 +12,8 @@ from pathlib import Path
 
 from gvgai_pcg.levels.formats import LevelFormat, level_format
 
+BOM = "\ufeff"  # the UTF-8 byte-order mark some editors (Notepad) write at the start of a file
+
 
 class LevelFormatError(ValueError):
     """A level text that is not a valid level of its game.
@@ -79,9 +81,12 @@ class Level:
 
     @classmethod
     def parse(cls, text: str, game: str, source: str = "<string>", name: str | None = None) -> Level:
-        """Parse and validate a level text; trailing newlines (empty last lines) are dropped."""
+        """Parse and validate a level text; trailing newlines (empty last lines) are dropped.
+
+        A leading UTF-8 byte-order mark is ignored, and Windows (CRLF) and old Mac (CR) line
+        ends read as newlines."""
         fmt = level_format(game)
-        text = text.replace("\r\n", "\n").rstrip("\n")
+        text = text.removeprefix(BOM).replace("\r\n", "\n").replace("\r", "\n").rstrip("\n")
         if not text.strip():
             raise LevelFormatError(f"empty level (a {game} level needs at least one row)", source)
         rows = text.split("\n")
@@ -130,4 +135,21 @@ class Level:
         path = Path(path)
         if game is None:
             game = path.name.split("_")[0]
-        return cls.parse(path.read_text(), game, source=str(path), name=path.stem)
+        return cls.parse(decode(path.read_bytes(), str(path)), game, source=str(path), name=path.stem)
+
+
+def decode(data: bytes, source: str) -> str:
+    """A level file's bytes as text: UTF-8, with or without a byte-order mark. Anything else is
+    refused with the file and the line and column of the first byte that is not UTF-8."""
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as error:
+        line = data.count(b"\n", 0, error.start) + 1
+        column = error.start - (data.rfind(b"\n", 0, error.start) + 1) + 1
+        raise LevelFormatError(
+            f"not UTF-8 text (byte 0x{data[error.start]:02x} cannot be decoded); "
+            "save the level as UTF-8 (plain ASCII is UTF-8)",
+            source,
+            line,
+            column,
+        ) from None

@@ -1,5 +1,6 @@
 """From run directories to the report: evaluate what is not evaluated yet, then write the tables
-(Markdown, CSV, HTML) and the pooled training curves of every game found."""
+(Markdown, CSV, HTML), the pooled training curves of every game found, and, for a sweep over
+``regimen.num_levels``, the score against the number of training levels."""
 
 from __future__ import annotations
 
@@ -19,6 +20,7 @@ from gvgai_pcg.evaluation.evaluator import (
 )
 from gvgai_pcg.evaluation.protocol import Protocol, protocol_test_sets
 from gvgai_pcg.report.curves import plot_curves, pool_runs
+from gvgai_pcg.report.generalisation import LEVEL_COUNT_FIGURE, level_count_curves, plot_level_counts
 from gvgai_pcg.report.render import html_report, markdown_report, write_csv
 from gvgai_pcg.report.table import GameTable, RunResults, build_table, format_frames
 
@@ -99,9 +101,12 @@ def build_report(
     tables, figures = [], {}
     for game in games:
         game_runs = [info for info in runs if info.game == game]
-        results = [
-            r for info in game_runs if (r := run_results(info, protocol, evaluate, device, progress, force))
+        evaluated = [
+            (info, r)
+            for info in game_runs
+            if (r := run_results(info, protocol, evaluate, device, progress, force))
         ]
+        results = [r for _, r in evaluated]
         baseline = random_records(game, protocol, cache_dir, evaluate, device, progress, force)
         tables.append(build_table(game, protocol_test_sets(game, protocol), baseline, results))
         # One figure panel per row of the table: a condition is a regimen and a frame count.
@@ -112,6 +117,10 @@ def build_report(
         curves = [c for label, dirs in conditions.items() if (c := pool_runs(label, dirs)) is not None]
         if curves:
             figures[game] = plot_curves(game, curves, out_dir / f"curves-{game}")
+        level_counts = level_count_curves(evaluated)
+        if level_counts:
+            stem = out_dir / f"{LEVEL_COUNT_FIGURE}-{game}"
+            figures.setdefault(game, []).extend(plot_level_counts(level_counts, stem))
     markdown = out_dir / "results.md"
     markdown.write_text(markdown_report(tables, figures) + "\n")
     html = out_dir / "results.html"

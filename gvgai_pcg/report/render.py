@@ -25,8 +25,15 @@ CSV_COLUMNS = (
 )
 LEGEND = (
     "Mean over runs (seeds) of each run's mean score, ± the std across runs. "
-    "† = a test set the row trained on; **bold** = best held-out score of the column."
+    "† = a test set the row trained on (Train: each run's own training levels); "
+    "**bold** = best held-out score of the column."
 )
+
+
+def figure_title(game: str, figure: Path) -> str:
+    if figure.stem.startswith("generalisation-"):
+        return f"{game}: score against the number of training levels"
+    return f"{game} training curves"
 
 
 def cell_text(cell: Cell | None) -> str:
@@ -55,7 +62,7 @@ def markdown_report(tables: Sequence[GameTable], figures: dict[str, list[Path]] 
         parts += [f"## {table.game}", "", markdown_table(table), ""]
         for figure in (figures or {}).get(table.game, []):
             if figure.suffix == ".png":
-                parts += [f"![{table.game} training curves]({figure.name})", ""]
+                parts += [f"![{figure_title(table.game, figure)}]({figure.name})", ""]
     return "\n".join(parts)
 
 
@@ -117,8 +124,7 @@ def html_report(tables: Sequence[GameTable], figures: dict[str, list[Path]] | No
         parts.append(f"<h2>{html.escape(table.game)}</h2>{html_table(table)}")
         for figure in (figures or {}).get(table.game, []):
             if figure.suffix == ".svg":
-                parts.append(
-                    f'<p><img src="{html.escape(figure.name)}" alt="{table.game} training curves"></p>'
-                )
+                title = html.escape(figure_title(table.game, figure))
+                parts.append(f'<p><img src="{html.escape(figure.name)}" alt="{title}"></p>')
     parts.append("</body></html>")
     return "\n".join(parts)

@@ -1,7 +1,9 @@
 """The results table of one game, shaped like the study's Table 1.
 
 Rows: Max, Random, then one row per training condition (regimen and frames trained), in the
-order Lv X, Lv 0-3, PCG X, PPCG. Columns: the test sets ``pcg0.5``, ``pcg1``, ``lv0`` … ``lv4``.
+order Lv X, Lv 0-3, PCG X (unlimited, then finite sets by their size), PPCG, level sets. Columns:
+the test sets ``pcg0.5``, ``pcg1``, ``lv0`` … ``lv4``, and ``train`` (each run's own training
+levels, marked as trained on) when a run has a training set of its own.
 A condition's cell is the mean over its runs (seeds) of each run's mean score on the test set,
 with the std across those run means (population std, as the study's ``calculate_mean_std.py``
 computed it with numpy). A cell on a test set the runs trained on is marked ``training``; the
@@ -11,15 +13,18 @@ best held-out mean of each column (over the condition rows) is marked ``best``.
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from gvgai_pcg.evaluation.evaluator import LevelRecord
 from gvgai_pcg.evaluation.max_score import mean_max_score
-from gvgai_pcg.evaluation.protocol import TEST_SETS, EvalSet
+from gvgai_pcg.evaluation.protocol import TEST_SETS, TRAINING_SET, EvalSet
 
 COLUMN_LABELS = {name: name.replace("pcg", "PCG ").replace("lv", "Lv ") for name in TEST_SETS}
+COLUMN_LABELS[TRAINING_SET] = "Train"
 _REGIMEN_ORDER = ("Lv", "Lv 0-3", "PCG", "PPCG")
+_NUMBER = re.compile(r"(\d+(?:\.\d+)?)")
 
 
 @dataclass
@@ -80,7 +85,12 @@ def mean_scores(records: Sequence[LevelRecord]) -> dict[str, float]:
 def _condition_order(row: Row) -> tuple:
     prefix = row.regimen if row.regimen == "Lv 0-3" else row.regimen.split(" ")[0]
     rank = _REGIMEN_ORDER.index(prefix) if prefix in _REGIMEN_ORDER else len(_REGIMEN_ORDER)
-    return (rank, row.regimen, row.frames)
+    # numbers in order: "PCG 1, 2 levels" before "PCG 1, 10 levels"
+    natural = tuple(
+        (0, float(part), "") if _NUMBER.fullmatch(part) else (1, 0.0, part)
+        for part in _NUMBER.split(row.regimen)
+    )
+    return (rank, natural, row.frames)
 
 
 def condition_row(label: str, frames: int, runs: Sequence[RunResults], columns: Sequence[str]) -> Row:
@@ -117,8 +127,11 @@ def build_table(
     random_records: Sequence[LevelRecord] | None,
     runs: Sequence[RunResults],
 ) -> GameTable:
-    """The table of ``game``: Max (from the levels), Random (if given), one row per condition."""
+    """The table of ``game``: Max (from the levels), Random (if given), one row per condition.
+    A ``train`` column (each run's own training levels) follows when any run has one."""
     columns = [s.name for s in sets]
+    if any(record.test_set == TRAINING_SET for run in runs for record in run.records):
+        columns.append(TRAINING_SET)
     rows = [Row("Max", "max", {s.name: Cell(mean_max_score(s.levels)) for s in sets})]
     if random_records:
         rows.append(Row("Random", "random", {k: Cell(v) for k, v in mean_scores(random_records).items()}))

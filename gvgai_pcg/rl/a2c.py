@@ -22,8 +22,8 @@ import torch
 from omegaconf import DictConfig, OmegaConf
 from torchrl.collectors import MultiSyncCollector
 from torchrl.modules import ProbabilisticActor
-from tqdm.auto import tqdm
 
+from gvgai_pcg.progress import progress
 from gvgai_pcg.rl.a2c_loss import A2CLoss
 from gvgai_pcg.rl.checkpoint import CHECKPOINT_NAME, load_checkpoint, restore, save_checkpoint
 from gvgai_pcg.rl.curves import plot_curve
@@ -140,7 +140,7 @@ def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
     losses_since_row: list[torch.Tensor] = []
     every = int(cfg.checkpoint.every_frames)
     next_checkpoint = (frames // every + 1) * every
-    bar = tqdm(total=int(cfg.total_frames), initial=frames, unit="frame", disable=None, dynamic_ncols=True)
+    bar = progress(int(cfg.total_frames), "train", "frame", initial=frames)
     row_frames, row_time, start = frames, time.perf_counter(), time.perf_counter() - elapsed
 
     def checkpoint() -> None:

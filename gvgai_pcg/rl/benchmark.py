@@ -253,9 +253,9 @@ def main(argv: list[str]) -> int:
         return 0
     from hydra import compose, initialize_config_dir
 
-    from gvgai_pcg.commands.train import CONFIG_DIR
+    from gvgai_pcg.config import config_dir
 
-    with initialize_config_dir(config_dir=str(CONFIG_DIR), version_base="1.3"):
+    with initialize_config_dir(config_dir=str(config_dir()), version_base="1.3"):
         cfg = compose("config", overrides=["log.curve=false", "log.backends=[]", *argv])
     print(describe(cfg.run_name, benchmark(cfg)))
     return 0

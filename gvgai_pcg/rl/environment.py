@@ -1,12 +1,16 @@
 """The training env of each regimen: one natively batched ``GVGAIEnv``, wrapped in a
 ``DifficultyTransform`` for the generated-level regimens (PCG X, PPCG).
 
-Lv X and Lv 0-3 play human-designed levels; PCG X and PPCG play a new generated level every
-episode at the difficulty the transform writes into the reset tensordict.
+Lv X and Lv 0-3 play human-designed levels, ``levels`` a level set of your own (a folder or a
+list of files); PCG X and PPCG play generated levels at the difficulty the transform writes
+into the reset tensordict: a new one every episode, or with ``num_levels`` >= 1 (PCG X only) a
+fixed set of that many. ``training_levels`` names the finite set a regimen trains on, which
+the evaluation plays as the run's training set.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -15,9 +19,49 @@ from torchrl.envs import EnvBase
 
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.reset_rows import RowResetTransformedEnv
-from gvgai_pcg.levels import human_level
+from gvgai_pcg.levels import Level, human_level
+from gvgai_pcg.levels.winnable import warn_unwinnable
 
-REGIMENS = ("lv", "lv0-3", "pcg", "ppcg")
+REGIMENS = ("lv", "lv0-3", "levels", "pcg", "ppcg")
+HUMAN_REGIMENS = ("lv", "lv0-3", "levels")  # no difficulty: the levels are given
+
+
+def training_source(game: str, regimen: Mapping):
+    """The level source of a regimen (``regimen``: its config section); the levels of a given set
+    (Lv X, Lv 0-3, ``levels``) that cannot be won are named in a warning."""
+    from gvgai_pcg.envs.level_sources import GeneratedLevels, GeneratedLevelSet, as_level_source
+
+    name = regimen["name"]
+    if name in HUMAN_REGIMENS:  # one level: FixedLevel; more: UniformLevels
+        levels = training_levels(game, regimen)
+        warn_unwinnable(levels, "training")  # generated levels are tested to be winnable
+        return as_level_source(game, levels)
+    if name == "pcg" and int(regimen.get("num_levels", 0)) > 0:
+        return GeneratedLevelSet(
+            game, float(regimen["difficulty"]), int(regimen["num_levels"]), int(regimen.get("start_seed", 0))
+        )
+    return GeneratedLevels(game)
+
+
+def training_levels(game: str, regimen: Mapping, limit: int | None = None) -> list[Level] | None:
+    """The finite set of levels a regimen trains on (at most its first ``limit``), ``None`` when
+    it draws a new generated level every episode (PPCG, PCG X without ``num_levels``)."""
+    name = regimen["name"]
+    if name == "lv":
+        levels = [human_level(game, int(regimen["level"]))]
+    elif name == "lv0-3":
+        levels = [human_level(game, int(i)) for i in regimen["levels"]]
+    elif name == "levels":
+        from gvgai_pcg.levels.sets import load_level_set
+
+        levels = load_level_set(game, regimen["path"])
+    elif name == "pcg" and int(regimen.get("num_levels", 0)) > 0:
+        return training_source(game, regimen).first(
+            limit if limit is not None else int(regimen["num_levels"])
+        )
+    else:
+        return None
+    return levels if limit is None else levels[:limit]
 
 
 @dataclass
@@ -38,25 +82,18 @@ class EnvFactory:
     difficulty: object = None
 
     def __call__(self, worker: int = 0) -> EnvBase:
-        name = self.regimen.name
         seed = self.seed + 7919 * worker
-        if name in ("lv", "lv0-3"):
-            indices = [self.regimen.level] if name == "lv" else list(self.regimen.levels)
-            levels = [human_level(self.game, int(i)) for i in indices]
-            return GVGAIEnv(self.game, self.num_envs, levels, self.obs, self.max_steps, self.device, seed)
-        from gvgai_pcg.envs.level_sources import GeneratedLevels
-
-        env = GVGAIEnv(
-            self.game, self.num_envs, GeneratedLevels(self.game), self.obs, self.max_steps, self.device, seed
-        )
-        return RowResetTransformedEnv(env, self.difficulty)
+        source = training_source(self.game, self.regimen)
+        env = GVGAIEnv(self.game, self.num_envs, source, self.obs, self.max_steps, self.device, seed)
+        return env if self.regimen.name in HUMAN_REGIMENS else RowResetTransformedEnv(env, self.difficulty)
 
 
 def make_difficulty(regimen: DictConfig, game: str):
-    """The ``DifficultyTransform`` of a generated-level regimen, ``None`` for Lv X / Lv 0-3."""
+    """The ``DifficultyTransform`` of a generated-level regimen, ``None`` for Lv X, Lv 0-3 and
+    level sets."""
     if regimen.name not in REGIMENS:
         raise ValueError(f"unknown regimen {regimen.name!r}; valid regimens are: {', '.join(REGIMENS)}")
-    if regimen.name in ("lv", "lv0-3"):
+    if regimen.name in HUMAN_REGIMENS:
         return None
     from gvgai_pcg.envs.difficulty import DifficultyTransform
 

@@ -152,7 +152,7 @@ def test_render_modes() -> None:
 
 
 def test_unknown_regimen_lists_the_valid_ones() -> None:
-    with pytest.raises(ValueError, match="valid regimens are: lv, lv0-3, human, pcg, ppcg"):
+    with pytest.raises(ValueError, match="valid regimens are: lv, lv0-3, human, levels, pcg, ppcg"):
         GVGAIGymEnv("zelda", regimen="random")
 
 
@@ -220,3 +220,26 @@ def test_a_reset_refused_for_a_bad_option_changes_nothing() -> None:
     with pytest.raises(ValueError, match="reset_mask"):
         vec.reset(options={"difficulty": 0.3, "reset_mask": np.array([True])})
     assert vec.unwrapped.regimen.difficulty == 0.0
+
+
+def test_a_level_set_of_your_own(tmp_path) -> None:
+    (tmp_path / "one.txt").write_text("wwwwww\nwA.+gw\nwwwwww\n")
+    (tmp_path / "two.txt").write_text("wwwwww\nwAg.+w\nwwwwww\n")
+    env = gym.make("gvgai_pcg/Zelda-v0", regimen="levels", levels=str(tmp_path))
+    names = {env.reset(seed=seed)[1]["level_name"] for seed in range(12)}
+    assert names == {"one", "two"}
+    vec = gym.make_vec("gvgai_pcg/Zelda-v0", num_envs=3, regimen="levels", levels=[tmp_path / "two.txt"])
+    vec.reset(seed=0)
+    assert {lv.name for lv in vec.unwrapped.engine.current_levels} == {"two"}
+    with pytest.raises(ValueError, match="levels= gives the set of regimen='levels'"):
+        GVGAIGymEnv("zelda", regimen="lv", levels=str(tmp_path))
+
+
+def test_a_fixed_set_of_generated_levels() -> None:
+    env = gym.make("gvgai_pcg/Frogs-v0", regimen="pcg", difficulty=0.5, num_levels=2, start_seed=5)
+    seeds = {env.reset(seed=seed)[1]["level_seed"] for seed in range(12)}
+    assert seeds == {5, 6}
+    with pytest.raises(ValueError, match="keeps the difficulty it was made at"):
+        env.reset(options={"difficulty": 0.9})
+    with pytest.raises(ValueError, match="num_levels and start_seed are for regimen='pcg'"):
+        GVGAIGymEnv("frogs", regimen="ppcg", num_levels=3)

@@ -21,10 +21,19 @@ REGIMENS = {
 }
 
 
-def make_run(root: Path, regimen: str, seed: int, frames: int = 1000, game: str = "zelda") -> Path:
+def make_run(
+    root: Path,
+    regimen: str,
+    seed: int,
+    frames: int = 1000,
+    game: str = "zelda",
+    regimen_config: dict | None = None,
+) -> Path:
+    """A run named ``<game>-<regimen>-seed<seed>``; its regimen section is ``regimen_config`` or
+    ``REGIMENS[regimen]``."""
     config = {
         "game": {"name": game},
-        "regimen": REGIMENS[regimen],
+        "regimen": regimen_config or REGIMENS[regimen],
         "model": {"name": "compact", "hidden": 16},
         "env": {"num_envs": 4, "obs": "tiles", "max_steps": 2000},
         "seed": seed,

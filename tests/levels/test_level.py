@@ -106,3 +106,21 @@ def test_a_level_unpickled_in_another_process_hashes_as_that_process_does(tmp_pa
     for hash_seed in ("1", "2"):
         env = {**os.environ, "PYTHONHASHSEED": hash_seed}
         assert subprocess.run([sys.executable, "-c", script], env=env).returncode == 0
+
+
+def test_a_byte_order_mark_and_crlf_line_ends_are_accepted(tmp_path):
+    path = tmp_path / "zelda_windows.txt"
+    path.write_bytes(b"\xef\xbb\xbfwwwww\r\nwA+gw\r\nwwwww\r\n")
+    assert Level.load(path).rows == ("wwwww", "wA+gw", "wwwww")
+    assert Level.parse("\ufeffwAgw\rwwww\r", "zelda").rows == ("wAgw", "wwww")  # and old Mac ends
+
+
+def test_a_file_that_is_not_utf8_is_refused_with_its_name_and_place(tmp_path):
+    path = tmp_path / "zelda_latin1.txt"
+    path.write_bytes("wwww\nwA\xe9w\n".encode("latin-1"))
+    with pytest.raises(LevelFormatError) as info:
+        Level.load(path)
+    assert str(info.value).startswith(f"{path}, line 2, column 3: not UTF-8 text (byte 0xe9")
+    (tmp_path / "zelda_utf16.txt").write_bytes("wAgw\n".encode("utf-16"))
+    with pytest.raises(LevelFormatError, match="zelda_utf16.txt, line 1, column 1: not UTF-8 text"):
+        resolve_level(str(tmp_path / "zelda_utf16.txt"), "zelda")

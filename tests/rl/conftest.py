@@ -1,12 +1,12 @@
 from __future__ import annotations
 
-from pathlib import Path
-
 import pytest
 import torch
 from hydra import compose, initialize_config_dir
 
-CONFIG_DIR = Path(__file__).resolve().parents[2] / "conf"
+from gvgai_pcg.config import config_dir  # also registers the configs' resolvers
+
+CONFIG_DIR = config_dir()
 
 
 def _compose(overrides: list[str]):

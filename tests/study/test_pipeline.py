@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 from hydra import compose, initialize_config_dir
 
-from gvgai_pcg.commands.train import CONFIG_DIR
+from gvgai_pcg.config import config_dir
 from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
 from gvgai_pcg.study import BUDGETS, STUDY_CONDITIONS, reproduce
 from gvgai_pcg.study.conditions import EXTRA_CONDITIONS, known_conditions
@@ -22,7 +22,7 @@ REGIMEN_NAMES = {"lv0": "lv", "lv4": "lv", "lv0-3": "lv0-3", "pcg0.5": "pcg", "p
 @pytest.mark.parametrize("condition", known_conditions())
 def test_every_condition_is_a_config_of_its_game_and_regimen(condition):
     game, tag = condition.split("-", 1)
-    with initialize_config_dir(config_dir=str(CONFIG_DIR), version_base="1.3"):
+    with initialize_config_dir(config_dir=str(config_dir()), version_base="1.3"):
         cfg = compose("config", overrides=[f"condition={condition}"])
     assert cfg.game.name == game and cfg.regimen.name == REGIMEN_NAMES[tag]
     assert cfg.regimen.tag.removesuffix(".0") == tag  # pcg1 is tagged pcg1.0 in run names

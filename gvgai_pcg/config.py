@@ -1,0 +1,504 @@
+"""The training config: where the Hydra configs are, and the schema a run is checked against.
+
+``conf/`` is the source of the configs; a wheel ships the same files as ``gvgai_pcg/conf``, and
+``config_dir`` finds whichever is there. Every composed config is checked against ``SCHEMA``
+before a run starts: each key's type and range, no unknown or missing keys, the regimen's keys
+for its name, and the level files of a level set parsed. A bad value is a ``ConfigError`` whose
+message is one line naming the key, the value and what is allowed:
+``total_frames=-5: expected an integer >= 1``.
+
+``gvgai-pcg train`` checks every job of the command line (each run of a ``-m`` sweep) before
+Hydra writes any run directory (``check_command_line``), and the task checks its own config
+again (``checked_config``), which also gives back the values normalised: integers for integral
+floats (``total_frames=1e6``), absolute level paths.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from omegaconf import DictConfig, OmegaConf
+
+CONFIG_NAME = "config"
+# Generated training levels take seeds below this (gvgai_pcg.envs.level_sources.TRAINING_SEED_SPACE);
+# the frozen test sets' seeds lie far above it.
+TRAINING_SEED_SPACE = 2**31
+
+
+class ConfigError(ValueError):
+    """A config that cannot train; the message is one line: key, value, what is allowed."""
+
+
+def config_dir() -> Path:
+    """The Hydra configs: ``gvgai_pcg/conf`` of an installed wheel, else ``conf/`` of the source
+    checkout this package runs from (an editable install)."""
+    package = Path(__file__).resolve().parent
+    for candidate in (package / "conf", package.parent / "conf"):
+        if (candidate / f"{CONFIG_NAME}.yaml").is_file():
+            return candidate
+    raise FileNotFoundError(
+        f"the Hydra configs are missing: looked for {CONFIG_NAME}.yaml in {package / 'conf'} (an installed "
+        f"wheel) and {package.parent / 'conf'} (a source checkout); reinstall gvgai-pcg"
+    )
+
+
+# --- resolvers the config files use (registered on import) ---
+
+
+def level_count_tag(num_levels: Any, start_seed: Any = 0) -> str:
+    """``""`` for unlimited levels, ``-n100`` for a set of 100, ``-n100-s7`` starting at seed 7."""
+    if num_levels in (0, "0", None):
+        return ""
+    return f"-n{num_levels}" + (f"-s{start_seed}" if start_seed not in (0, "0", None) else "")
+
+
+def level_set_tag(path: Any) -> str:
+    """The name of a level set in a run name: the folder's or file's name (``mine``), the first
+    file's and how many more for a list (``a+2``)."""
+    paths = [path] if isinstance(path, str) else list(path or [])
+    if not paths:
+        return "none"
+    first = Path(str(paths[0]).rstrip("/\\"))
+    name = first.stem if first.suffix == ".txt" else first.name
+    return name + (f"+{len(paths) - 1}" if len(paths) > 1 else "")
+
+
+for _name, _resolver in (
+    ("gvgai_pcg.level_count", level_count_tag),
+    ("gvgai_pcg.level_set", level_set_tag),
+):
+    if not OmegaConf.has_resolver(_name):
+        OmegaConf.register_new_resolver(_name, _resolver)
+
+
+# --- the schema: one rule per leaf key ---
+
+
+class Refused(Exception):
+    """A value a rule does not accept (``ConfigError`` is raised with the key added)."""
+
+
+@dataclass(frozen=True)
+class Integer:
+    low: int | None = None
+    high: int | None = None
+
+    @property
+    def expected(self) -> str:
+        if self.low is not None and self.high is not None:
+            return f"an integer in [{self.low}, {self.high}]"
+        if self.low is not None:
+            return f"an integer >= {self.low}"
+        return "an integer"
+
+    def check(self, value: Any) -> int:
+        if isinstance(value, float) and value.is_integer():
+            value = int(value)  # total_frames=1e6
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise Refused
+        if (self.low is not None and value < self.low) or (self.high is not None and value > self.high):
+            raise Refused
+        return value
+
+
+@dataclass(frozen=True)
+class Number:
+    low: float | None = None
+    high: float | None = None
+    low_open: bool = False  # low itself is not allowed
+
+    @property
+    def expected(self) -> str:
+        if self.low is not None and self.high is not None:
+            return f"a number in {'(' if self.low_open else '['}{self.low:g}, {self.high:g}]"
+        if self.low is not None:
+            return f"a finite number {'>' if self.low_open else '>='} {self.low:g}"
+        return "a finite number"
+
+    def check(self, value: Any) -> float:
+        if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+            raise Refused
+        if self.low is not None and (value < self.low or (self.low_open and value == self.low)):
+            raise Refused
+        if self.high is not None and value > self.high:
+            raise Refused
+        return float(value)
+
+
+@dataclass(frozen=True)
+class OneOf:
+    choices: tuple[str, ...] | Callable[[], Sequence[str]]
+
+    @property
+    def options(self) -> tuple[str, ...]:
+        return tuple(self.choices() if callable(self.choices) else self.choices)
+
+    @property
+    def expected(self) -> str:
+        return "one of " + ", ".join(self.options)
+
+    def check(self, value: Any) -> str:
+        if not isinstance(value, str) or value not in self.options:
+            raise Refused
+        return value
+
+
+@dataclass(frozen=True)
+class Text:
+    expected: str = "a non-empty string"
+
+    def check(self, value: Any) -> str:
+        if not isinstance(value, str) or not value.strip():
+            raise Refused
+        return value
+
+
+@dataclass(frozen=True)
+class Flag:
+    expected: str = "true or false"
+
+    def check(self, value: Any) -> bool:
+        if not isinstance(value, bool):
+            raise Refused
+        return value
+
+
+@dataclass(frozen=True)
+class ListOf:
+    item: Any
+    unique: bool = False
+    min_items: int = 1
+
+    @property
+    def expected(self) -> str:
+        size = "a non-empty list" if self.min_items else "a list"
+        return f"{size}{' without repeats' if self.unique else ''}, each {self.item.expected}"
+
+    def check(self, value: Any) -> list:
+        if not isinstance(value, list | tuple) or len(value) < self.min_items:
+            raise Refused
+        checked = [self.item.check(v) for v in value]
+        if self.unique and len(set(checked)) != len(checked):
+            raise Refused
+        return checked
+
+
+@dataclass(frozen=True)
+class Device:
+    expected: str = "cpu, cuda, cuda:N or mps, present on this machine"
+
+    def check(self, value: Any) -> str:
+        import torch
+
+        if not isinstance(value, str) or not re.fullmatch(r"cpu|mps|cuda(:\d+)?", value):
+            raise Refused
+        if value.startswith("cuda"):
+            index = int(value.partition(":")[2] or 0)
+            if not torch.cuda.is_available() or index >= torch.cuda.device_count():
+                raise Refused
+        if value == "mps" and not torch.backends.mps.is_available():
+            raise Refused
+        return value
+
+
+@dataclass(frozen=True)
+class LevelPaths:
+    """A level set: a folder of ``.txt`` level files, one file, or a list of files and folders."""
+
+    expected: str = "a folder of level files, a level file, or a non-empty list of them"
+
+    def check(self, value: Any) -> str | list[str]:
+        if isinstance(value, str) and value.strip():
+            return str(Path(value).expanduser().resolve())
+        if isinstance(value, list | tuple) and value and all(isinstance(v, str) and v.strip() for v in value):
+            return [str(Path(v).expanduser().resolve()) for v in value]
+        raise Refused
+
+
+def _games() -> list[str]:
+    from gvgai_pcg.games import registered_games
+
+    return registered_games()
+
+
+def _models() -> tuple[str, ...]:
+    from gvgai_pcg.rl.models import MODELS
+
+    return MODELS
+
+
+WIN_RULES = ("game", "study")
+LOG_BACKENDS = ("csv", "tensorboard", "wandb")
+HUMAN_LEVEL = Integer(0, 4)
+DIFFICULTY = Number(0.0, 1.0)
+# win_rule is read by pcg and ppcg only; the others accept it so that preset=paper (which sets it
+# for every regimen) combines with any of them.
+REGIMENS: dict[str, dict[str, Any]] = {
+    "lv": {"name": Text(), "level": HUMAN_LEVEL, "tag": Text(), "win_rule": OneOf(WIN_RULES)},
+    "lv0-3": {
+        "name": Text(),
+        "levels": ListOf(HUMAN_LEVEL, unique=True),
+        "tag": Text(),
+        "win_rule": OneOf(WIN_RULES),
+    },
+    "levels": {"name": Text(), "path": LevelPaths(), "tag": Text(), "win_rule": OneOf(WIN_RULES)},
+    "pcg": {
+        "name": Text(),
+        "difficulty": DIFFICULTY,
+        "num_levels": Integer(0, TRAINING_SEED_SPACE),
+        "start_seed": Integer(0, TRAINING_SEED_SPACE - 1),
+        "win_rule": OneOf(WIN_RULES),
+        "tag": Text(),
+    },
+    "ppcg": {
+        "name": Text(),
+        "alpha": Number(0.0, 1.0, low_open=True),
+        "start": DIFFICULTY,
+        "win_rule": OneOf(WIN_RULES),
+        "tag": Text(),
+    },
+}
+OPTIONAL = {("regimen", "win_rule")}  # keys a section may leave out
+
+
+@dataclass(frozen=True)
+class Variants:
+    """A section whose keys depend on its ``name`` (the regimen group)."""
+
+    variants: Mapping[str, Mapping[str, Any]]
+    key: str = "name"
+
+
+SCHEMA: dict[str, Any] = {
+    "game": {"name": OneOf(_games)},
+    "regimen": Variants(REGIMENS),
+    "model": {"name": OneOf(_models), "hidden": Integer(1)},
+    "algo": {
+        "name": OneOf(("a2c",)),
+        "n_steps": Integer(1),
+        "gamma": Number(0.0, 1.0),
+        "lr": Number(0.0, low_open=True),
+        "entropy_coef": Number(0.0),
+        "value_coef": Number(0.0),
+        "max_grad_norm": Number(0.0, low_open=True),
+        "rmsprop_alpha": Number(0.0, 1.0),
+        "rmsprop_eps": Number(0.0, low_open=True),
+    },
+    "seed": Integer(0, 2**32 - 1),  # numpy's seed range
+    "total_frames": Integer(1),
+    "device": Device(),
+    "threads": Integer(0),
+    "env": {"num_envs": Integer(1), "obs": OneOf(("tiles", "pixels")), "max_steps": Integer(1)},
+    "collector": {"workers": Integer(1)},
+    "checkpoint": {"every_frames": Integer(1)},
+    "log": {
+        "every_episodes": Integer(1),
+        "backends": ListOf(OneOf(LOG_BACKENDS), unique=True, min_items=0),
+        "curve": Flag(),
+    },
+    "out_dir": Text(),
+    "run_name": Text(),
+}
+
+
+def _shown(value: Any) -> str:
+    if isinstance(value, dict | list):
+        return repr(value)
+    return repr(value) if isinstance(value, str) else str(value)
+
+
+def _check_section(values: Any, schema: Mapping[str, Any], prefix: str, out: dict) -> None:
+    where = prefix.rstrip(".") or "the config"
+    if not isinstance(values, dict):
+        raise ConfigError(f"{where}={_shown(values)}: expected a section with the keys {', '.join(schema)}")
+    for key, value in values.items():
+        if key not in schema:
+            raise ConfigError(
+                f"{prefix}{key}={_shown(value)}: unknown key; the keys of {where} are {', '.join(schema)}"
+            )
+    for key, rule in schema.items():
+        name = f"{prefix}{key}"
+        if key not in values:
+            if (prefix.rstrip("."), key) in OPTIONAL:
+                continue
+            what = rule.expected if hasattr(rule, "expected") else "a section"
+            raise ConfigError(f"{name}: missing; expected {what}")
+        value = values[key]
+        if value == "???":
+            raise ConfigError(f"{name}: missing (???); expected {getattr(rule, 'expected', 'a section')}")
+        if isinstance(rule, Variants):
+            out[key] = {}
+            choice = value.get(rule.key) if isinstance(value, dict) else None
+            if choice not in rule.variants:
+                raise ConfigError(
+                    f"{name}.{rule.key}={_shown(choice)}: expected one of {', '.join(rule.variants)}"
+                )
+            _check_section(value, rule.variants[choice], f"{name}.", out[key])
+        elif isinstance(rule, Mapping):
+            out[key] = {}
+            _check_section(value, rule, f"{name}.", out[key])
+        else:
+            try:
+                out[key] = rule.check(value)
+            except Refused:
+                raise ConfigError(f"{name}={_shown(value)}: expected {rule.expected}") from None
+
+
+def _check_together(config: dict) -> None:
+    """Rules across keys: a generated set's seeds, a level set's files, model and observation."""
+    regimen = config["regimen"]
+    if regimen["name"] == "pcg":
+        count, start = regimen["num_levels"], regimen["start_seed"]
+        if count == 0 and start != 0:
+            raise ConfigError(
+                f"regimen.start_seed={start}: expected 0 with regimen.num_levels=0 (unlimited levels); "
+                "a start seed picks the first level of a finite set (regimen.num_levels >= 1)"
+            )
+        if start + count > TRAINING_SEED_SPACE:
+            raise ConfigError(
+                f"regimen.start_seed={start}: expected start_seed + num_levels <= 2**31 "
+                f"(training seeds stay below 2**31), got {start + count}"
+            )
+    if regimen["name"] == "levels":
+        from gvgai_pcg.levels.sets import load_level_set
+
+        try:
+            load_level_set(config["game"]["name"], regimen["path"])
+        except (ValueError, OSError) as error:
+            path, message = regimen["path"], str(error)
+            if isinstance(path, str):
+                message = message.removeprefix(f"{path}: ")  # named once is enough
+            raise ConfigError(f"regimen.path={_shown(path)}: {message}") from None
+    if config["model"]["name"] == "nature" and config["env"]["obs"] != "pixels":
+        raise ConfigError(
+            f"env.obs={_shown(config['env']['obs'])}: expected pixels with model=nature "
+            "(the study's CNN needs the pixel frames); use model=compact for tiles"
+        )
+
+
+def validate(cfg: DictConfig | Mapping) -> dict:
+    """The config's values, checked against ``SCHEMA`` and normalised (resolved, as plain
+    containers); a ``ConfigError`` for the first bad value. ``hydra`` is not checked."""
+    if isinstance(cfg, DictConfig):
+        missing = _missing_keys(cfg)
+        if missing:
+            rule = _rule_of(missing[0])
+            raise ConfigError(f"{missing[0]}: missing (???); expected {getattr(rule, 'expected', 'a value')}")
+        try:
+            values = OmegaConf.to_container(cfg, resolve=True)
+        except Exception as error:  # an interpolation that does not resolve
+            key, first = getattr(error, "full_key", None) or "the config", str(error).splitlines()[0]
+            raise ConfigError(f"{key}: does not resolve ({first})") from None
+    else:
+        values = dict(cfg)
+    values.pop("hydra", None)
+    checked: dict = {}
+    _check_section(values, SCHEMA, "", checked)
+    _check_together(checked)
+    return checked
+
+
+def _missing_keys(cfg: DictConfig, prefix: str = "") -> list[str]:
+    found = []
+    for key in cfg:
+        if key == "hydra" and not prefix:
+            continue
+        if OmegaConf.is_missing(cfg, key):
+            found.append(f"{prefix}{key}")
+        elif not OmegaConf.is_interpolation(cfg, key) and isinstance(cfg[key], DictConfig):
+            found += _missing_keys(cfg[key], f"{prefix}{key}.")
+    return found
+
+
+def _rule_of(dotted: str) -> Any:
+    rule: Any = SCHEMA
+    for part in dotted.split("."):
+        if isinstance(rule, Variants):
+            rule = next((v[part] for v in rule.variants.values() if part in v), None)
+        elif isinstance(rule, Mapping):
+            rule = rule.get(part)
+        if rule is None:
+            return None
+    return rule
+
+
+def checked_config(cfg: DictConfig) -> DictConfig:
+    """``cfg`` checked (``validate``) and with its normalised values, as a new config."""
+    return OmegaConf.create(validate(cfg))
+
+
+# --- composing configs, as gvgai-pcg train does ---
+
+
+def compose_config(overrides: Sequence[str] = (), config_name: str = CONFIG_NAME) -> DictConfig:
+    """The training config that ``gvgai-pcg train OVERRIDES`` would run, checked.
+
+    For the Python API: ``train(compose_config(["game=frogs", "total_frames=5000"]), run_dir)``."""
+    from hydra import compose, initialize_config_dir
+
+    with initialize_config_dir(config_dir=str(config_dir()), version_base="1.3", job_name="train"):
+        cfg = compose(config_name, overrides=list(overrides))
+    return checked_config(cfg)
+
+
+def sweep_jobs(overrides: Sequence[str], multirun: bool) -> list[list[str]]:
+    """The override lists of the runs a command line starts (one without ``-m``; every
+    combination of a basic sweep with it)."""
+    if not multirun:
+        return [list(overrides)]
+    from hydra._internal.core_plugins.basic_sweeper import BasicSweeper
+    from hydra.core.override_parser.overrides_parser import OverridesParser
+
+    parsed = OverridesParser.create().parse_overrides(list(overrides))
+    jobs = [tuple(job) for batch in BasicSweeper.split_arguments(parsed, None) for job in batch]
+    return [list(job) for job in dict.fromkeys(jobs)]
+
+
+def check_jobs(jobs: Sequence[Sequence[str]], config_name: str = CONFIG_NAME) -> bool:
+    """Compose and ``validate`` the config of every job; ``ConfigError`` for the first bad one.
+
+    Returns ``False`` (nothing checked) where a job does not compose for another reason (a group
+    option that does not exist, a launcher that is not installed, bad override syntax): Hydra
+    itself then reports that when it runs."""
+    from hydra import compose, initialize_config_dir
+    from hydra.errors import ConfigCompositionException, HydraException
+
+    with initialize_config_dir(config_dir=str(config_dir()), version_base="1.3", job_name="train"):
+        for job in jobs:
+            try:
+                cfg = compose(config_name, overrides=list(job))
+            except ConfigCompositionException as error:
+                unknown = _unknown_override(error, job, config_name)
+                if unknown:
+                    raise ConfigError(unknown) from None
+                return False
+            except HydraException:
+                return False
+            validate(cfg)
+    return True
+
+
+def _unknown_override(error: Exception, job: Sequence[str], config_name: str) -> str | None:
+    """The one-line message for an override of a key the config does not have, else ``None``."""
+    from hydra import compose
+
+    match = re.match(r"Could not override '([^']+)'", str(error))
+    if not match or match.group(1).startswith("hydra."):
+        return None
+    key = match.group(1)
+    value = next((o.split("=", 1)[1] for o in job if o.split("=", 1)[0].lstrip("~+") == key), "")
+    section, _, _ = key.rpartition(".")
+    rest = [o for o in job if o.split("=", 1)[0].lstrip("~+") != key]
+    try:
+        base = compose(config_name, overrides=rest)
+        keys = list(OmegaConf.select(base, section) if section else (k for k in base if k != "hydra"))
+    except Exception:
+        keys = []
+    where = section or "the config"
+    listed = f"; the keys of {where} are {', '.join(map(str, keys))}" if keys else ""
+    return f"{key}={value}: unknown key{listed}"
