@@ -32,7 +32,7 @@ lint: $(STAMP)
 BUDGET ?= smoke
 JOBS ?= 2
 reproduce: $(STAMP)
-	$(BIN)/gvgai-pcg reproduce --budget $(BUDGET) --jobs $(JOBS) --out reproduce/$(BUDGET) --publish results/$(BUDGET)
+	$(BIN)/gvgai-pcg reproduce --budget $(BUDGET) --jobs $(JOBS) --out reproduce/$(BUDGET) --publish results/$(BUDGET) --page docs/results.md
 
 bench: $(STAMP)
 	$(BIN)/gvgai-pcg bench --output docs/benchmarks.md

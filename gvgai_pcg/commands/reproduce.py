@@ -24,6 +24,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--extra", action="store_true", help="also the conditions the study skipped")
     parser.add_argument("--no-train", action="store_true", help="evaluate and report the runs there are")
     parser.add_argument("--publish", type=Path, help="copy configs, logs, results and report here")
+    parser.add_argument(
+        "--page", type=Path, help="with --publish: rewrite the results block of this page (docs/results.md)"
+    )
     parser.add_argument("--no-progress", action="store_true", help="hide progress bars")
     parser.add_argument("overrides", nargs="*", help="Hydra overrides for every run")
 
@@ -64,4 +67,29 @@ def run(args: argparse.Namespace) -> int:
     print(f"report: {outcome.report / 'results.md'}")
     if outcome.published is not None:
         print(f"published: {outcome.published}")
+    if args.page is not None:
+        if outcome.published is None:
+            raise ValueError("--page needs --publish (the page is written from the published data)")
+        from gvgai_pcg.study.page import write_results_page
+
+        images = args.page.parent / "images" / "results"
+        write_results_page(args.page, outcome.published, images, "images/results", budget.frames, _commit())
+        print(f"page: {args.page}")
     return 0
+
+
+def _commit() -> str:
+    """The commit of the code that runs (``unknown`` outside a git checkout)."""
+    import subprocess
+
+    try:
+        found = subprocess.run(
+            ["git", "rev-parse", "--short", "HEAD"],
+            cwd=Path(__file__).parent,
+            capture_output=True,
+            text=True,
+            check=True,
+        )
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+    return found.stdout.strip()

@@ -14,6 +14,7 @@ from gvgai_pcg.config import config_dir
 from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
 from gvgai_pcg.study import BUDGETS, STUDY_CONDITIONS, reproduce
 from gvgai_pcg.study.conditions import EXTRA_CONDITIONS, known_conditions
+from gvgai_pcg.study.page import write_results_page
 from gvgai_pcg.study.pipeline import share_conditions, sweep_arguments
 
 REGIMEN_NAMES = {"lv0": "lv", "lv4": "lv", "lv0-3": "lv0-3", "pcg0.5": "pcg", "pcg1": "pcg", "ppcg": "ppcg"}
@@ -72,6 +73,15 @@ def test_a_published_run_rebuilds_the_report_without_its_model(tmp_path):
     assert any(row[1].startswith("Lv 0") for row in original)  # the trained run is in the table
     claims = (out / "report" / "claims.md").read_text()
     assert "| zelda | A policy trained on one human level" in claims and "Lv 0 1 run(s)" in claims
+    page = tmp_path / "results.md"
+    page.write_text("# Results\n\nbefore\n<!-- results:start -->\nold\n<!-- results:end -->\nafter\n")
+    write_results_page(page, published, tmp_path / "images", "images/results", budget.frames, "abc1234")
+    text = page.read_text()
+    assert text.startswith("# Results\n\nbefore\n") and text.endswith("after\n") and "old" not in text
+    assert "| zelda-lv0-tiles-compact-seed0 | 1,600 | yes |" in text and "commit `abc1234`" in text
+    assert (
+        "](images/results/curves-zelda.png)" in text and (tmp_path / "images" / "curves-zelda.png").is_file()
+    )
 
 
 @pytest.mark.slow

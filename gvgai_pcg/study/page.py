@@ -1,0 +1,84 @@
+"""The results page: the published tables, curves, claims and runs, written into a Markdown page.
+
+``docs/results.md`` has a block between ``<!-- results:start -->`` and ``<!-- results:end -->``
+that this module rewrites from a published folder (``gvgai_pcg.study.pipeline.publish``), so the
+page says exactly what the data under ``results/`` says, and which runs it holds.
+"""
+
+from __future__ import annotations
+
+import json
+import platform
+import re
+import shutil
+from pathlib import Path
+
+START, END = "<!-- results:start -->", "<!-- results:end -->"
+
+
+def _runs_table(published: Path, target_frames: int) -> str:
+    from gvgai_pcg.rl.run_log import read_log
+
+    lines = [
+        "| run | frames | finished | wall time (h) | last logged mean score |",
+        "|---|---:|---|---:|---:|",
+    ]
+    for run in sorted((published / "runs").iterdir()):
+        if not (run / "published.json").is_file():
+            continue
+        frames = json.loads((run / "published.json").read_text())["frames"]
+        rows = read_log(run / "log.csv") if (run / "log.csv").is_file() else []
+        hours = rows[-1]["time"] / 3600 if rows else 0.0
+        score = f"{rows[-1]['mean_score']:.2f}" if rows else "-"
+        done = "yes" if frames >= target_frames else "no (resumes)"
+        lines.append(f"| {run.name} | {frames:,} | {done} | {hours:.2f} | {score} |")
+    return "\n".join(lines)
+
+
+def results_block(published: Path, images: Path, image_prefix: str, target_frames: int, commit: str) -> str:
+    """The page's results block from ``published``; the curve images are copied into ``images``
+    and referenced as ``image_prefix/<name>``."""
+    report = (published / "report" / "results.md").read_text()
+    images.mkdir(parents=True, exist_ok=True)
+    for figure in sorted((published / "report").glob("curves-*.png")):
+        shutil.copy2(figure, images / figure.name)
+    report = re.sub(r"\]\((curves-[\w-]+\.(?:png|svg))\)", rf"]({image_prefix}/\1)", report)
+    report = report.replace("# Results\n", "", 1).replace("\n## ", "\n### ")
+    claims_path = published / "report" / "claims.md"
+    claims = claims_path.read_text() if claims_path.is_file() else "No claims evaluated yet.\n"
+    machine = f"{platform.machine()} Linux, 2 cores, torch CPU, one torch thread per run"
+    return "\n".join(
+        [
+            START,
+            f"Data: `{published}` (commit `{commit}` of the code that trained and evaluated it; {machine}).",
+            "",
+            "### Runs",
+            "",
+            _runs_table(published, target_frames),
+            "",
+            "### The study's claims on these runs",
+            "",
+            claims.strip(),
+            "",
+            "### Tables and curves",
+            "",
+            "Each row is a condition at the frames its runs had when they were evaluated (a run that has not",
+            "finished is evaluated at its last checkpoint and says so by its frame count).",
+            report.strip(),
+            END,
+        ]
+    )
+
+
+def write_results_page(
+    page: Path, published: Path, images: Path, image_prefix: str, target_frames: int, commit: str
+) -> Path:
+    """Rewrite the results block of ``page`` from ``published``."""
+    text = page.read_text()
+    if START not in text or END not in text:
+        raise ValueError(f"{page}: no {START} ... {END} block to write the results into")
+    before, rest = text.split(START, 1)
+    after = rest.split(END, 1)[1]
+    block = results_block(published, images, image_prefix, target_frames, commit)
+    page.write_text(before + block + after)
+    return page
