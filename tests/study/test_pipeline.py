@@ -77,7 +77,7 @@ def test_a_published_run_rebuilds_the_report_without_its_model(tmp_path):
     page.write_text("# Results\n\nbefore\n<!-- results:start -->\nold\n<!-- results:end -->\nafter\n")
     write_results_page(page, published, tmp_path / "images", "images/results", budget.frames, "abc1234")
     text = page.read_text()
-    assert text.startswith("# Results\n\nbefore\n") and text.endswith("after\n") and "old" not in text
+    assert text.startswith("# Results\n\nbefore\n") and text.endswith("after\n") and "\nold\n" not in text
     assert "| zelda-lv0-tiles-compact-seed0 | 1,600 | yes |" in text and "commit `abc1234`" in text
     assert (
         "](images/results/curves-zelda.png)" in text and (tmp_path / "images" / "curves-zelda.png").is_file()
