@@ -5,6 +5,9 @@ step limit are exactly the TorchRL env's: ``reset(seed=s)`` followed by the same
 the same trajectory as ``GVGAIEnv(game, 1, seed=s)``. The training regimens of the study
 (Lv X, Lv 0-3, PCG X, Progressive PCG) are chosen by name; the difficulty of generated levels
 is owned by a ``DifficultyTransform`` used standalone, so the curriculum rule lives in one place.
+Once an episode has ended (``terminated`` or ``truncated``), ``step`` refuses until ``reset``:
+the engine would otherwise go on playing (after a truncation) or stay frozen (after a
+termination) without saying so.
 """
 
 from __future__ import annotations
@@ -285,7 +288,7 @@ class GVGAIGymEnv(gym.Env):
         self.observation_space = observation_space(game, obs)
         self.action_space = gym.spaces.Discrete(self.engine.game.num_actions)
         self.action_names = self.engine.game.actions
-        self._finished = True
+        self._ended: str | None = None  # "terminated" or "truncated" once the episode is over
         self._started = False
 
     def reset(
@@ -303,13 +306,18 @@ class GVGAIGymEnv(gym.Env):
         self.regimen.apply_options(checked, [0])
         mask = torch.ones(1, dtype=torch.bool)
         out = self.engine.reset(self.regimen.reset_tensordict(mask, self.engine.device))
-        self._finished = False
+        self._ended = None
         self._render_human()
         return self._obs(out), self._info(out)
 
     def step(self, action: int) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         if not self._started:
             raise RuntimeError("call reset() before step()")
+        if self._ended is not None:
+            raise RuntimeError(
+                f"the episode has ended ({self._ended}); call reset() before step() again "
+                "(the vector env, gymnasium.make_vec, resets finished envs itself)"
+            )
         if not self.action_space.contains(action):
             raise ValueError(f"invalid action {action!r}; valid actions are 0..{self.action_space.n - 1}")
         action_td = TensorDict(
@@ -319,9 +327,9 @@ class GVGAIGymEnv(gym.Env):
         )
         out = self.engine.step(action_td).get("next")
         terminated, truncated = bool(out["terminated"][0, 0]), bool(out["truncated"][0, 0])
-        if not self._finished and (terminated or truncated):
+        if terminated or truncated:
             self.regimen.record(out, torch.ones(1, dtype=torch.bool))
-        self._finished = self._finished or terminated or truncated
+            self._ended = "terminated" if terminated else "truncated"
         self._render_human()
         return self._obs(out), float(out["reward"][0, 0]), terminated, truncated, self._info(out)
 

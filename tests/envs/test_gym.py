@@ -13,7 +13,7 @@ from gymnasium.utils.env_checker import check_env
 import gvgai_pcg.envs.gym_registration  # noqa: F401  (registers the ids)
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.gym_adapter import GVGAIGymEnv
-from gvgai_pcg.levels import human_level
+from gvgai_pcg.levels import Level, human_level
 
 GAMES = {"Zelda": "zelda", "Solarfox": "solarfox", "Frogs": "frogs", "Boulderdash": "boulderdash"}
 
@@ -134,7 +134,6 @@ def test_ppcg_moves_the_difficulty_once_per_finished_episode() -> None:
         truncated = False
         while not truncated:
             *_, truncated, _ = env.step(0)
-        env.step(0)  # stepping past the end does not count the episode twice
         _, info = env.reset()
         assert info["difficulty"] == pytest.approx(expected)
 
@@ -243,3 +242,22 @@ def test_a_fixed_set_of_generated_levels() -> None:
         env.reset(options={"difficulty": 0.9})
     with pytest.raises(ValueError, match="num_levels and start_seed are for regimen='pcg'"):
         GVGAIGymEnv("frogs", regimen="ppcg", num_levels=3)
+
+
+@pytest.mark.parametrize("ending", ["terminated", "truncated"])
+def test_a_step_after_the_episode_ended_is_refused_until_reset(ending) -> None:
+    # the key is one tile left and the goal two tiles right (a turn costs a step): LEFT x2,
+    # RIGHT x3 wins (terminated); two steps of NIL reach the step limit (truncated)
+    level = Level("zelda", ("wwwwww", "w+A.gw", "wwwwww"))
+    env = GVGAIGymEnv("zelda", regimen="lv", level=level, max_steps=2 if ending == "truncated" else 50)
+    env.reset(seed=0)
+    actions = ["NIL", "NIL"] if ending == "truncated" else ["LEFT", "LEFT", "RIGHT", "RIGHT", "RIGHT"]
+    for action in actions:
+        obs, _, terminated, truncated, _ = env.step(env.action_names.index(action))
+    assert (terminated, truncated) == (ending == "terminated", ending == "truncated")
+    difficulty = env.regimen.difficulty
+    with pytest.raises(RuntimeError, match=f"episode has ended \\({ending}\\); call reset\\(\\)"):
+        env.step(0)
+    assert env.regimen.difficulty == difficulty
+    env.reset()
+    env.step(0)  # a new episode steps again
