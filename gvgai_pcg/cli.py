@@ -2,7 +2,8 @@
 
 Each command module exposes ``add_arguments(parser)`` and ``run(args) -> int``, so a command
 lives next to nothing but its own options; this file only dispatches. ``train`` is a Hydra app
-and takes Hydra's own arguments, so it is handed the raw argument list.
+and takes Hydra's own arguments, so it is handed the raw argument list; its refusals end the same
+way as every other command's (one line, exit 2), also when they are raised inside the Hydra app.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ import importlib
 import importlib.util
 import os
 import sys
+from collections.abc import Callable
 
 COMMANDS: dict[str, str] = {
     "evaluate": "Evaluate agents (random or trained) on human levels and test sets",
@@ -47,7 +49,8 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     commands = available_commands()
     if argv and argv[0] in RAW_ARGUMENT_COMMANDS and argv[0] in commands:
-        return int(_command_module(argv[0]).run_raw(argv[1:]) or 0)
+        name, rest = argv[0], argv[1:]
+        return run_reporting_errors(name, lambda: _command_module(name).run_raw(rest))
     parser = argparse.ArgumentParser(
         prog="gvgai-pcg", description="Batched GVGAI games, level generators, training and evaluation."
     )
@@ -60,15 +63,27 @@ def main(argv: list[str] | None = None) -> int:
         if name == chosen and name not in RAW_ARGUMENT_COMMANDS:
             _command_module(name).add_arguments(sub_parser)
     args = parser.parse_args(argv)
+    return run_reporting_errors(args.command, lambda: _command_module(args.command).run(args))
+
+
+def run_reporting_errors(name: str, command: Callable[[], int | None]) -> int:
+    """Run ``command``; a ``USER_ERRORS`` exception ends it with one line on stderr and exit 2, an
+    interrupt (Ctrl-C) with one line and exit 130."""
     try:
-        return int(_command_module(args.command).run(args) or 0)
+        return int(command() or 0)
     except BrokenPipeError:  # the reader went away (`gvgai-pcg generate ... | head`): not an error
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no second error at exit
         return 0
     except USER_ERRORS as error:
         if os.environ.get("GVGAI_PCG_DEBUG"):
             raise
-        parser.exit(2, f"gvgai-pcg {args.command}: error: {error}\n")
+        sys.stderr.write(f"gvgai-pcg {name}: error: {error}\n")
+        raise SystemExit(2) from None
+    except KeyboardInterrupt:
+        if os.environ.get("GVGAI_PCG_DEBUG"):
+            raise
+        sys.stderr.write(f"gvgai-pcg {name}: interrupted\n")
+        raise SystemExit(130) from None
 
 
 if __name__ == "__main__":

@@ -54,3 +54,22 @@ def test_output_cut_short_by_the_reader_is_not_an_error():
     done = subprocess.run(command, shell=True, capture_output=True, text=True, timeout=120)
     assert done.stdout == "# game=zelda d=0 seed=0\n"
     assert done.stderr == ""
+
+
+def _refusing_train(cfg, run_dir, **kwargs):
+    raise OSError(f"{run_dir} cannot be written (a refusal from inside the Hydra app)")
+
+
+def test_a_train_refusal_inside_the_hydra_app_is_one_line(tmp_path, capsys, monkeypatch):
+    monkeypatch.delenv("GVGAI_PCG_DEBUG", raising=False)
+    monkeypatch.setattr("gvgai_pcg.rl.train", _refusing_train)
+    err = _error_of(["train", "regimen=lv", "total_frames=80", f"out_dir={tmp_path}", "run_name=run"], capsys)
+    refusal = f"{tmp_path / 'run'} cannot be written (a refusal from inside the Hydra app)"
+    assert err == f"gvgai-pcg train: error: {refusal}\n"
+
+
+def test_gvgai_pcg_debug_shows_the_traceback_of_a_train_refusal(tmp_path, monkeypatch):
+    monkeypatch.setenv("GVGAI_PCG_DEBUG", "1")
+    monkeypatch.setattr("gvgai_pcg.rl.train", _refusing_train)
+    with pytest.raises(OSError, match="a refusal from inside the Hydra app"):
+        main(["train", "regimen=lv", "total_frames=80", f"out_dir={tmp_path}", "run_name=run"])

@@ -6,6 +6,10 @@ ships them as ``gvgai_pcg/conf``). Every run of the command line is checked agai
 one line naming the key, the value and what is allowed. Each run writes its own directory
 ``out_dir/run_name`` (config, ``log.csv``, checkpoints, ``model.pt``, ``curve.png``); starting
 the same command again continues the run from its last checkpoint.
+
+A refusal raised while a run starts (a checkpoint of another config, a run directory in use: any
+of the CLI's ``USER_ERRORS``) ends like every other command's, in one line and exit 2, even though
+it is raised inside the Hydra app, which would print it as a traceback and exit 1.
 """
 
 from __future__ import annotations
@@ -17,7 +21,25 @@ from pathlib import Path
 from gvgai_pcg.config import CONFIG_NAME, ConfigError, check_jobs, checked_config, config_dir, sweep_jobs
 
 
+class _Refused(BaseException):
+    """Carries a refusal out of the Hydra app: Hydra reports every ``Exception`` of a task
+    function itself (a traceback, exit 1) but lets a ``BaseException`` through."""
+
+    def __init__(self, error: BaseException) -> None:
+        super().__init__(error)
+        self.error = error
+
+
 def main(cfg) -> None:
+    from gvgai_pcg.cli import USER_ERRORS
+
+    try:
+        _train(cfg)
+    except USER_ERRORS as error:
+        raise _Refused(error) from None
+
+
+def _train(cfg) -> None:
     from hydra.core.hydra_config import HydraConfig
 
     from gvgai_pcg.rl import train
@@ -76,6 +98,8 @@ def run_raw(argv: list[str]) -> int:
     sys.argv = ["gvgai-pcg train", *argv]
     try:
         app()
+    except _Refused as refused:
+        raise refused.error from None  # the CLI reports it in one line (GVGAI_PCG_DEBUG=1: traceback)
     finally:
         sys.argv = saved_argv
     return 0
