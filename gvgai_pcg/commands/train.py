@@ -9,16 +9,27 @@ the same command again continues the run from its last checkpoint.
 
 A refusal raised while a run starts (a checkpoint of another config, a run directory in use: any
 of the CLI's ``USER_ERRORS``) ends like every other command's, in one line and exit 2, even though
-it is raised inside the Hydra app, which would print it as a traceback and exit 1.
+it is raised inside the Hydra app, which would print it as a traceback and exit 1. A run stopped
+by SIGINT or SIGTERM says in one line where it stopped and how to resume, and exits 130 or 143; a
+diverged run says at what frames and which quantity, and exits 3.
+
+Hydra is told not to write ``.hydra/`` itself (``hydra.output_subdir: null``): it would do so
+before the task function runs, so a resume that is then refused would already have overwritten
+the run's ``.hydra/config.yaml`` and ``overrides.yaml``. The task function hands the same three
+files to ``train``, which writes them once the session is accepted.
 """
 
 from __future__ import annotations
 
 import os
+import shlex
+import signal
 import sys
 from pathlib import Path
 
 from gvgai_pcg.config import CONFIG_NAME, ConfigError, check_jobs, checked_config, config_dir, sweep_jobs
+
+_STOP = None  # the StopSignal that run_raw installs for the whole command (none in a launcher's job)
 
 
 class _Refused(BaseException):
@@ -43,16 +54,46 @@ def _train(cfg) -> None:
     from hydra.core.hydra_config import HydraConfig
 
     from gvgai_pcg.rl import train
+    from gvgai_pcg.rl.divergence import DivergenceError
+    from gvgai_pcg.rl.stop_signal import StopSignal
 
+    files = _hydra_files(cfg)
     # checked again here: a job that check_command_line could not compose (-cd, another sweeper)
     cfg = checked_config(cfg)
-    result = train(cfg, Path(HydraConfig.get().runtime.output_dir))
+    hydra, stop = HydraConfig.get(), _STOP or StopSignal()
+    try:
+        result = train(cfg, Path(hydra.runtime.output_dir), files=files, stop=stop)
+    except DivergenceError as error:
+        sys.stderr.write(f"gvgai-pcg train: {error}\n")
+        raise SystemExit(3) from None
+    if result.stopped_by:
+        again = " ".join(["gvgai-pcg train", *map(shlex.quote, hydra.overrides.task)])
+        sys.stderr.write(
+            f"gvgai-pcg train: stopped by {result.stopped_by} at {result.frames} frames, checkpoint "
+            f"{result.checkpoint_path}; resume with: {again}\n"
+        )
+        sys.stderr.flush()
+        stop.hand_over()  # a launcher's own handlers (submitit requeues the job here)
+        raise SystemExit(stop.exit_code)
     print(f"run directory: {result.run_dir}")
     print(f"  log:        {result.log_path}")
     print(f"  checkpoint: {result.checkpoint_path} ({result.frames} frames)")
     print(f"  model:      {result.model_path}")
     if result.curve_path is not None:
         print(f"  curve:      {result.curve_path}")
+
+
+def _hydra_files(cfg) -> dict[str, str]:
+    """What Hydra writes to ``.hydra/`` when ``hydra.output_subdir`` is set, as name -> text."""
+    from hydra.core.hydra_config import HydraConfig
+    from omegaconf import OmegaConf
+
+    hydra_cfg = HydraConfig.instance().cfg
+    return {
+        ".hydra/config.yaml": OmegaConf.to_yaml(cfg),
+        ".hydra/hydra.yaml": OmegaConf.to_yaml(hydra_cfg),
+        ".hydra/overrides.yaml": OmegaConf.to_yaml(hydra_cfg.hydra.overrides.task),
+    }
 
 
 class _NotParsed(Exception):
@@ -82,24 +123,47 @@ def check_command_line(argv: list[str]) -> None:
     check_jobs(sweep_jobs(args.overrides, args.multirun), args.config_name or CONFIG_NAME)
 
 
+class _StoppedWhileStarting(BaseException):
+    """SIGTERM outside the training session (imports, config, the final files): nothing to save."""
+
+
+def _stopped_while_starting(signum: int, frame: object) -> None:
+    raise _StoppedWhileStarting
+
+
 def run_raw(argv: list[str]) -> int:
     """Hand ``argv`` (Hydra overrides and flags) to the Hydra app, once its runs are checked."""
-    import hydra
+    global _STOP
+    original = signal.getsignal(signal.SIGTERM)
+    if original is signal.SIG_DFL:  # torch and Hydra take seconds to import
+        signal.signal(signal.SIGTERM, _stopped_while_starting)
+    try:
+        import hydra
 
-    try:
-        check_command_line(argv)
-    except (ConfigError, FileNotFoundError) as error:  # a bad value; configs not installed
-        if os.environ.get("GVGAI_PCG_DEBUG"):
-            raise
-        print(f"gvgai-pcg train: error: {error}", file=sys.stderr)
-        return 2
-    app = hydra.main(version_base="1.3", config_path=str(config_dir()), config_name=CONFIG_NAME)(main)
-    saved_argv = sys.argv
-    sys.argv = ["gvgai-pcg train", *argv]
-    try:
-        app()
-    except _Refused as refused:
-        raise refused.error from None  # the CLI reports it in one line (GVGAI_PCG_DEBUG=1: traceback)
+        from gvgai_pcg.rl.stop_signal import StopSignal
+
+        try:
+            check_command_line(argv)
+        except (ConfigError, FileNotFoundError) as error:  # a bad value; configs not installed
+            if os.environ.get("GVGAI_PCG_DEBUG"):
+                raise
+            print(f"gvgai-pcg train: error: {error}", file=sys.stderr)
+            return 2
+        app = hydra.main(version_base="1.3", config_path=str(config_dir()), config_name=CONFIG_NAME)(main)
+        signal.signal(signal.SIGTERM, original)
+        saved_argv, _STOP = sys.argv, StopSignal(outside_training=_StoppedWhileStarting).install()
+        sys.argv = ["gvgai-pcg train", *argv]
+        try:
+            app()
+        except _Refused as refused:
+            raise refused.error from None  # the CLI reports it in one line (GVGAI_PCG_DEBUG=1: traceback)
+        finally:
+            sys.argv = saved_argv
+            _STOP.uninstall()
+            _STOP = None
+    except _StoppedWhileStarting:
+        sys.stderr.write("gvgai-pcg train: stopped by SIGTERM outside the training loop (nothing to save)\n")
+        return 128 + signal.SIGTERM
     finally:
-        sys.argv = saved_argv
+        signal.signal(signal.SIGTERM, original)
     return 0

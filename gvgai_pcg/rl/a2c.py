@@ -5,6 +5,10 @@ compute n-step returns and the three losses (``A2CLoss``), take one RMSprop step
 gradient norm clipped, then log and checkpoint. Every number comes from the config
 (``conf/algo/a2c.yaml``). A run lives in one directory and continues from its checkpoint when
 started again: same frame count, same difficulty, the log cut back to the checkpoint.
+
+The session around the loop (``run_session``) makes the run lose nothing: one process per run
+directory, every check before the first frame, a stop on SIGINT/SIGTERM after the current
+update with a checkpoint, and the divergence guard between the gradient and the optimizer step.
 """
 
 from __future__ import annotations
@@ -25,12 +29,14 @@ from torchrl.modules import ProbabilisticActor
 
 from gvgai_pcg.progress import progress
 from gvgai_pcg.rl.a2c_loss import A2CLoss
-from gvgai_pcg.rl.checkpoint import CHECKPOINT_NAME, load_checkpoint, restore, save_checkpoint
+from gvgai_pcg.rl.checkpoint import restore, save_model
 from gvgai_pcg.rl.curves import plot_curve
 from gvgai_pcg.rl.environment import EnvFactory, make_difficulty, share_through_files
 from gvgai_pcg.rl.models import as_tensordict_module, make_actor_critic
 from gvgai_pcg.rl.rollout import ActingRollouts
 from gvgai_pcg.rl.run_log import EpisodeTracker, RunLog
+from gvgai_pcg.rl.run_session import RunSession, open_run
+from gvgai_pcg.rl.stop_signal import StopSignal, ignoring_stop_signals
 
 log = logging.getLogger(__name__)
 
@@ -43,10 +49,11 @@ class TrainResult:
     frames: int
     log_path: Path
     checkpoint_path: Path
-    model_path: Path
+    model_path: Path | None  # None when the session was stopped before the end
     curve_path: Path | None
     fps: float  # steady-state frames/s of this session (from the end of its first batch)
     cpu_fps: float  # the same per second of this process's CPU time (robust to a loaded machine)
+    stopped_by: str | None = None  # "SIGINT"/"SIGTERM" when a signal stopped it early
 
 
 def seed_everything(seed: int) -> None:
@@ -55,15 +62,24 @@ def seed_everything(seed: int) -> None:
     torch.manual_seed(seed)
 
 
-def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
-    """Train (or continue training) the run described by ``cfg`` in ``run_dir``."""
-    run_dir.mkdir(parents=True, exist_ok=True)
+def train(
+    cfg: DictConfig, run_dir: Path, files: dict[str, str] | None = None, stop: StopSignal | None = None
+) -> TrainResult:
+    """Train (or continue training) the run described by ``cfg`` in ``run_dir``.
+
+    ``files`` (name -> text, e.g. Hydra's ``.hydra/*.yaml``) are written with ``config.yaml`` once
+    the session is accepted; ``stop`` receives SIGINT/SIGTERM during it (default: a new one).
+    Raises ``DivergenceError`` when an update is not finite."""
     if cfg.threads:
         torch.set_num_threads(int(cfg.threads))
     config = OmegaConf.to_container(cfg, resolve=True)
-    checkpoint_path = run_dir / "checkpoints" / CHECKPOINT_NAME
-    saved = load_checkpoint(checkpoint_path, config) if checkpoint_path.exists() else None
-    (run_dir / "config.yaml").write_text(OmegaConf.to_yaml(cfg, resolve=True))  # once it is accepted
+    files = {"config.yaml": OmegaConf.to_yaml(cfg, resolve=True), **(files or {})}
+    with open_run(run_dir, config, files, stop) as session:
+        return _train(cfg, run_dir, config, session)
+
+
+def _train(cfg: DictConfig, run_dir: Path, config: dict, session: RunSession) -> TrainResult:
+    checkpoint_path, saved = session.checkpoint_path, session.saved
     frames = saved["frames"] if saved else 0
     seed_everything(cfg.seed)
 
@@ -122,17 +138,18 @@ def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
     remaining = math.ceil(remaining / frames_per_batch) * frames_per_batch
     if workers == 1:
         # the acting passes keep their graph for the update (see gvgai_pcg.rl.rollout)
-        collector = ActingRollouts(env, net, obs_key, int(algo.n_steps))
+        collector = session.closing(ActingRollouts(env, net, obs_key, int(algo.n_steps)))
     else:
         env.close()
         if difficulty is not None:
             share_through_files(difficulty, run_dir / "shared")
         collector = MultiSyncCollector(
-            [functools.partial(make_env, worker=i) for i in range(workers)],
+            [ignoring_stop_signals(functools.partial(make_env, worker=i)) for i in range(workers)],
             policy,
             frames_per_batch=frames_per_batch,
             total_frames=max(remaining, frames_per_batch),  # a finished run collects nothing
         )
+        session.closing(collector)
 
     run_log = RunLog(run_dir, list(cfg.log.backends), resume_frames=frames if saved else None)
     rows_every = int(cfg.log.every_episodes)
@@ -152,11 +169,12 @@ def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
             "optimizer": optimizer.state_dict(),
             "difficulty": difficulty.state_dict() if difficulty is not None else None,
             "config": config,
+            "log_rows": run_log.rows,
         }
-        save_checkpoint(checkpoint_path, state)
+        session.save_checkpoint(state, net, run_log)  # the log on disk first; never a non-finite model
 
     steady_frames, steady_start, steady_cpu = frames, None, 0.0
-    for rollout in collector if remaining > 0 else []:
+    for rollout in session.guard.watch(collector if remaining > 0 else [], net):
         rollout = rollout.reshape(-1, rollout.shape[-1])  # [envs, n_steps] (workers stacked)
         tracker.update(rollout)
 
@@ -165,7 +183,8 @@ def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
         loss = losses["loss_objective"] + losses["loss_critic"] + losses["loss_entropy"]
         optimizer.zero_grad(set_to_none=True)
         loss.backward()
-        torch.nn.utils.clip_grad_norm_(net.parameters(), algo.max_grad_norm)
+        grad_norm = torch.nn.utils.clip_grad_norm_(net.parameters(), algo.max_grad_norm)
+        session.guard.check_update(loss, grad_norm, frames + rollout.numel())  # before it is applied
         optimizer.step()
         if workers > 1:
             collector.update_policy_weights_()
@@ -204,7 +223,7 @@ def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
         if frames >= next_checkpoint:
             checkpoint()
             next_checkpoint = (frames // every + 1) * every
-        if frames >= cfg.total_frames:
+        if frames >= cfg.total_frames or session.stop.received:
             break
 
     fps = cpu_fps = math.nan
@@ -215,8 +234,13 @@ def train(cfg: DictConfig, run_dir: Path) -> TrainResult:
     collector.shutdown()
     run_log.close()
     checkpoint()
+    stopped_by = session.stop.name if session.stop.received and frames < cfg.total_frames else None
+    if stopped_by:  # an unfinished run: the checkpoint is all it needs
+        return TrainResult(
+            run_dir, frames, run_log.path, checkpoint_path, None, None, fps, cpu_fps, stopped_by
+        )
     model_path = run_dir / "model.pt"
-    torch.save({"model": net.state_dict(), "config": config, "frames": frames}, model_path)
+    save_model(model_path, net.state_dict(), config, frames)
     curve_path = None
     if cfg.log.curve:
         curve_path = plot_curve(run_log.path, run_dir / "curve.png", title=cfg.run_name)

@@ -3,17 +3,22 @@
 ``EpisodeTracker`` follows the B envs of a rollout and collects the score, length and outcome
 of every finished episode. ``RunLog`` appends rows to ``log.csv`` and mirrors them to TorchRL
 loggers (csv, tensorboard, wandb). On resume the log is cut back to the checkpoint's frame
-count, so a run that was killed and started again has no duplicated rows.
+count, so a run that was killed and started again has no duplicated rows. ``sync`` puts the rows
+on disk before a checkpoint is written, so every row up to a checkpoint survives any kill, and
+the cuts replace the files atomically.
 """
 
 from __future__ import annotations
 
 import csv
+import io
 import math
 from pathlib import Path
 
 import torch
 from tensordict import TensorDictBase
+
+from gvgai_pcg.rl.atomic_files import atomic_write_text, fsync_file
 
 COLUMNS = (
     "frames",
@@ -87,7 +92,9 @@ class RunLog:
         else:
             self.episodes = cut_log(self.path, resume_frames)
             cut_torchrl_csv(run_dir / "torchrl" / "scalars", resume_frames)
+        self.rows = len(read_log(self.path)) if self.path.exists() else 0
         self.loggers = [make_torchrl_logger(name, run_dir) for name in backends]
+        self.scalars_dir = run_dir / "torchrl" / "scalars"
         self._file = open(self.path, "a", newline="")
         self._writer = csv.DictWriter(self._file, fieldnames=COLUMNS)
         if self.path.stat().st_size == 0:
@@ -98,11 +105,20 @@ class RunLog:
         self.episodes = int(row["episodes"])
         self._writer.writerow({key: row.get(key, math.nan) for key in COLUMNS})
         self._file.flush()
+        self.rows += 1
         for logger in self.loggers:
             for key in COLUMNS[1:]:
                 value = row.get(key, math.nan)
                 if not math.isnan(value):
                     logger.log_scalar(key, value, step=int(row["frames"]))
+
+    def sync(self) -> None:
+        """Force the rows written so far (``log.csv`` and TorchRL's CSV files) onto the disk."""
+        if not self._file.closed:
+            self._file.flush()
+        fsync_file(self.path)
+        for path in self.scalars_dir.glob("*.csv") if self.scalars_dir.is_dir() else []:
+            fsync_file(path)
 
     def close(self) -> None:
         self._file.close()
@@ -123,13 +139,12 @@ def cut_log(path: Path, frames: int) -> int:
     if not path.exists():
         return 0
     rows = [row for row in read_log(path) if row["frames"] <= frames]
-    tmp = path.with_suffix(".tmp")
-    with open(tmp, "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=COLUMNS)
-        writer.writeheader()
-        for row in rows:
-            writer.writerow({k: int(row[k]) if k in ("frames", "episodes") else row[k] for k in COLUMNS})
-    tmp.replace(path)
+    text = io.StringIO(newline="")
+    writer = csv.DictWriter(text, fieldnames=COLUMNS)
+    writer.writeheader()
+    for row in rows:
+        writer.writerow({k: int(row[k]) if k in ("frames", "episodes") else row[k] for k in COLUMNS})
+    atomic_write_text(path, text.getvalue())
     return int(rows[-1]["episodes"]) if rows else 0
 
 
@@ -142,7 +157,7 @@ def cut_torchrl_csv(scalars_dir: Path, frames: int) -> None:
         if lines and not text.endswith("\n"):
             lines.pop()  # the run was killed while writing it
         kept = [line for line in lines if line and float(line.split(",")[0]) <= frames]
-        path.write_text("".join(line + "\n" for line in kept))
+        atomic_write_text(path, "".join(line + "\n" for line in kept))
 
 
 def make_torchrl_logger(name: str, run_dir: Path):

@@ -1,0 +1,56 @@
+"""Writes that a kill cannot leave half done: a temporary file, fsync, rename, fsync of the folder.
+
+A reader of ``path`` sees either the old content or the new, never a mix, after a kill at any
+moment (SIGKILL, a crash, a power cut once the fsyncs have returned). Temporary names carry the
+writer's PID, so two processes never write into one temporary file.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from pathlib import Path
+from typing import BinaryIO
+
+
+def fsync_directory(directory: Path) -> None:
+    """Make a rename or a new file in ``directory`` durable."""
+    fd = os.open(directory, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    except OSError:  # some filesystems cannot fsync a folder; the rename is still atomic
+        pass
+    finally:
+        os.close(fd)
+
+
+def fsync_file(path: Path) -> None:
+    """Force what other handles have written (and flushed) to ``path`` onto the disk."""
+    with open(path, "rb") as handle:
+        os.fsync(handle.fileno())
+
+
+def temporary_path(path: Path) -> Path:
+    """A temporary name beside ``path``, private to this process."""
+    return path.with_name(f".{path.name}.{os.getpid()}.tmp")
+
+
+def atomic_write(path: Path, write: Callable[[BinaryIO], object]) -> Path:
+    """Replace ``path`` by what ``write(handle)`` writes, atomically and durably."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = temporary_path(path)
+    try:
+        with open(tmp, "wb") as handle:
+            write(handle)
+            handle.flush()
+            os.fsync(handle.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    fsync_directory(path.parent)
+    return path
+
+
+def atomic_write_text(path: Path, text: str) -> Path:
+    return atomic_write(path, lambda handle: handle.write(text.encode()))

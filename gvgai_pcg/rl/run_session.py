@@ -1,0 +1,236 @@
+"""One training session in a run directory: one writer, checked before the first frame, and
+nothing of an earlier session lost.
+
+``open_run`` is what ``train`` does before it builds anything, in this order:
+
+1. lock the run directory (``run_lock``): a second process is refused, naming the holder;
+2. check that the directory, ``checkpoints/`` and the log can be written (a read-only folder is
+   found now, not at the first checkpoint after the training it would discard);
+3. find the checkpoint to resume from: ``last.pt``, else ``prev.pt`` with a warning when
+   ``last.pt`` cannot be used; a checkpoint of another config is refused;
+4. on a resume, check that the log still holds the rows written before the checkpoint; on a fresh
+   start over the outputs of an earlier session (no checkpoint to resume), move them aside to
+   ``previous-runs/<time>/`` and say so, never delete them;
+5. only then write ``config.yaml`` (and Hydra's ``.hydra/*.yaml``, which the app has Hydra leave
+   to us for this reason), atomically.
+
+Any refusal in 1-4 leaves every file of the run as it was. During the session SIGINT/SIGTERM
+are turned into a stop request (``stop_signal``) and the divergence guard watches the updates;
+``closing`` registers what must be shut down however the session ends (the collector).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import time
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from gvgai_pcg.rl.atomic_files import atomic_write_text, fsync_directory
+from gvgai_pcg.rl.checkpoint import (
+    CHECKPOINT_NAME,
+    PREVIOUS_NAME,
+    CheckpointError,
+    UnusableCheckpointError,
+    load_checkpoint,
+    save_checkpoint,
+)
+from gvgai_pcg.rl.divergence import DivergenceGuard
+from gvgai_pcg.rl.run_lock import LOCK_NAME, FolderLock
+from gvgai_pcg.rl.run_log import LOG_NAME, read_log
+from gvgai_pcg.rl.stop_signal import StopSignal
+
+log = logging.getLogger(__name__)
+
+CHECKPOINT_DIR = "checkpoints"
+ASIDE_DIR = "previous-runs"
+# Left in place when an earlier session's outputs are moved aside: the lock, the folder they go
+# to, and Hydra's log (this session's log is already open there; it tells every session's story).
+STAYS = {LOCK_NAME, ASIDE_DIR, "train.log"}
+# An earlier session that wrote only these (and empty folders) left nothing worth keeping.
+BOOKKEEPING = {"config.yaml", ".hydra", "shared"}
+
+
+@dataclass
+class RunSession:
+    """What the training loop needs from its session."""
+
+    run_dir: Path
+    checkpoint_path: Path
+    saved: dict[str, Any] | None  # the checkpoint resumed from (None: a fresh start)
+    stop: StopSignal
+    guard: DivergenceGuard
+    exits: contextlib.ExitStack = field(repr=False)
+
+    def closing(self, collector):
+        """Shut ``collector`` down when the session ends, however it ends (once more after its
+        own shutdown is harmless: a failure then is only logged)."""
+        self.exits.callback(_shut_down, collector)
+        return collector
+
+    def save_checkpoint(self, state: dict[str, Any], net, run_log) -> None:
+        """The log's rows on disk first, then the checkpoint, and only of a finite model. A state
+        already saved (the end of a run that has just checkpointed) is not written again, so that
+        ``prev.pt`` stays the checkpoint before it."""
+        if int(state["frames"]) == self.guard.checkpoint_frames and self.checkpoint_path.exists():
+            return
+        run_log.sync()
+        self.guard.check_parameters(net, int(state["frames"]))
+        save_checkpoint(self.checkpoint_path, state)
+        self.guard.saved(int(state["frames"]))
+
+
+def _shut_down(collector) -> None:
+    try:
+        collector.shutdown()
+    except Exception as error:  # noqa: BLE001 (the session is ending anyway)
+        log.debug("shutting down %s: %s", type(collector).__name__, error)
+
+
+@contextlib.contextmanager
+def open_run(
+    run_dir: Path, config: dict[str, Any], files: dict[str, str], stop: StopSignal | None = None
+) -> Iterator[RunSession]:
+    """Lock and check ``run_dir``, find the checkpoint, then write ``files`` (name -> text).
+    ``stop`` (default: a new one) is armed for the session."""
+    lock = FolderLock(
+        run_dir,
+        "two trainings in one run directory would corrupt each other's checkpoints and log",
+        "choose another run_name or out_dir",
+    )
+    with lock:
+        try:
+            check_writable(run_dir)
+            checkpoint_path = run_dir / CHECKPOINT_DIR / CHECKPOINT_NAME
+            saved = find_checkpoint(checkpoint_path, config)
+            if saved is not None:
+                check_log(run_dir / LOG_NAME, saved)
+            else:
+                set_aside_earlier_outputs(run_dir)
+        except BaseException:
+            lock.restore_note()
+            raise
+        for name, text in files.items():
+            atomic_write_text(run_dir / name, text)
+        guard = DivergenceGuard(checkpoint_path, int(saved["frames"]) if saved else 0)
+        with (stop or StopSignal()).arming() as armed, contextlib.ExitStack() as exits:
+            yield RunSession(run_dir, checkpoint_path, saved, armed, guard, exits)
+
+
+def check_writable(run_dir: Path) -> None:
+    """Refuse now what would fail later: a folder or log file of the run that cannot be written."""
+    folders = [run_dir, run_dir / CHECKPOINT_DIR, run_dir / "torchrl" / "scalars"]
+    for folder in folders:
+        if folder.exists() and not folder.is_dir():
+            raise NotADirectoryError(f"{folder} is not a folder, so the run cannot write into it")
+        if folder.is_dir():
+            probe = folder / f".write-test.{os.getpid()}"
+            try:
+                os.close(os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
+                probe.unlink()
+            except OSError as error:
+                raise _not_writable(folder, error) from None
+    files = [run_dir / LOG_NAME, *sorted((run_dir / "torchrl" / "scalars").glob("*.csv"))]
+    for path in files:
+        if path.exists():
+            try:
+                open(path, "a").close()  # appending nothing changes nothing
+            except OSError as error:
+                raise _not_writable(path, error) from None
+
+
+def _not_writable(path: Path, error: OSError) -> OSError:
+    return OSError(
+        f"{path} cannot be written ({error.strerror}); the run would fail at its first log row or "
+        "checkpoint: fix its permissions, or choose another out_dir/run_name"
+    )
+
+
+def find_checkpoint(path: Path, config: dict[str, Any]) -> dict[str, Any] | None:
+    """The checkpoint to resume from: ``last.pt``, or ``prev.pt`` (with a warning) when ``last.pt``
+    is missing or cannot be used; ``None`` when there is neither (a fresh start)."""
+    previous = path.with_name(PREVIOUS_NAME)
+    if not path.exists() and not previous.exists():
+        return None
+    try:
+        return load_checkpoint(path, config)
+    except (UnusableCheckpointError, FileNotFoundError) as error:
+        last_error = error
+    try:
+        saved = load_checkpoint(previous, config)
+    except FileNotFoundError:
+        problem = f"and there is no {PREVIOUS_NAME} to fall back to"
+    except UnusableCheckpointError as error:
+        problem = f"and the previous one cannot be used either ({error})"
+    else:
+        missing = isinstance(last_error, FileNotFoundError)
+        reason = "is missing" if missing else f"cannot be used ({last_error})"
+        log.warning("%s %s; resuming from %s (%d frames) instead", path, reason, previous, saved["frames"])
+        if path.exists():  # kept for inspection; the next checkpoint must not rotate it into prev.pt
+            os.replace(path, path.with_name(f"{CHECKPOINT_NAME}.unusable-{_stamp()}"))
+            fsync_directory(path.parent)
+        return saved
+    raise CheckpointError(
+        f"{last_error} {problem}. Restore a good copy to resume, or move {path.parent} away to start "
+        f"this run afresh (its log and model are then kept in {ASIDE_DIR}/)"
+    )
+
+
+def check_log(path: Path, saved: dict[str, Any]) -> None:
+    """Say so when the log lost rows written before the checkpoint (deleted or cut by hand)."""
+    frames, expected = int(saved["frames"]), saved.get("log_rows")
+    rows = len([row for row in read_log(path) if row["frames"] <= frames]) if path.exists() else 0
+    if expected is None:  # format 1 did not count its rows
+        expected = 1 if frames > 0 and not path.exists() else rows
+    if rows < expected:
+        log.warning(
+            "%s holds %d of the %d rows written before the checkpoint at %d frames (deleted or cut "
+            "outside the run); resuming, with those rows missing from the log",
+            path,
+            rows,
+            expected,
+            frames,
+        )
+
+
+def set_aside_earlier_outputs(run_dir: Path) -> Path | None:
+    """Move the outputs of an earlier session that has no checkpoint to resume from (a log, a
+    model, results...) into ``previous-runs/<time>/``, so that a fresh start deletes nothing."""
+    entries = [entry for entry in sorted(run_dir.iterdir()) if entry.name not in STAYS]
+    if not any(_worth_keeping(entry) for entry in entries):
+        return None
+    aside = run_dir / ASIDE_DIR / _stamp()
+    while aside.exists():  # a second fresh start within the same second
+        aside = aside.with_name(aside.name + "+")
+    aside.mkdir(parents=True)
+    for entry in entries:
+        os.replace(entry, aside / entry.name)
+    fsync_directory(run_dir)
+    log.warning(
+        "%s held the outputs of an earlier session but no checkpoint to resume from; starting afresh, "
+        "with those outputs moved to %s",
+        run_dir,
+        aside,
+    )
+    return aside
+
+
+def _worth_keeping(entry: Path) -> bool:
+    if entry.name in BOOKKEEPING:
+        return False
+    if entry.name == LOG_NAME:
+        try:
+            return bool(read_log(entry))  # more than a header
+        except (ValueError, KeyError):
+            return True  # unreadable: keep it all the same
+    if entry.is_dir():
+        return any(path.is_file() and path.stat().st_size > 0 for path in entry.rglob("*"))
+    return True
+
+
+def _stamp() -> str:
+    return time.strftime("%Y%m%d-%H%M%S")
