@@ -5,6 +5,11 @@ A run directory (``gvgai_pcg.rl``) holds ``config.yaml`` (the resolved config), 
 network's ``model`` state dict, the resolved ``config`` and the ``frames`` trained. This module
 only reads them: it rebuilds the network with ``gvgai_pcg.rl.models.make_actor_critic`` and
 wraps it as a policy ``tensordict -> action [B]`` that samples (the study) or takes the argmax.
+
+Files are read as tensors and plain data only (``gvgai_pcg.rl.checkpoint.read_file``), and a
+model is refused, before anything is played or filed, when its weights are not finite (a diverged
+run) or when it is not the run's model: another game, observation kind or architecture than the
+run's ``config.yaml`` says (``evaluate RUN --checkpoint FILE``).
 """
 
 from __future__ import annotations
@@ -118,24 +123,46 @@ def is_run_dir(path: Path) -> bool:
 
 def find_runs(paths: list[Path]) -> list[Path]:
     """Run directories among ``paths`` and below them (a Hydra multirun directory holds many)."""
+    from gvgai_pcg.rl.run_session import ASIDE_DIR
+
     found: list[Path] = []
     for path in paths:
         if not path.exists():
             raise FileNotFoundError(f"{path}: no such run or multirun directory")
         candidates = [path] if is_run_dir(path) else sorted(p.parent for p in path.rglob("config.yaml"))
+        # an earlier run that a fresh start moved aside is not a run of the sweep
+        candidates = [p for p in candidates if ASIDE_DIR not in p.relative_to(path).parts]
         # Compared resolved: one run named twice (relative and absolute, via a link) counts once.
         found += [p for p in map(Path.resolve, candidates) if is_run_dir(p) and p not in found]
     return found
 
 
 def load_state(path: Path) -> dict:
-    try:
-        state = torch.load(path, map_location="cpu", weights_only=False)
-    except Exception as error:
-        raise ValueError(f"{path}: cannot read the checkpoint ({type(error).__name__}: {error})") from error
-    if not isinstance(state, dict) or "model" not in state or "config" not in state:
-        raise ValueError(f"{path}: not a gvgai-pcg model or checkpoint (needs 'model' and 'config' entries)")
+    """A model or checkpoint file, read safely; refused when its weights are not finite."""
+    from gvgai_pcg.rl.checkpoint import check_finite, read_file
+
+    state = read_file(path)
+    check_finite(state, path)
     return state
+
+
+def read_run_config(run_dir: Path) -> dict | None:
+    """The run's resolved ``config.yaml`` (``None`` when it has none)."""
+    import yaml
+
+    path = run_dir / "config.yaml"
+    return yaml.safe_load(path.read_text()) if path.is_file() else None
+
+
+def check_model_of_run(state: dict, path: Path, run_dir: Path, config: dict) -> None:
+    """Refuse a model that is not of the run's game, observation kind and architecture."""
+    from gvgai_pcg.rl.checkpoint import check_identity, identity
+
+    try:
+        expected = identity(config)
+    except (KeyError, TypeError) as error:
+        raise ValueError(f"{run_dir / 'config.yaml'} does not say the run's {error} ") from None
+    check_identity(state, path, expected, f"the run {run_dir}")
 
 
 def run_info(run_dir: Path, checkpoint: Path | None = None) -> RunInfo:
@@ -160,7 +187,9 @@ def run_info(run_dir: Path, checkpoint: Path | None = None) -> RunInfo:
     else:
         state = load_state(Path(checkpoint))
     checkpoint = Path(checkpoint).resolve()
-    return RunInfo(run_dir, state["config"], checkpoint, int(state.get("frames", 0)))
+    config = read_run_config(run_dir) or state["config"]
+    check_model_of_run(state, checkpoint, run_dir, config)
+    return RunInfo(run_dir, config, checkpoint, int(state.get("frames", 0)))
 
 
 def published_run_info(run_dir: Path) -> RunInfo:
@@ -207,6 +236,7 @@ def observation_shape(game: str, obs: str) -> tuple[int, int, int]:
 def load_policy(info: RunInfo, greedy: bool = False, seed: int = 0, device: str = "cpu") -> ActorCriticPolicy:
     """The policy of the run ``info`` describes, on ``device``."""
     from gvgai_pcg.games import get_game
+    from gvgai_pcg.rl.checkpoint import CheckpointError
     from gvgai_pcg.rl.models import make_actor_critic
 
     model = info.config["model"]
@@ -217,5 +247,11 @@ def load_policy(info: RunInfo, greedy: bool = False, seed: int = 0, device: str 
         get_game(info.game).num_actions,
         model["hidden"],
     )
-    net.load_state_dict(load_state(info.checkpoint)["model"])
+    try:
+        net.load_state_dict(load_state(info.checkpoint)["model"])
+    except RuntimeError as error:  # a size mismatch: the file's weights are not of this network
+        reason = " ".join(str(error).split())
+        raise CheckpointError(
+            f"{info.checkpoint}: its weights do not fit the run's network ({reason})"
+        ) from None
     return ActorCriticPolicy(net, info.obs, greedy=greedy, seed=seed, device=device)

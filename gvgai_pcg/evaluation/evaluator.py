@@ -4,7 +4,9 @@ per (agent, test set, level), stored as JSON lines.
 A trained run's records go to ``<run>/eval/protocol-<key>.jsonl`` (``key`` names the protocol
 settings) and are reused while the run's checkpoint and frame count are unchanged; the random
 agent's go to a cache per game and protocol (``<cache>/random/<game>-<key>.jsonl``), since every
-report of a game needs the same baseline.
+report of a game needs the same baseline. One process at a time evaluates into a run's ``eval/``
+or a cache file (``gvgai_pcg.rl.run_lock``); a second is refused, naming the first, and every file
+is replaced atomically.
 """
 
 from __future__ import annotations
@@ -96,11 +98,17 @@ def evaluate_policy(
 
 def write_records(path: Path, records: list[LevelRecord]) -> Path:
     """Write ``records`` as JSON lines (atomically: a temporary file renamed over ``path``)."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_suffix(".tmp")
-    tmp.write_text("".join(json.dumps(r.as_dict()) + "\n" for r in records))
-    os.replace(tmp, path)
-    return path
+    from gvgai_pcg.rl.atomic_files import atomic_write_text
+
+    return atomic_write_text(path, "".join(json.dumps(r.as_dict()) + "\n" for r in records))
+
+
+def writer_lock(folder: Path, what: str, lock_name: str | None = None):
+    """The lock that makes this process the only one writing ``what`` into ``folder``."""
+    from gvgai_pcg.rl.run_lock import FolderLock
+
+    purpose = f"two processes writing {what} at once would overwrite each other's"
+    return FolderLock(folder, purpose, "run the other command once it is done", lock_name=lock_name)
 
 
 def read_records(path: Path) -> list[LevelRecord]:
@@ -141,12 +149,13 @@ def evaluate_run(
         if info.has_training_set
         else None
     )
-    records = evaluate_policy(
-        info.game, policy, protocol, str(info.path), info.obs, device, progress, [own] if own else []
-    )
-    for record in records:
-        record.frames, record.checkpoint = info.frames, str(info.checkpoint)
-    write_records(path, records)
+    with writer_lock(path.parent, f"the evaluation results of {info.path}"):
+        records = evaluate_policy(
+            info.game, policy, protocol, str(info.path), info.obs, device, progress, [own] if own else []
+        )
+        for record in records:
+            record.frames, record.checkpoint = info.frames, str(info.checkpoint)
+        write_records(path, records)
     return records
 
 
@@ -163,6 +172,7 @@ def evaluate_random(
     if path.is_file() and not force:
         return read_records(path)
     agent = RandomAgent(get_game(game).num_actions, seed=protocol.seed, device=device)
-    records = evaluate_policy(game, agent, protocol, "random", "tiles", device, progress)
-    write_records(path, records)
+    with writer_lock(path.parent, f"the random agent's cache {path.name}", lock_name=f".{path.name}.lock"):
+        records = evaluate_policy(game, agent, protocol, "random", "tiles", device, progress)
+        write_records(path, records)
     return records

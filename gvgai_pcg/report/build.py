@@ -17,6 +17,7 @@ from gvgai_pcg.evaluation.evaluator import (
     read_records,
     records_are_current,
     run_results_path,
+    writer_lock,
 )
 from gvgai_pcg.evaluation.protocol import Protocol, protocol_test_sets
 from gvgai_pcg.report.curves import plot_curves, pool_runs
@@ -91,12 +92,36 @@ def build_report(
     """Find the runs under ``paths``, evaluate them (and the random agent) as needed, write the report.
 
     ``force`` evaluates again even where current results exist."""
-    runs = [run_info(path) for path in find_runs([Path(p) for p in paths])]
+    runs = [info for path in find_runs([Path(p) for p in paths]) if (info := usable_run(path))]
     if not runs:
         raise FileNotFoundError(
-            f"no run directories (config.yaml and a model) under {', '.join(map(str, paths))}"
+            f"no run directories (config.yaml and a usable model) under {', '.join(map(str, paths))}"
         )
-    out_dir.mkdir(parents=True, exist_ok=True)
+    with writer_lock(out_dir, f"the report {out_dir}"):
+        return _build_report(runs, out_dir, protocol, cache_dir, evaluate, device, progress, force)
+
+
+def usable_run(path: Path) -> RunInfo | None:
+    """The run at ``path``, or ``None`` (with a warning) when its model diverged."""
+    from gvgai_pcg.rl.checkpoint import NonFiniteModelError
+
+    try:
+        return run_info(path)
+    except NonFiniteModelError as error:
+        log.warning("%s left out of the report: %s", path, error)
+        return None
+
+
+def _build_report(
+    runs: list[RunInfo],
+    out_dir: Path,
+    protocol: Protocol,
+    cache_dir: Path | None,
+    evaluate: bool,
+    device: str,
+    progress: bool,
+    force: bool,
+) -> Report:
     games = list(dict.fromkeys(info.game for info in runs))
     tables, figures = [], {}
     for game in games:

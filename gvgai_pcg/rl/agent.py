@@ -11,6 +11,7 @@ from gvgai_pcg.evaluation.runner import SAMPLE_KEY, sample_actions
 from gvgai_pcg.games import get_game
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.levels import level_format
+from gvgai_pcg.rl.checkpoint import check_finite, read_file
 from gvgai_pcg.rl.models import ActorCritic, make_actor_critic
 
 
@@ -34,12 +35,14 @@ class TrainedAgent:
     """Samples actions from a trained actor-critic (``greedy=True``: the most likely action).
 
     Args:
-        path: a run's ``model.pt`` (or ``checkpoints/last.pt``).
+        path: a run's ``model.pt`` (or ``checkpoints/last.pt``); refused when crafted (it would
+            have to run code to load) or diverged (non-finite weights).
         seed: seeds the sampling generator.
     """
 
     def __init__(self, path: Path | str, seed: int = 0, greedy: bool = False, device: str = "cpu") -> None:
-        saved = torch.load(path, map_location=device, weights_only=False)
+        saved = read_file(Path(path))  # tensors and plain data only
+        check_finite(saved, Path(path))
         config = saved["config"]
         game = get_game(config["game"]["name"])
         self.obs_key = config["env"]["obs"]
