@@ -14,6 +14,7 @@ run's ``config.yaml`` says (``evaluate RUN --checkpoint FILE``).
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -250,8 +251,23 @@ def load_policy(info: RunInfo, greedy: bool = False, seed: int = 0, device: str 
     try:
         net.load_state_dict(load_state(info.checkpoint)["model"])
     except RuntimeError as error:  # a size mismatch: the file's weights are not of this network
-        reason = " ".join(str(error).split())
         raise CheckpointError(
-            f"{info.checkpoint}: its weights do not fit the run's network ({reason})"
+            f"{info.checkpoint}: its weights do not fit the run's network ({_first_mismatch(error)})"
         ) from None
     return ActorCriticPolicy(net, info.obs, greedy=greedy, seed=seed, device=device)
+
+
+def _first_mismatch(error: RuntimeError) -> str:
+    """``size mismatch for torso.0.weight: [32, 9, 3, 3] in the file, [16, 9, 3, 3] in the network
+    (and 9 more)``, from torch's list of every mismatched entry."""
+    text = " ".join(str(error).split())
+    found = re.findall(
+        r"size mismatch for ([\w.]+): copying a param with shape torch\.Size\((\[[^\]]*\])\) from "
+        r"checkpoint, the shape in current model is torch\.Size\((\[[^\]]*\])\)",
+        text,
+    )
+    if not found:
+        return text[:300]
+    name, saved, current = found[0]
+    more = f" (and {len(found) - 1} more)" if len(found) > 1 else ""
+    return f"size mismatch for {name}: {saved} in the file, {current} in the network{more}"

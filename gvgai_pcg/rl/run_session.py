@@ -175,7 +175,7 @@ def find_checkpoint(path: Path, config: dict[str, Any]) -> dict[str, Any] | None
             fsync_directory(path.parent)
         return saved
     raise CheckpointError(
-        f"{last_error} {problem}. Restore a good copy to resume, or move {path.parent} away to start "
+        f"{last_error}; {problem}. Restore a good copy to resume, or move {path.parent} away to start "
         f"this run afresh (its log and model are then kept in {ASIDE_DIR}/)"
     )
 

@@ -60,7 +60,8 @@ def test_weights_that_do_not_fit_the_network_are_one_line(tiny_run, tmp_path, ca
     torch.save(other, tmp_path / "wrong-shapes.pt")  # format 1: no identity, its config says hidden=16
     argv = ["evaluate", str(tiny_run), "--checkpoint", str(tmp_path / "wrong-shapes.pt"), "--levels"]
     err = _one_line_error([*argv, "zelda_lvl0", "--episodes", "1", "--no-progress"], capsys)
-    assert "its weights do not fit the run's network" in err and "size mismatch" in err
+    assert "its weights do not fit the run's network (size mismatch for " in err
+    assert "in the file, " in err and "in the network (and " in err and "torch.Size" not in err
 
 
 def test_a_crafted_checkpoint_is_refused_and_runs_nothing(tiny_run, tmp_path, capsys):
