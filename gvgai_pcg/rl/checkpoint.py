@@ -241,14 +241,23 @@ def check_finite(state: dict[str, Any], path: Path) -> None:
         )
 
 
+# Keys added to the config after runs were started, with the value that keeps the old behaviour: a
+# checkpoint without the key is the same run as a config that has this value.
+ADDED_KEYS: dict[str, Any] = {"regimen.num_levels": 0, "regimen.start_seed": 0}
+
+
 def config_differences(saved: dict[str, Any], current: dict[str, Any], prefix: str = "") -> list[str]:
-    """The dotted keys whose values differ between two resolved configs (ignoring ``MAY_CHANGE``)."""
+    """The dotted keys whose values differ between two resolved configs (ignoring ``MAY_CHANGE``,
+    and keys of ``ADDED_KEYS`` that the saved config lacks while the current one has their old
+    behaviour's value)."""
     diffs = []
     for key in sorted(set(saved) | set(current)):
         name = f"{prefix}{key}"
         if not prefix and key in MAY_CHANGE:
             continue
         a, b = saved.get(key, "<missing>"), current.get(key, "<missing>")
+        if key not in saved and name in ADDED_KEYS and b == ADDED_KEYS[name]:
+            continue
         if isinstance(a, dict) and isinstance(b, dict):
             diffs += config_differences(a, b, prefix=f"{name}.")
         elif a != b:

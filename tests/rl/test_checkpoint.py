@@ -129,3 +129,15 @@ def test_a_model_of_another_game_or_observation_is_refused(tmp_path):
         CheckpointError, match="is a frogs model .* but the run needs a zelda model .* differ in game, obs"
     ):
         check_identity(state, path, expected, "the run")
+
+
+def test_a_checkpoint_from_before_level_sets_resumes_under_the_pcg_defaults():
+    from gvgai_pcg.rl.checkpoint import config_differences
+
+    before = {"regimen": {"name": "pcg", "difficulty": 1.0, "win_rule": "game", "tag": "pcg1.0"}}
+    now = {"regimen": {**before["regimen"], "num_levels": 0, "start_seed": 0}}
+    assert config_differences(before, now) == []
+    fixed_set = {"regimen": {**now["regimen"], "num_levels": 100}}
+    assert config_differences(before, fixed_set) == [
+        "regimen.num_levels: '<missing>' in the checkpoint, 100 now"
+    ]
