@@ -20,7 +20,7 @@ def _runs_table(published: Path, target_frames: int) -> str:
     from gvgai_pcg.rl.run_log import read_log
 
     lines = [
-        "| run | frames | finished | wall time (h) | last logged mean score |",
+        "| run | frames evaluated | finished | training wall time so far (h) | last logged mean score |",
         "|---|---:|---|---:|---:|",
     ]
     for run in sorted((published / "runs").iterdir()):

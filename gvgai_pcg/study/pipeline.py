@@ -104,12 +104,15 @@ def run_sweep(
     return time.perf_counter() - start
 
 
-def publish(out: Path, dest: Path) -> Path:
+def publish(out: Path, dest: Path, protocol=None) -> Path:
     """Copy what rebuilds the report into ``dest``: each run's config, log, evaluation results and
     a ``published.json`` naming its model (the model itself only below 1 MB), the random agent's
     results, and the report. ``gvgai-pcg report --no-evaluate DEST/runs --cache-dir DEST/random``
-    then rebuilds the tables and curves from ``dest`` alone."""
+    then rebuilds the tables and curves from ``dest`` alone. The model named is the one the
+    ``protocol``'s records were made from, so a run that trained on after its evaluation is
+    published as evaluated."""
     from gvgai_pcg.evaluation.checkpoints import PUBLISHED, find_runs, run_info
+    from gvgai_pcg.evaluation.evaluator import read_records, run_results_path
 
     dest.mkdir(parents=True, exist_ok=True)
     for run in find_runs([out / "runs"]):
@@ -122,7 +125,11 @@ def publish(out: Path, dest: Path) -> Path:
         for results in sorted((run / "eval").glob("*.jsonl")):
             shutil.copy2(results, target / "eval" / results.name)
         model = {"checkpoint": str(info.checkpoint), "frames": info.frames}
-        if info.checkpoint.stat().st_size < MODEL_LIMIT_BYTES:
+        records_path = run_results_path(run, protocol) if protocol is not None else None
+        if records_path is not None and records_path.is_file():
+            first = read_records(records_path)[0]
+            model = {"checkpoint": first.checkpoint, "frames": first.frames}
+        if model["frames"] == info.frames and info.checkpoint.stat().st_size < MODEL_LIMIT_BYTES:
             shutil.copy2(info.checkpoint, target / info.checkpoint.name)
             model["copied"] = info.checkpoint.name
         (target / PUBLISHED).write_text(json.dumps(model, indent=1) + "\n")
@@ -132,13 +139,15 @@ def publish(out: Path, dest: Path) -> Path:
     return dest
 
 
-def write_claims(runs_dir: Path, random_cache: Path, protocol, path: Path) -> Path:
+def write_claims(
+    runs_dir: Path, random_cache: Path, protocol, path: Path, target_frames: int | None = None
+) -> Path:
     """The study's claims tested on the runs under ``runs_dir`` (``gvgai_pcg.study.claims``)."""
     from gvgai_pcg.evaluation.checkpoints import find_runs
     from gvgai_pcg.study.claims import claims_markdown, collect, study_claims
 
     games = collect(find_runs([runs_dir]), random_cache, protocol)
-    path.write_text(claims_markdown(study_claims(games), games))
+    path.write_text(claims_markdown(study_claims(games, target_frames), games))
     return path
 
 
@@ -163,6 +172,6 @@ def reproduce(
     report_dir = out / "report"
     protocol = Protocol(**budget.protocol)
     build_report([out / "runs"], report_dir, protocol, cache_dir=out / "random", progress=progress)
-    write_claims(out / "runs", out / "random", protocol, report_dir / "claims.md")
-    published = publish(out, Path(publish_to)) if publish_to is not None else None
+    write_claims(out / "runs", out / "random", protocol, report_dir / "claims.md", budget.frames)
+    published = publish(out, Path(publish_to), protocol) if publish_to is not None else None
     return Outcome(out, out / "runs", report_dir, published, seconds)

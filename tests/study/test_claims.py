@@ -75,3 +75,21 @@ def test_ppcg_stalls_needs_both_a_stalled_difficulty_and_pcg1_ahead():
     assert ppcg_stalls(game(conditions, "solarfox", reached=[1.0, 0.5])).verdict == "does not hold"
     behind = {"PPCG": flat(4.0), "PCG 1": flat(1.0)}
     assert ppcg_stalls(game(behind, "solarfox", reached=[0.4])).verdict == "does not hold"
+
+
+def test_a_claim_on_unfinished_runs_is_pending_with_its_evidence_so_far():
+    from gvgai_pcg.study.claims import study_claims
+
+    zelda = game({"Lv 0": flat(0.5, lv0=9.5), "Lv 4": flat(1.0, lv4=9.0)})
+    zelda.frames["Lv 4"] = [1_000_000]
+    [(name, verdict), *_] = study_claims({"zelda": zelda}, target_frames=5_000_000)
+    assert name == "zelda" and verdict.verdict == "pending (holds so far)"
+    assert "Lv 4 at 1,000,000 frames" in verdict.evidence
+    zelda.frames["Lv 4"] = [5_000_000]
+    assert study_claims({"zelda": zelda}, target_frames=5_000_000)[0][1].verdict == "holds"
+
+
+def test_one_level_short_of_the_max_but_random_elsewhere_is_inconclusive():
+    assert one_level_overfits(game({"Lv 0": flat(0.5, lv0=6.0), "Lv 4": flat(0.5, lv4=6.0)})).verdict == (
+        "inconclusive"
+    )
