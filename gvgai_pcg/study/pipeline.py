@@ -108,14 +108,17 @@ def publish(out: Path, dest: Path, protocol=None) -> Path:
     """Copy what rebuilds the report into ``dest``: each run's config, log, evaluation results and
     a ``published.json`` naming its model (the model itself only below 1 MB), the random agent's
     results, and the report. ``gvgai-pcg report --no-evaluate DEST/runs --cache-dir DEST/random``
-    then rebuilds the tables and curves from ``dest`` alone. The model named is the one the
-    ``protocol``'s records were made from, so a run that trained on after its evaluation is
-    published as evaluated."""
+    then rebuilds the tables and curves from ``dest`` alone. With ``protocol``, only runs with its
+    records are published, and the model named is the one they were made from, so a run that
+    trained on after its evaluation is published as evaluated."""
     from gvgai_pcg.evaluation.checkpoints import PUBLISHED, find_runs, run_info
     from gvgai_pcg.evaluation.evaluator import read_records, run_results_path
 
     dest.mkdir(parents=True, exist_ok=True)
     for run in find_runs([out / "runs"]):
+        records_path = run_results_path(run, protocol) if protocol is not None else None
+        if records_path is not None and not records_path.is_file():
+            continue  # not evaluated yet: nothing of it is in the report
         info = run_info(run)
         target = dest / "runs" / run.name
         (target / "eval").mkdir(parents=True, exist_ok=True)
@@ -125,8 +128,7 @@ def publish(out: Path, dest: Path, protocol=None) -> Path:
         for results in sorted((run / "eval").glob("*.jsonl")):
             shutil.copy2(results, target / "eval" / results.name)
         model = {"checkpoint": str(info.checkpoint), "frames": info.frames}
-        records_path = run_results_path(run, protocol) if protocol is not None else None
-        if records_path is not None and records_path.is_file():
+        if records_path is not None:
             first = read_records(records_path)[0]
             model = {"checkpoint": first.checkpoint, "frames": first.frames}
         if model["frames"] == info.frames and info.checkpoint.stat().st_size < MODEL_LIMIT_BYTES:
