@@ -79,6 +79,14 @@ def plot_curves(game: str, curves: Sequence[PooledCurve], out_stem: Path) -> lis
             twin.plot(curve.frames, curve.difficulty, color="tab:red", marker=marker)
             twin.set_ylim(0.0, 1.0)
             twin.set_ylabel("difficulty", color="tab:red")
+    return save_figure(fig, out_stem)
+
+
+def save_figure(fig, out_stem: Path) -> list[Path]:
+    """Write ``fig`` as ``out_stem.png`` and ``.svg`` (the report links the PNG, the SVG scales) and
+    close it."""
+    import matplotlib.pyplot as plt
+
     fig.tight_layout()
     out_stem.parent.mkdir(parents=True, exist_ok=True)
     paths = [out_stem.with_suffix(".png"), out_stem.with_suffix(".svg")]

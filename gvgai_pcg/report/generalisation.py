@@ -17,6 +17,7 @@ from pathlib import Path
 from gvgai_pcg.evaluation.checkpoints import RunInfo
 from gvgai_pcg.evaluation.protocol import TRAINING_SET
 from gvgai_pcg.levels.test_sets import TEST_DIFFICULTIES, set_name
+from gvgai_pcg.report.curves import save_figure
 from gvgai_pcg.report.table import RunResults, format_frames, mean_scores
 
 CURVE_SETS = (TRAINING_SET, *(set_name(d) for d in TEST_DIFFICULTIES))
@@ -127,10 +128,4 @@ def plot_level_counts(curves: Sequence[LevelCountCurve], out_stem: Path) -> list
         ax.set_ylabel("mean episode score")
         ax.set_title(f"{curve.game}: {curve.label}")
         ax.legend(fontsize="small")
-    fig.tight_layout()
-    out_stem.parent.mkdir(parents=True, exist_ok=True)
-    paths = [out_stem.with_suffix(".png"), out_stem.with_suffix(".svg")]
-    for path in paths:
-        fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return paths
+    return save_figure(fig, out_stem)

@@ -176,9 +176,10 @@ def batch_breakdown(cfg: DictConfig, batches: int = 60) -> dict[str, Cost]:
     env.close()
     costs = {name: Cost(w.wall / batches, w.cpu / batches) for name, w in parts.items()}
     costs["total"] = Cost(total.wall / batches, total.cpu / batches)
-    rest_wall = costs["total"].wall - sum(c.wall for c in list(costs.values())[:3])
-    rest_cpu = costs["total"].cpu - sum(c.cpu for c in list(costs.values())[:3])
-    costs["rest"] = Cost(rest_wall, rest_cpu)
+    costs["rest"] = Cost(
+        costs["total"].wall - sum(parts[name].wall for name in parts) / batches,
+        costs["total"].cpu - sum(parts[name].cpu for name in parts) / batches,
+    )
     return costs
 
 
