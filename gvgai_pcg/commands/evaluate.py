@@ -19,13 +19,14 @@ import sys
 from pathlib import Path
 
 from gvgai_pcg.evaluation import RandomAgent, evaluate_levels, format_table
-from gvgai_pcg.evaluation.checkpoints import find_runs, load_policy, run_info
+from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
 from gvgai_pcg.evaluation.evaluator import (
     evaluate_random,
     evaluate_run,
     random_results_path,
     run_results_path,
 )
+from gvgai_pcg.evaluation.policy import load_policy
 from gvgai_pcg.evaluation.protocol import Protocol
 from gvgai_pcg.evaluation.summary import format_protocol_table
 from gvgai_pcg.games import get_game, registered_games

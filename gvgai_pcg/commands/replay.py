@@ -49,7 +49,8 @@ def resolve_any_level(spec: str, game: str):
 
 
 def run(args: argparse.Namespace) -> int:
-    from gvgai_pcg.evaluation.checkpoints import load_policy, run_info
+    from gvgai_pcg.evaluation.checkpoints import run_info
+    from gvgai_pcg.evaluation.policy import load_policy
     from gvgai_pcg.evaluation.replay import record_episode, write_gif
 
     info = run_info(args.run, args.checkpoint)

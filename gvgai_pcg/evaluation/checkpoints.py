@@ -3,8 +3,8 @@
 A run directory (``gvgai_pcg.rl``) holds ``config.yaml`` (the resolved config), ``log.csv``,
 ``checkpoints/last.pt`` and, once finished, ``model.pt``. Both ``.pt`` files are dicts with the
 network's ``model`` state dict, the resolved ``config`` and the ``frames`` trained. This module
-only reads them: it rebuilds the network with ``gvgai_pcg.rl.models.make_actor_critic`` and
-wraps it as a policy ``tensordict -> action [B]`` that samples (the study) or takes the argmax.
+only reads them and says which model a run's evaluation plays (``gvgai_pcg.evaluation.policy``
+turns it into a policy).
 
 Files are read as tensors and plain data only (``gvgai_pcg.rl.checkpoint.read_file``), and a
 model is refused, before anything is played or filed, when its weights are not finite (a diverged
@@ -14,12 +14,8 @@ run's ``config.yaml`` says (``evaluate RUN --checkpoint FILE``).
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass, field
 from pathlib import Path
-
-import torch
-from tensordict import TensorDictBase
 
 FINAL_MODEL = "model.pt"
 LAST_CHECKPOINT = Path("checkpoints") / "last.pt"
@@ -202,72 +198,3 @@ def published_run_info(run_dir: Path) -> RunInfo:
     model = json.loads((run_dir / PUBLISHED).read_text())
     config = OmegaConf.to_container(OmegaConf.load(run_dir / "config.yaml"), resolve=True)
     return RunInfo(run_dir, config, Path(model["checkpoint"]), int(model["frames"]))
-
-
-class ActorCriticPolicy:
-    """The trained network as a policy: ``tensordict`` with the observation -> ``action [B]``.
-
-    Actions are sampled from the softmax of the logits with the policy's own seeded generator
-    (so an evaluation is reproducible), or the argmax when ``greedy``.
-    """
-
-    def __init__(
-        self, net: torch.nn.Module, obs_key: str, greedy: bool = False, seed: int = 0, device: str = "cpu"
-    ) -> None:
-        self.net = net.to(device).eval()
-        self.obs_key, self.greedy = obs_key, greedy
-        self.generator = torch.Generator(device=device).manual_seed(seed)
-
-    @torch.no_grad()
-    def __call__(self, tensordict: TensorDictBase) -> torch.Tensor:
-        from gvgai_pcg.rl.agent import policy_actions
-
-        return policy_actions(self.net, tensordict, self.obs_key, self.greedy, self.generator)
-
-
-def observation_shape(game: str, obs: str) -> tuple[int, int, int]:
-    """``(C, H, W)`` of one observation of ``game`` (asked from a one-env GVGAIEnv)."""
-    from gvgai_pcg.envs import GVGAIEnv
-    from gvgai_pcg.levels import human_level
-
-    env = GVGAIEnv(game, 1, human_level(game, 0), obs=obs)
-    return tuple(env.observation_spec[obs].shape[-3:])
-
-
-def load_policy(info: RunInfo, greedy: bool = False, seed: int = 0, device: str = "cpu") -> ActorCriticPolicy:
-    """The policy of the run ``info`` describes, on ``device``."""
-    from gvgai_pcg.games import get_game
-    from gvgai_pcg.rl.checkpoint import CheckpointError
-    from gvgai_pcg.rl.models import make_actor_critic
-
-    model = info.config["model"]
-    net = make_actor_critic(
-        model["name"],
-        info.obs,
-        observation_shape(info.game, info.obs),
-        get_game(info.game).num_actions,
-        model["hidden"],
-    )
-    try:
-        net.load_state_dict(load_state(info.checkpoint)["model"])
-    except RuntimeError as error:  # a size mismatch: the file's weights are not of this network
-        raise CheckpointError(
-            f"{info.checkpoint}: its weights do not fit the run's network ({_first_mismatch(error)})"
-        ) from None
-    return ActorCriticPolicy(net, info.obs, greedy=greedy, seed=seed, device=device)
-
-
-def _first_mismatch(error: RuntimeError) -> str:
-    """``size mismatch for torso.0.weight: [32, 9, 3, 3] in the file, [16, 9, 3, 3] in the network
-    (and 9 more)``, from torch's list of every mismatched entry."""
-    text = " ".join(str(error).split())
-    found = re.findall(
-        r"size mismatch for ([\w.]+): copying a param with shape torch\.Size\((\[[^\]]*\])\) from "
-        r"checkpoint, the shape in current model is torch\.Size\((\[[^\]]*\])\)",
-        text,
-    )
-    if not found:
-        return text[:300]
-    name, saved, current = found[0]
-    more = f" (and {len(found) - 1} more)" if len(found) > 1 else ""
-    return f"size mismatch for {name}: {saved} in the file, {current} in the network{more}"

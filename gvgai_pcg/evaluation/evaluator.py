@@ -17,8 +17,9 @@ from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
-from gvgai_pcg.evaluation.checkpoints import RunInfo, load_policy
+from gvgai_pcg.evaluation.checkpoints import RunInfo
 from gvgai_pcg.evaluation.max_score import level_max_score
+from gvgai_pcg.evaluation.policy import load_policy
 from gvgai_pcg.evaluation.protocol import EvalSet, Protocol, protocol_test_sets, training_test_set
 from gvgai_pcg.evaluation.random_agent import RandomAgent
 from gvgai_pcg.evaluation.runner import Policy, play_episodes

@@ -10,7 +10,7 @@ import pytest
 import torch
 import yaml
 
-from gvgai_pcg.evaluation.checkpoints import observation_shape
+from gvgai_pcg.evaluation.policy import observation_shape
 from gvgai_pcg.games import get_game
 from gvgai_pcg.rl.models import make_actor_critic
 from gvgai_pcg.rl.run_log import COLUMNS

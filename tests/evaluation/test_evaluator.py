@@ -7,8 +7,9 @@ import torch
 from tensordict import TensorDict
 
 from gvgai_pcg.cli import main
-from gvgai_pcg.evaluation.checkpoints import find_runs, load_policy, run_info
+from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
 from gvgai_pcg.evaluation.evaluator import evaluate_random, evaluate_run, read_records, run_results_path
+from gvgai_pcg.evaluation.policy import load_policy
 from gvgai_pcg.evaluation.protocol import TEST_SETS, Protocol
 from gvgai_pcg.levels import human_level
 

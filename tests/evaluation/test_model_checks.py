@@ -145,3 +145,15 @@ def test_the_random_agents_cache_has_one_writer(tmp_path, capsys):
     finally:
         os.close(fd)
     assert "PID 4242" in err and "random agent's cache" in err
+
+
+@pytest.mark.parametrize("game", ["zelda", "solarfox", "frogs", "boulderdash"])
+@pytest.mark.parametrize("obs", ["tiles", "pixels"])
+def test_policy_observation_shape_is_the_envs(game, obs):
+    """The loader sizes the network without building an env; it must agree with the env's spec."""
+    from gvgai_pcg.envs import GVGAIEnv
+    from gvgai_pcg.evaluation.policy import observation_shape
+    from gvgai_pcg.levels import human_level
+
+    env = GVGAIEnv(game, 1, human_level(game, 4), obs=obs)
+    assert observation_shape(game, obs) == tuple(env.observation_spec[obs].shape[-3:])

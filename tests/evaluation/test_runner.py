@@ -4,7 +4,8 @@ import pytest
 import torch
 
 from gvgai_pcg.evaluation import RandomAgent, play_episodes
-from gvgai_pcg.evaluation.checkpoints import load_policy, run_info
+from gvgai_pcg.evaluation.checkpoints import run_info
+from gvgai_pcg.evaluation.policy import load_policy
 from gvgai_pcg.evaluation.runner import episode_seeds, sample_actions
 from gvgai_pcg.levels import human_level
 

@@ -6,8 +6,8 @@ from __future__ import annotations
 import pytest
 
 from gvgai_pcg.evaluation import RandomAgent, play_episodes
+from gvgai_pcg.evaluation.policy import load_policy
 from gvgai_pcg.rl import train
-from gvgai_pcg.rl.agent import TrainedAgent
 from tests.rl.conftest import needs_generated_levels
 
 BUDGET_FRAMES = 500_000
@@ -22,7 +22,7 @@ def test_ppcg_on_zelda_beats_the_random_agent_on_generated_levels(make_config, t
     cfg = make_config(["game=zelda", "regimen=ppcg", f"total_frames={BUDGET_FRAMES}", f"out_dir={tmp_path}"])
     result = train(cfg, tmp_path / cfg.run_name)
     levels = [generate_level("zelda", 0.5, 10_000 + i) for i in range(TEST_LEVELS)]
-    agent = play_episodes("zelda", levels, TrainedAgent(result.model_path, seed=1), seed=1, progress=False)
+    agent = play_episodes("zelda", levels, load_policy(result.model_path, seed=1), seed=1, progress=False)
     random = play_episodes("zelda", levels, RandomAgent(6, seed=1), seed=1, progress=False)
     print(
         f"\nPPCG zelda after {result.frames} frames, {TEST_LEVELS} generated d=0.5 levels: "
