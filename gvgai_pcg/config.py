@@ -246,6 +246,7 @@ REGIMENS: dict[str, dict[str, Any]] = {
         "tag": Text(),
         "win_rule": OneOf(WIN_RULES),
     },
+    "human": {"name": Text(), "tag": Text(), "win_rule": OneOf(WIN_RULES)},
     "levels": {"name": Text(), "path": LevelPaths(), "tag": Text(), "win_rule": OneOf(WIN_RULES)},
     "pcg": {
         "name": Text(),

@@ -23,20 +23,14 @@ import numpy as np
 import torch
 from tensordict import TensorDict, TensorDictBase
 
-from gvgai_pcg.envs.difficulty import DifficultyTransform
 from gvgai_pcg.envs.gvgai_env import OBSERVATION_KINDS, GVGAIEnv
-from gvgai_pcg.envs.level_sources import GeneratedLevels, GeneratedLevelSet, LevelSource, as_level_source
+from gvgai_pcg.envs.level_sources import LevelSource
+from gvgai_pcg.envs.regimens import regimen_curriculum, regimen_kind, regimen_source
 from gvgai_pcg.games import get_game
 from gvgai_pcg.games.geometry import CELL
-from gvgai_pcg.levels import Level, human_level, resolve_level
+from gvgai_pcg.levels import Level, human_level, human_levels, resolve_level
 from gvgai_pcg.levels.sets import load_level_set
-from gvgai_pcg.levels.winnable import warn_unwinnable
 
-# Given levels (human ones or your own), then the generated ones (whose difficulty a reset option
-# may set).
-HUMAN_REGIMENS = ("lv", "lv0-3", "human", "levels")
-GENERATED_REGIMENS = ("pcg", "ppcg")
-REGIMENS = HUMAN_REGIMENS + GENERATED_REGIMENS
 RENDER_MODES = ("rgb_array", "ansi", "human")
 
 LevelSpec = Level | str | int
@@ -122,35 +116,22 @@ class Regimen:
         num_levels: int = 0,
         start_seed: int = 0,
     ) -> None:
-        if regimen not in REGIMENS:
-            raise ValueError(f"unknown regimen {regimen!r}; valid regimens are: {', '.join(REGIMENS)}")
+        kind = regimen_kind(regimen)
         if (levels is not None) != (regimen == "levels"):
             raise ValueError("levels= gives the set of regimen='levels', and that regimen needs it")
-        if (num_levels or start_seed) and regimen != "pcg":
-            raise ValueError(f"num_levels and start_seed are for regimen='pcg', not {regimen!r}")
         self.game, self.name, self.finite = game, regimen, num_levels > 0
-        self.curriculum: DifficultyTransform | None = None
-        if regimen in GENERATED_REGIMENS:
-            mode = "progressive" if regimen == "ppcg" else "fixed"
-            self.curriculum = DifficultyTransform(mode, alpha, difficulty, win_rule, game=game)
-            source: LevelSource = (
-                GeneratedLevelSet(game, difficulty, num_levels, start_seed)
-                if self.finite
-                else GeneratedLevels(game)
-            )
-        elif regimen == "levels":
+        self.curriculum = regimen_curriculum(game, regimen, difficulty, alpha, win_rule)
+        given: list[Level] | None = None
+        if regimen == "levels":
             given = _level_set(game, levels)
-            warn_unwinnable(given, "training")
-            source = as_level_source(game, given)
         elif regimen == "lv":
             specs = level if isinstance(level, list | tuple) else [level]
             given = [_resolve(game, spec) for spec in specs]
-            warn_unwinnable(given, "training")
-            source = as_level_source(game, given)
         elif regimen == "lv0-3":
-            source = as_level_source(game, [human_level(game, i) for i in range(4)])
-        else:
-            source = as_level_source(game, "human")
+            given = [human_level(game, i) for i in range(4)]
+        elif not kind.generated:
+            given = human_levels(game)
+        source = regimen_source(game, regimen, given, difficulty, num_levels, start_seed)
         self.source = LevelOverrides(source, num_envs)
 
     @property

@@ -24,6 +24,7 @@ LAST_CHECKPOINT = Path("checkpoints") / "last.pt"
 REGIMEN_LABELS = {
     "lv": "Lv {level}",
     "lv0-3": "Lv 0-3",
+    "human": "Lv 0-4",
     "levels": "Levels {set}",
     "pcg": "PCG {difficulty:g}",
     "ppcg": "PPCG",
@@ -98,6 +99,8 @@ class RunInfo:
             return (f"lv{int(regimen['level'])}",)
         if regimen["name"] == "lv0-3":
             return tuple(f"lv{int(i)}" for i in regimen["levels"])
+        if regimen["name"] == "human":
+            return tuple(f"lv{i}" for i in range(5))
         from gvgai_pcg.evaluation.protocol import TRAINING_SET, Protocol, protocol_test_sets
 
         if regimen["name"] == "levels":

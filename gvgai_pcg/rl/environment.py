@@ -1,7 +1,8 @@
 """The training env of each regimen: one natively batched ``GVGAIEnv``, wrapped in a
 ``DifficultyTransform`` for the generated-level regimens (PCG X, PPCG).
 
-Lv X and Lv 0-3 play human-designed levels, ``levels`` a level set of your own (a folder or a
+The regimens are the table of ``gvgai_pcg.envs.regimens`` (shared with the Gymnasium API). Lv X,
+Lv 0-3 and ``human`` play human-designed levels, ``levels`` a level set of your own (a folder or a
 list of files); PCG X and PPCG play generated levels at the difficulty the transform writes
 into the reset tensordict: a new one every episode, or with ``num_levels`` >= 1 (PCG X only) a
 fixed set of that many. ``training_levels`` names the finite set a regimen trains on, which
@@ -18,29 +19,25 @@ from omegaconf import DictConfig
 from torchrl.envs import EnvBase
 
 from gvgai_pcg.envs import GVGAIEnv
+from gvgai_pcg.envs.difficulty import DifficultyTransform
+from gvgai_pcg.envs.level_sources import LevelSource
+from gvgai_pcg.envs.regimens import regimen_curriculum, regimen_kind, regimen_source
 from gvgai_pcg.envs.reset_rows import RowResetTransformedEnv
-from gvgai_pcg.levels import Level, human_level
-from gvgai_pcg.levels.winnable import warn_unwinnable
-
-REGIMENS = ("lv", "lv0-3", "levels", "pcg", "ppcg")
-HUMAN_REGIMENS = ("lv", "lv0-3", "levels")  # no difficulty: the levels are given
+from gvgai_pcg.levels import Level, human_level, human_levels
 
 
-def training_source(game: str, regimen: Mapping):
-    """The level source of a regimen (``regimen``: its config section); the levels of a given set
-    (Lv X, Lv 0-3, ``levels``) that cannot be won are named in a warning."""
-    from gvgai_pcg.envs.level_sources import GeneratedLevels, GeneratedLevelSet, as_level_source
-
+def training_source(game: str, regimen: Mapping) -> LevelSource:
+    """The level source of a regimen (``regimen``: its config section)."""
     name = regimen["name"]
-    if name in HUMAN_REGIMENS:  # one level: FixedLevel; more: UniformLevels
-        levels = training_levels(game, regimen)
-        warn_unwinnable(levels, "training")  # generated levels are tested to be winnable
-        return as_level_source(game, levels)
-    if name == "pcg" and int(regimen.get("num_levels", 0)) > 0:
-        return GeneratedLevelSet(
-            game, float(regimen["difficulty"]), int(regimen["num_levels"]), int(regimen.get("start_seed", 0))
+    if regimen_kind(name).generated:
+        return regimen_source(
+            game,
+            name,
+            difficulty=float(regimen.get("difficulty", 0.0)),
+            num_levels=int(regimen.get("num_levels", 0)),
+            start_seed=int(regimen.get("start_seed", 0)),
         )
-    return GeneratedLevels(game)
+    return regimen_source(game, name, training_levels(game, regimen))
 
 
 def training_levels(game: str, regimen: Mapping, limit: int | None = None) -> list[Level] | None:
@@ -51,6 +48,8 @@ def training_levels(game: str, regimen: Mapping, limit: int | None = None) -> li
         levels = [human_level(game, int(regimen["level"]))]
     elif name == "lv0-3":
         levels = [human_level(game, int(i)) for i in regimen["levels"]]
+    elif name == "human":
+        levels = human_levels(game)
     elif name == "levels":
         from gvgai_pcg.levels.sets import load_level_set
 
@@ -60,6 +59,7 @@ def training_levels(game: str, regimen: Mapping, limit: int | None = None) -> li
             limit if limit is not None else int(regimen["num_levels"])
         )
     else:
+        regimen_kind(name)  # an unknown name is refused with the valid ones
         return None
     return levels if limit is None else levels[:limit]
 
@@ -85,28 +85,19 @@ class EnvFactory:
         seed = self.seed + 7919 * worker
         source = training_source(self.game, self.regimen)
         env = GVGAIEnv(self.game, self.num_envs, source, self.obs, self.max_steps, self.device, seed)
-        return env if self.regimen.name in HUMAN_REGIMENS else RowResetTransformedEnv(env, self.difficulty)
+        if not regimen_kind(self.regimen.name).generated:
+            return env
+        return RowResetTransformedEnv(env, self.difficulty)
 
 
-def make_difficulty(regimen: DictConfig, game: str):
-    """The ``DifficultyTransform`` of a generated-level regimen, ``None`` for Lv X, Lv 0-3 and
-    level sets."""
-    if regimen.name not in REGIMENS:
-        raise ValueError(f"unknown regimen {regimen.name!r}; valid regimens are: {', '.join(REGIMENS)}")
-    if regimen.name in HUMAN_REGIMENS:
-        return None
-    from gvgai_pcg.envs.difficulty import DifficultyTransform
-
-    if regimen.name == "pcg":
-        return DifficultyTransform(
-            "fixed", start=float(regimen.difficulty), win_rule=regimen.win_rule, game=game
-        )
-    return DifficultyTransform(
-        "progressive",
-        alpha=float(regimen.alpha),
-        start=float(regimen.start),
-        win_rule=regimen.win_rule,
-        game=game,
+def make_difficulty(regimen: DictConfig, game: str) -> DifficultyTransform | None:
+    """The ``DifficultyTransform`` of a generated-level regimen, ``None`` for given levels."""
+    return regimen_curriculum(
+        game,
+        regimen.name,
+        difficulty=float(regimen.difficulty if regimen.name == "pcg" else regimen.get("start", 0.0)),
+        alpha=float(regimen.get("alpha", 0.01)),
+        win_rule=regimen.get("win_rule", "game"),
     )
 
 
