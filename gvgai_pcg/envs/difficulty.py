@@ -6,8 +6,9 @@ after each step it moves the difficulty once per finished episode, in order of e
 +alpha on a win, -alpha on a loss, clipped to [0, 1] after every move (GENERATORS.md §2). The
 value lives in a shared-memory tensor, so collector workers in other processes read and move
 one difficulty, and it is a buffer, so ``state_dict()`` carries it into checkpoints. Processes
-that share it through files (``gvgai_pcg.rl.environment.share_through_files``) also share a lock
-file, so that two workers' moves never overwrite each other.
+that share it through files (``share_through``) also share a lock file, so that two workers'
+moves never overwrite each other. It travels as float64 from here to the level source, which
+generates at exactly that value.
 """
 
 from __future__ import annotations
@@ -22,6 +23,9 @@ from tensordict import TensorDictBase
 from torchrl.envs.transforms import Transform
 
 MODES = ("fixed", "progressive")
+# Each move rounds d to this many decimals: a sum of steps (0.07 + 0.01 = 0.08000000000000002)
+# stays the d a log shows and a level name records, whatever alpha (1e-5 moves as well).
+DECIMALS = 10
 WIN_RULES = ("game", "study")
 # The study's win rule (GENERATORS.md §2): Boulderdash counts an episode score of 20 or more.
 STUDY_SCORE_WIN = {"boulderdash": 20.0}
@@ -36,7 +40,7 @@ class DifficultyTransform(Transform):
         start: the initial difficulty (0 for PPCG, X for PCG X).
         win_rule: ``"game"`` (the game's own win flag) or ``"study"`` (anything but a loss is a
             win, so a step-limit timeout raises d; Boulderdash: episode score >= 20).
-        game: the game name, needed by the study's rule; taken from the env when left out.
+        game: the game name, needed by the study's win rule (which differs by game).
     """
 
     def __init__(
@@ -56,8 +60,10 @@ class DifficultyTransform(Transform):
             raise ValueError(f"start difficulty must be in [0, 1], got {start}")
         if not alpha >= 0.0:
             raise ValueError(f"alpha must be >= 0, got {alpha}")
+        if win_rule == "study" and game is None:
+            raise ValueError("the study's win rule differs by game: give game= (e.g. game='zelda')")
         super().__init__(in_keys=[], out_keys=["difficulty"])
-        self.mode, self.alpha, self.win_rule, self._game = mode, float(alpha), win_rule, game
+        self.mode, self.alpha, self.win_rule, self.game = mode, float(alpha), win_rule, game
         self.register_buffer(
             "shared_difficulty", torch.tensor([float(start)], dtype=torch.float64).share_memory_()
         )
@@ -68,11 +74,20 @@ class DifficultyTransform(Transform):
     def difficulty(self) -> float:
         return float(self.shared_difficulty[0])
 
-    @property
-    def game(self) -> str | None:
-        if self._game is None and self.parent is not None:
-            self._game = self.parent.base_env.game.name
-        return self._game
+    def share_through(self, directory: Path) -> None:
+        """Back the difficulty by memory-mapped files in ``directory``, so that collector worker
+        processes (which receive a pickled copy of this transform) read and move the very same
+        value as the main process; in-process shared memory does not survive that pickling. The
+        files start from the current values (a resumed run's are restored first), and a lock file
+        there serialises the moves of all processes."""
+        from tensordict import MemoryMappedTensor
+
+        directory.mkdir(parents=True, exist_ok=True)
+        for name, buffer in list(self.named_buffers()):
+            path = directory / f"{name}.memmap"
+            path.unlink(missing_ok=True)  # left by an earlier session of the run
+            self.register_buffer(name, MemoryMappedTensor.from_tensor(buffer, filename=path))
+        self.lock_path = directory / "difficulty.lock"
 
     def wins(self, next_tensordict: TensorDictBase) -> torch.Tensor:
         """``[B]`` bool: which of this step's envs won, under the chosen rule."""
@@ -91,6 +106,7 @@ class DifficultyTransform(Transform):
             if self.mode == "progressive":
                 for win in outcomes:
                     value = min(1.0, value + self.alpha) if win else max(0.0, value - self.alpha)
+                    value = round(value, DECIMALS)
             self.shared_difficulty[0] = value
             self.episodes[0] += len(outcomes)
         return value
@@ -103,7 +119,7 @@ class DifficultyTransform(Transform):
 
     def _write(self, tensordict: TensorDictBase) -> TensorDictBase:
         shape = (*tensordict.batch_size, 1)
-        value = self.shared_difficulty.to(device=tensordict.device, dtype=torch.float32)
+        value = self.shared_difficulty.to(device=tensordict.device)
         tensordict.set("difficulty", value.expand(shape).clone())
         return tensordict
 

@@ -92,7 +92,7 @@ class GVGAIEnv(RowResetEnv):
         self._observed: torch.Tensor | None = None  # the observation of the last output
         self._steps = torch.zeros(num_envs, dtype=torch.int64, device=self.device)
         self._difficulty = torch.full(
-            (num_envs,), self._default_difficulty, dtype=torch.float32, device=self.device
+            (num_envs,), self._default_difficulty, dtype=torch.float64, device=self.device
         )
         self._levels: list[Level | None] = [None] * num_envs
         self._bank = CompiledLevelBank(
@@ -123,7 +123,7 @@ class GVGAIEnv(RowResetEnv):
                 self.obs_kind: observation,
                 "score": Unbounded(shape=(b, 1), dtype=torch.float32, device=self.device),
                 "won": Categorical(2, shape=(b, 1), dtype=torch.bool, device=self.device),
-                "difficulty": Bounded(0.0, 1.0, shape=(b, 1), dtype=torch.float32, device=self.device),
+                "difficulty": Bounded(0.0, 1.0, shape=(b, 1), dtype=torch.float64, device=self.device),
                 "level_seed": Unbounded(shape=(b, 1), dtype=torch.int64, device=self.device),
             },
             shape=(b,),
@@ -174,7 +174,7 @@ class GVGAIEnv(RowResetEnv):
         reset_all = self._state is None or mask is None
         index = torch.arange(self.num_envs) if reset_all else mask.nonzero().flatten().cpu()
         if tensordict is not None and "difficulty" in tensordict.keys():
-            requested = tensordict.get("difficulty").reshape(self.num_envs).to(self.device, torch.float32)
+            requested = tensordict.get("difficulty").reshape(self.num_envs).to(self.device, torch.float64)
             if reset_all:
                 self._difficulty = requested.clone()  # not the caller's tensor
             else:

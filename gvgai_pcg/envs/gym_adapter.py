@@ -168,7 +168,7 @@ class Regimen:
         return TensorDict(
             {
                 "_reset": mask.reshape(b, 1).to(device),
-                "difficulty": torch.full((b, 1), self.difficulty, dtype=torch.float32, device=device),
+                "difficulty": torch.full((b, 1), self.difficulty, dtype=torch.float64, device=device),
             },
             batch_size=[b],
             device=device,

@@ -30,7 +30,7 @@ class LevelSource(Protocol):
         self, env_indices: torch.Tensor, episode_seeds: torch.Tensor, difficulties: torch.Tensor
     ) -> list[Level]:
         """One level per resetting env: ``env_indices``, ``episode_seeds`` (int64) and
-        ``difficulties`` (float) are ``[N]``, on the CPU."""
+        ``difficulties`` (float64, in [0, 1]) are ``[N]``, on the CPU."""
         ...
 
 
@@ -128,28 +128,48 @@ class GeneratedLevels:
     """A new generated level every episode, at the difficulty given for that env (PCG X, PPCG).
 
     The level seed comes from the episode seed (in ``[0, TRAINING_SEED_SPACE)``), so every level
-    can be regenerated from (game, difficulty, seed) and is reported as ``level_seed``.
+    can be regenerated from (generator, difficulty, seed) and is reported as ``level_seed``.
+    ``generator`` names any registered generator of the game's levels (a plugin's, say); by
+    default the game's own.
     """
 
     levels_recur = False  # a level comes back once in 2**31 episodes: compiling it is the cheaper way
 
-    def __init__(self, game: str) -> None:
-        from gvgai_pcg.generators import get_generator
-
-        get_generator(game)  # refuses a game without a generator, listing the registered ones
-        self.game = game
+    def __init__(self, game: str, generator: str | None = None) -> None:
+        self.game, self.generator = game, _checked_generator(game, generator)
 
     def next_levels(
         self, env_indices: torch.Tensor, episode_seeds: torch.Tensor, difficulties: torch.Tensor
     ) -> list[Level]:
-        from gvgai_pcg.generators import generate_level
-
         seeds = (episode_seeds % TRAINING_SEED_SPACE).tolist()
-        levels = difficulties.clamp(0.0, 1.0).double().round(decimals=4).tolist()
-        return [generate_level(self.game, d, s) for d, s in zip(levels, seeds, strict=True)]
+        return [
+            _generated_of(self.game, self.generator, d, s)
+            for d, s in zip(difficulties.tolist(), seeds, strict=True)
+        ]
 
     def __repr__(self) -> str:
-        return f"GeneratedLevels({self.game!r})"
+        own = "" if self.generator == self.game else f", generator={self.generator!r}"
+        return f"GeneratedLevels({self.game!r}{own})"
+
+
+def _checked_generator(game: str, generator: str | None) -> str:
+    """The generator's name (default: the game's own); an unknown one is refused with the
+    registered names."""
+    from gvgai_pcg.generators import get_generator
+
+    name = generator or game
+    get_generator(name)
+    return name
+
+
+def _generated_of(game: str, generator: str, difficulty: float, seed: int) -> Level:
+    """A level of ``game`` from ``generator``; a level of another game is refused."""
+    from gvgai_pcg.generators import generate_level
+
+    level = generate_level(generator, difficulty, seed)
+    if level.game != game:
+        raise ValueError(f"the generator {generator!r} made a {level.game} level, not a {game} level")
+    return level
 
 
 # Generated levels of a finite set are kept for reuse: a set of up to this many levels is made once.
@@ -157,10 +177,8 @@ GENERATED_CACHE = 4096
 
 
 @lru_cache(maxsize=GENERATED_CACHE)
-def _generated(game: str, difficulty: float, seed: int) -> Level:
-    from gvgai_pcg.generators import generate_level
-
-    return generate_level(game, difficulty, seed)
+def _generated(game: str, generator: str, difficulty: float, seed: int) -> Level:
+    return _generated_of(game, generator, difficulty, seed)
 
 
 class GeneratedLevelSet:
@@ -174,10 +192,10 @@ class GeneratedLevelSet:
 
     prepare_ahead = True  # a function of the env index and episode seed only
 
-    def __init__(self, game: str, difficulty: float, num_levels: int, start_seed: int = 0) -> None:
-        from gvgai_pcg.generators import get_generator
-
-        get_generator(game)  # refuses a game without a generator, listing the registered ones
+    def __init__(
+        self, game: str, difficulty: float, num_levels: int, start_seed: int = 0, generator: str | None = None
+    ) -> None:
+        self.generator = _checked_generator(game, generator)
         if not 0.0 <= difficulty <= 1.0:
             raise ValueError(f"difficulty must be in [0, 1], got {difficulty}")
         if num_levels < 1:
@@ -188,13 +206,13 @@ class GeneratedLevelSet:
                 "(the training seeds; the frozen test sets' seeds lie above them)"
             )
         self.game, self.num_levels, self.start_seed = game, int(num_levels), int(start_seed)
-        self.difficulty = round(float(difficulty), 4)  # as GeneratedLevels makes them
+        self.difficulty = float(difficulty)
 
     def level(self, index: int) -> Level:
         """The set's level ``index`` (0 .. num_levels - 1): seed ``start_seed + index``."""
         if not 0 <= index < self.num_levels:
             raise IndexError(f"level {index} of a set of {self.num_levels}")
-        return _generated(self.game, self.difficulty, self.start_seed + index)
+        return _generated(self.game, self.generator, self.difficulty, self.start_seed + index)
 
     def first(self, count: int) -> list[Level]:
         """The set's first ``count`` levels (all of them when it has fewer)."""

@@ -55,17 +55,19 @@ def regimen_source(
     difficulty: float = 0.0,
     num_levels: int = 0,
     start_seed: int = 0,
+    generator: str | None = None,
 ) -> LevelSource:
     """The level source of regimen ``name``: the ``given`` levels (one: every episode; more: one
     drawn uniformly), named in a warning where one cannot be won; or generated levels, a new one
-    every episode or, with ``num_levels`` >= 1 (PCG X only), a fixed set from ``start_seed``."""
+    every episode or, with ``num_levels`` >= 1 (PCG X only), a fixed set from ``start_seed``, made
+    by ``generator`` (any registered generator of the game's levels; default: the game's own)."""
     kind = regimen_kind(name)
     if (num_levels or start_seed) and name != "pcg":
         raise ValueError(f"num_levels and start_seed are for regimen='pcg', not {name!r}")
     if kind.generated:
         if num_levels > 0:
-            return GeneratedLevelSet(game, difficulty, num_levels, start_seed)
-        return GeneratedLevels(game)
+            return GeneratedLevelSet(game, difficulty, num_levels, start_seed, generator)
+        return GeneratedLevels(game, generator)
     if not given:
         raise ValueError(f"the regimen {name!r} plays given levels, and none were given")
     warn_unwinnable(given, "training")  # generated levels are tested to be winnable

@@ -31,7 +31,7 @@ from gvgai_pcg.progress import progress
 from gvgai_pcg.rl.a2c_loss import A2CLoss
 from gvgai_pcg.rl.checkpoint import restore, save_model
 from gvgai_pcg.rl.curves import plot_curve
-from gvgai_pcg.rl.environment import EnvFactory, make_difficulty, share_through_files
+from gvgai_pcg.rl.environment import EnvFactory, make_difficulty
 from gvgai_pcg.rl.models import as_tensordict_module, make_actor_critic
 from gvgai_pcg.rl.rollout import ActingRollouts
 from gvgai_pcg.rl.run_log import EpisodeTracker, RunLog
@@ -142,7 +142,7 @@ def _train(cfg: DictConfig, run_dir: Path, config: dict, session: RunSession) ->
     else:
         env.close()
         if difficulty is not None:
-            share_through_files(difficulty, run_dir / "shared")
+            difficulty.share_through(run_dir / "shared")
         collector = MultiSyncCollector(
             [ignoring_stop_signals(functools.partial(make_env, worker=i)) for i in range(workers)],
             policy,

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from pathlib import Path
 
 from omegaconf import DictConfig
 from torchrl.envs import EnvBase
@@ -99,19 +98,3 @@ def make_difficulty(regimen: DictConfig, game: str) -> DifficultyTransform | Non
         alpha=float(regimen.get("alpha", 0.01)),
         win_rule=regimen.get("win_rule", "game"),
     )
-
-
-def share_through_files(difficulty, directory: Path) -> None:
-    """Back the transform's buffers by memory-mapped files in ``directory``, so collector worker
-    processes (which receive a pickled copy of the factory) read and move the very same
-    difficulty as the main process; in-process shared memory does not survive that pickling.
-    The files start from the transform's current values (a resumed run's are restored first), and
-    a lock file there serialises the moves of all processes."""
-    from tensordict import MemoryMappedTensor
-
-    directory.mkdir(parents=True, exist_ok=True)
-    for name, buffer in list(difficulty.named_buffers()):
-        path = directory / f"{name}.memmap"
-        path.unlink(missing_ok=True)  # left by an earlier session of the run
-        setattr(difficulty, name, MemoryMappedTensor.from_tensor(buffer, filename=path))
-    difficulty.lock_path = directory / "difficulty.lock"

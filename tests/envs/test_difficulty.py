@@ -10,7 +10,6 @@ from torchrl.envs import TransformedEnv, check_env_specs
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.difficulty import DifficultyTransform
 from gvgai_pcg.envs.level_sources import TEST_SEED_BASE, TRAINING_SEED_SPACE, GeneratedLevels
-from gvgai_pcg.rl.environment import share_through_files
 
 
 def test_progressive_update_follows_wins_and_losses_in_order():
@@ -79,7 +78,7 @@ def test_workers_sharing_through_files_never_lose_a_move(tmp_path):
     """Two processes moving one difficulty at once: each move reads, changes and writes it, so
     without the shared lock file one process overwrites the other's moves."""
     transform = DifficultyTransform("progressive", alpha=1e-5)
-    share_through_files(transform, tmp_path)
+    transform.share_through(tmp_path)
     context = multiprocessing.get_context("spawn")
     children = [context.Process(target=_win_many_times, args=(transform, 6000)) for _ in range(2)]
     for child in children:
@@ -94,11 +93,11 @@ def test_workers_sharing_through_files_never_lose_a_move(tmp_path):
 def test_sharing_through_files_again_starts_from_the_current_values(tmp_path):
     """A resumed run shares its restored difficulty through the files of its first session."""
     first = DifficultyTransform("progressive", alpha=0.01)
-    share_through_files(first, tmp_path)
+    first.share_through(tmp_path)
     first.update([True] * 30)
     resumed = DifficultyTransform("progressive", alpha=0.01)
     resumed.update([True] * 12)  # as restored from its checkpoint
-    share_through_files(resumed, tmp_path)
+    resumed.share_through(tmp_path)
     assert resumed.difficulty == pytest.approx(0.12) and resumed.episodes.item() == 12
 
 
@@ -117,7 +116,8 @@ def test_env_generates_at_the_transform_difficulty():
     )
     check_env_specs(env)
     rollout = env.rollout(25, break_when_any_done=False)
-    assert torch.allclose(rollout.get(("next", "difficulty")), torch.tensor(0.7))
+    difficulty = rollout.get(("next", "difficulty"))
+    assert difficulty.dtype == torch.float64 and (difficulty == 0.7).all()  # exactly the config's d
     seeds = rollout.get("level_seed")
     assert ((seeds >= 0) & (seeds < TRAINING_SEED_SPACE)).all() and TRAINING_SEED_SPACE < TEST_SEED_BASE
     assert len(set(seeds.flatten().tolist())) == 12  # 4 envs x 3 episodes of 10 steps, all distinct
@@ -125,7 +125,7 @@ def test_env_generates_at_the_transform_difficulty():
 
 
 def test_ppcg_moves_one_difficulty_for_all_envs():
-    transform = DifficultyTransform("progressive", win_rule="study")
+    transform = DifficultyTransform("progressive", win_rule="study", game="zelda")
     env = TransformedEnv(
         GVGAIEnv("zelda", num_envs=4, levels=GeneratedLevels("zelda"), max_steps=5), transform
     )
@@ -140,3 +140,45 @@ def test_bad_settings_are_refused():
         DifficultyTransform(win_rule="paper")
     with pytest.raises(ValueError, match=r"\[0, 1\]"):
         DifficultyTransform(start=1.5)
+
+
+def test_ppcg_steps_land_on_the_decimals_a_log_shows():
+    """0.01 added eight times is 0.08000000000000002 in floats; the transform keeps 0.08, the value
+    that the log prints and the level name records, so the level can be made again from them."""
+    transform = DifficultyTransform("progressive", alpha=0.01)
+    transform.update([True] * 8)
+    assert transform.difficulty == 0.08
+    td = transform._reset_env_preprocess(TensorDict({}, batch_size=[2]))
+    levels = GeneratedLevels("zelda").next_levels(
+        torch.arange(2), torch.tensor([5, 6]), td.get("difficulty").reshape(-1)
+    )
+    assert [level.name for level in levels] == ["zelda_d0.08_s5", "zelda_d0.08_s6"]
+
+
+def test_the_study_rule_needs_the_game():
+    with pytest.raises(ValueError, match="give game="):
+        DifficultyTransform("progressive", win_rule="study")
+
+
+def test_generated_levels_take_any_registered_generator_of_the_game():
+    from gvgai_pcg.generators import generate_level, register_generator
+    from gvgai_pcg.generators.registry import _GENERATORS
+
+    @register_generator("zelda-mirrored")
+    def mirrored(difficulty: float, seed: int):
+        level = generate_level("zelda", difficulty, seed)
+        return type(level)(level.game, tuple(row[::-1] for row in level.rows), name=f"mirrored_s{seed}")
+
+    try:
+        source = GeneratedLevels("zelda", generator="zelda-mirrored")
+        half = torch.tensor([0.5], dtype=torch.float64)
+        level = source.next_levels(torch.arange(1), torch.tensor([3]), half)[0]
+        assert level.rows == tuple(row[::-1] for row in generate_level("zelda", 0.5, 3).rows)
+        with pytest.raises(ValueError, match="made a zelda level, not a frogs level"):
+            GeneratedLevels("frogs", generator="zelda-mirrored").next_levels(
+                torch.arange(1), torch.tensor([3]), half
+            )
+        with pytest.raises(ValueError, match="registered generators are"):
+            GeneratedLevels("zelda", generator="no-such-generator")
+    finally:
+        _GENERATORS.pop("zelda-mirrored")
