@@ -27,6 +27,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--page", type=Path, help="with --publish: rewrite the results block of this page (docs/results.md)"
     )
+    parser.add_argument(
+        "--trained-at",
+        metavar="COMMIT",
+        help="with --page: the commit that trained and evaluated the runs, when not this checkout's "
+        "(runs trained from a worktree at a fixed commit)",
+    )
     parser.add_argument("--no-progress", action="store_true", help="hide progress bars")
     parser.add_argument("overrides", nargs="*", help="Hydra overrides for every run")
 
@@ -73,7 +79,8 @@ def run(args: argparse.Namespace) -> int:
         from gvgai_pcg.study.page import write_results_page
 
         images = args.page.parent / "images" / "results"
-        write_results_page(args.page, outcome.published, images, "images/results", budget.frames, _commit())
+        commit = args.trained_at or _commit()
+        write_results_page(args.page, outcome.published, images, "images/results", budget.frames, commit)
         print(f"page: {args.page}")
     return 0
 
