@@ -49,7 +49,8 @@ from gvgai_pcg.games.base import (
     golden_record,
     single_sprite_layer,
 )
-from gvgai_pcg.games.geometry import CELL, cell_of, off_screen, pick
+from gvgai_pcg.games.geometry import CELL, cell_of, off_screen
+from gvgai_pcg.games.lookup import pick
 from gvgai_pcg.games.registry import register_game
 from gvgai_pcg.levels import Level
 

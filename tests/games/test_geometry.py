@@ -26,7 +26,7 @@ def test_byte_reductions_equal_torch_ones():
 
 
 def test_pick_is_a_table_look_up_for_codes_of_any_shape():
-    from gvgai_pcg.games.geometry import pick
+    from gvgai_pcg.games.lookup import pick
 
     table = torch.tensor([5, -1, 7])
     codes = torch.tensor([[2, 0], [1, 1]])
