@@ -159,8 +159,8 @@ def _sprite_index(
     if row is None:
         row = centre_cell_of(y)
         shown &= row.clamp(100, height + 99) == row
-    # spare + (cell - spare) * shown: a select by arithmetic, as torch.where on the CPU costs about
-    # ten times an add here (and masked_fill more).
+    # spare + (cell - spare) * shown: a select by arithmetic, as torch.where (and masked_fill) on
+    # the CPU cost many times an add here.
     index = torch.add(first - spare, row, alpha=width).add_(column).mul_(shown)
     return index.view(-1).long().add_(spare)
 
@@ -193,7 +193,7 @@ _ONES: dict[torch.device, torch.Tensor] = {}
 
 def _ones(count: int, device: torch.device) -> torch.Tensor:
     """``count`` uint8 ones (a slice of one kept buffer): a 1-D ``scatter_`` from a real tensor is
-    about three times faster than ``put_`` or a scatter of a scalar."""
+    faster than ``put_`` or a scatter of a scalar."""
     ones = _ONES.get(device)
     if ones is None or ones.numel() < count:
         ones = _ONES[device] = torch.ones(max(count, 1 << 16), dtype=torch.uint8, device=device)
