@@ -25,6 +25,7 @@ from collections.abc import Sequence
 import torch
 from tensordict import TensorDict
 
+from gvgai_pcg._private_apis import assert_async
 from gvgai_pcg.games import rng
 from gvgai_pcg.games.actions import MOVE_ACTIONS, NIL, move_displacement
 from gvgai_pcg.games.base import (
@@ -243,7 +244,7 @@ class Frogs(Game):
         fired, env = due[fires], env[fires]
         slot = schedule["slot"].reshape(-1).index_select(0, fired)
         alive = logs.get("alive")
-        torch._assert_async(
+        assert_async(
             ~alive[env, slot].any(),
             "frogs: a spawned log found its ring slot occupied; the log table is smaller than the "
             "bound of spawner_ring_size",
