@@ -47,8 +47,9 @@ def direction_dy(direction: torch.Tensor, dtype: torch.dtype = torch.int64) -> t
 
 
 def overlaps(ax: torch.Tensor, ay: torch.Tensor, bx: torch.Tensor, by: torch.Tensor) -> torch.Tensor:
-    """Strict overlap of 10x10 rectangles (edge-adjacent cells do not overlap); broadcasts."""
-    return (ax < bx + CELL) & (bx < ax + CELL) & (ay < by + CELL) & (by < ay + CELL)
+    """Strict overlap of 10x10 rectangles (edge-adjacent cells do not overlap): both distances
+    below 10 px, as one test on the larger; broadcasts."""
+    return torch.maximum((bx - ax).abs(), (by - ay).abs()) < CELL
 
 
 def off_screen(

@@ -55,9 +55,11 @@ from gvgai_pcg.games.geometry import (
     RIGHT,
     any_last,
     cell_of,
+    count_last,
     direction_dx,
     direction_dy,
     flat_cell,
+    overlaps,
 )
 from gvgai_pcg.games.lookup import lookup
 from gvgai_pcg.games.registry import register_game
@@ -280,12 +282,12 @@ class Solarfox(Game):
         # 1-4 avatar × wall, enemy, enemyground, shot: kill (disable) the ship, -10 per sprite overlapped.
         lethal = hits & torch.gather(state.get("deadly").view(batch, -1), 1, cells)
         ship_x, ship_y = ax.unsqueeze(-1), ay.unsqueeze(-1)
-        enemy_hit = e_alive & _overlap(ship_x, ship_y, CELL * col, CELL * row)
-        shot_hit = shots.get("alive") & _overlap(ship_x, ship_y, shots.get("x"), shots.get("y"))
-        lethal = _count(lethal) + alive * (_count(enemy_hit) + _count(shot_hit))
+        enemy_hit = e_alive & overlaps(ship_x, ship_y, CELL * col, CELL * row)
+        shot_hit = shots.get("alive") & overlaps(ship_x, ship_y, shots.get("x"), shots.get("y"))
+        lethal = count_last(lethal) + alive * (count_last(enemy_hit) + count_last(shot_hit))
         # 5 blib × avatar: collect, +1 each (the ship still collects in the tick it dies).
         blib = torch.gather(flat["blib"], 1, cells)
-        taken = _count(hits & blib)
+        taken = count_last(hits & blib)
         flat["blib"].scatter_(1, cells, blib & ~under)
         # 6a, 6b, 8 (and the turnings' expiry), only where a turning created in the last 10 ticks
         # may still pair with its powerblib.
@@ -453,13 +455,3 @@ class Solarfox(Game):
         """+1 per blib and +2 per powerblib (its blib is worth 1 and eating its powerblib 1, §5.6),
         collected without dying."""
         return level.count("b") + 2 * level.count("p")
-
-
-def _count(hit: torch.Tensor) -> torch.Tensor:
-    """Set entries along the last axis, summed in int32 (cheaper than the default int64)."""
-    return hit.sum(-1, dtype=torch.int32)
-
-
-def _overlap(ax: torch.Tensor, ay: torch.Tensor, bx: torch.Tensor, by: torch.Tensor) -> torch.Tensor:
-    """Strict overlap of 10x10 rectangles (geometry.overlaps) as one distance test; broadcasts."""
-    return torch.maximum((bx - ax).abs(), (by - ay).abs()) < CELL
