@@ -247,7 +247,7 @@ class Frogs(Game):
         assert_async(
             ~alive[env, slot].any(),
             "frogs: a spawned log found its ring slot occupied; the log table is smaller than the "
-            "bound of spawner_ring_size",
+            "bound of frogs_logs.spawner_ring_size",
         )
         x32, y32 = sx[fires].to(torch.int32), sy[fires].to(torch.int32)
         where = (env, slot)
