@@ -1,7 +1,7 @@
 """Next episodes prepared ahead, in bulk, for level sources that allow it.
 
 A partial reset of a few envs costs the reset tick of a small batch: a few hundred small ops
-whatever the number of envs (3-5 ms on a 2-core CPU, a third of a B = 4096 step). When the next
+whatever the number of envs (on the CPU, a sizeable part of a B = 4096 step). When the next
 level of every env is known in advance (its source does not look at anything that changes during
 training, ``prepare_ahead`` on the source), the env instead prepares the next episode of every
 env whose episode is not ready, all in one batch, and a reset takes its envs' rows from here.

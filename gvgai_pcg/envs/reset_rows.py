@@ -1,11 +1,12 @@
 """Merging a partial reset into the running tensordict by rows, not by ``torch.where``.
 
 After a partial reset TorchRL merges the reset output into the running tensordict with
-``torch.where`` over every entry (``torchrl.envs.utils._update_during_reset``). On the CPU a
-``where`` whose mask is broadcast over an observation is slow: about 27 ms for the uint8 tiles of
-4,096 Boulderdash envs, more than the step itself, and paid on every step that ends an episode
-somewhere in the batch. Copying just the reset rows gives the same tensordict for a fraction of
-a millisecond. Anything but a plain ``"_reset"`` mask goes to TorchRL's own merge.
+``torch.where`` over every entry. On the CPU a ``where`` whose mask is broadcast over an
+observation is slow: for the uint8 tiles of thousands of envs it costs more than the step itself,
+and it is paid on every step that ends an episode somewhere in the batch. Copying just the reset
+rows gives the same tensordict at a small fraction of that cost. Anything but a plain ``"_reset"``
+mask goes to TorchRL's own merge. The TorchRL internals this takes over and calls back into are
+wrapped in :mod:`gvgai_pcg._private_apis`.
 """
 
 from __future__ import annotations
@@ -13,8 +14,14 @@ from __future__ import annotations
 import torch
 from tensordict import TensorDictBase
 from torchrl.envs import EnvBase, TransformedEnv
-from torchrl.envs.utils import _update_during_reset
 
+from gvgai_pcg._private_apis import (
+    ResetMergeHook,
+    allows_done_after_reset,
+    complete_done,
+    reset_check_done,
+    torchrl_reset_merge,
+)
 from gvgai_pcg.games.buffers import BufferPool
 from gvgai_pcg.games.rows import copy_tensor_rows_
 
@@ -36,7 +43,7 @@ def merge_reset_rows(
     entry, if still there, is taken whole instead of copied."""
     reset = tensordict.get(RESET_KEY, None) if list(reset_keys) == [RESET_KEY] else None
     if reset is None or reset.ndim > tensordict.ndim + 1 or tensordict.ndim != 1:
-        return _update_during_reset(tensordict_reset, tensordict, reset_keys)
+        return torchrl_reset_merge(tensordict_reset, tensordict, reset_keys)
     tensordict.pop(RESET_KEY)
     mask = reset.reshape(tensordict.shape)
     if mask.all():
@@ -59,9 +66,9 @@ def merge_reset_rows(
 
 def check_reset_not_done(env: EnvBase, tensordict: TensorDictBase, tensordict_reset: TensorDictBase) -> None:
     """TorchRL's check that no env a ``"_reset"`` mask restarts is done after it
-    (``EnvBase._reset_check_done``), for a plain mask over a tensordict that has every done entry
-    (a collector's case) in a few ops; any other case goes to TorchRL's own check, whose indexing
-    by the mask costs a third of a millisecond on 4,096 envs."""
+    (:func:`gvgai_pcg._private_apis.reset_check_done`), for a plain mask over a tensordict that has
+    every done entry (a collector's case) in a few ops; any other case goes to TorchRL's own check,
+    whose indexing by the mask costs more."""
     reset = tensordict.get(RESET_KEY, None) if list(env.reset_keys) == [RESET_KEY] else None
     done_keys = list(env.done_keys)
     if (
@@ -70,9 +77,9 @@ def check_reset_not_done(env: EnvBase, tensordict: TensorDictBase, tensordict_re
         or any(tensordict.get(key, None) is None for key in done_keys)
         or any(tensordict_reset.get(key).shape != reset.shape for key in done_keys)
     ):
-        env._reset_check_done(tensordict, tensordict_reset)
+        reset_check_done(env, tensordict, tensordict_reset)
         return
-    if getattr(env, "_allow_done_after_reset", False):
+    if allows_done_after_reset(env):
         return
     for key in done_keys:
         if (tensordict_reset.get(key) & reset).any():
@@ -90,7 +97,7 @@ def take_complete_entries(env: EnvBase) -> dict | None:
     return complete
 
 
-class RowResetEnv(EnvBase):
+class RowResetEnv(ResetMergeHook, EnvBase):
     """An ``EnvBase`` whose partial resets are merged by :func:`merge_reset_rows`.
 
     A subclass whose ``_reset`` output holds the running values in the rows it does not reset
@@ -101,23 +108,23 @@ class RowResetEnv(EnvBase):
 
     _complete_entries: dict | None = None
 
-    def _reset_proc_data(self, tensordict, tensordict_reset):
-        self._complete_done(self.full_done_spec, tensordict_reset)
+    def merge_reset(self, tensordict, tensordict_reset):
+        complete_done(self, tensordict_reset)
         complete = take_complete_entries(self)
         if tensordict is None:
-            self._reset_check_done(tensordict, tensordict_reset)
+            reset_check_done(self, tensordict, tensordict_reset)
             return tensordict_reset
         check_reset_not_done(self, tensordict, tensordict_reset)
         pool = getattr(self, "buffers", None)
         return merge_reset_rows(tensordict_reset, tensordict, self.reset_keys, pool, complete)
 
 
-class RowResetTransformedEnv(TransformedEnv):
+class RowResetTransformedEnv(ResetMergeHook, TransformedEnv):
     """A ``TransformedEnv`` whose partial resets are merged by :func:`merge_reset_rows` (entries
     the transforms left as the base env's complete ones are taken whole)."""
 
-    def _reset_proc_data(self, tensordict, tensordict_reset):
-        self._reset_check_done(tensordict, tensordict_reset)
+    def merge_reset(self, tensordict, tensordict_reset):
+        reset_check_done(self, tensordict, tensordict_reset)
         complete = take_complete_entries(self.base_env)
         if tensordict is not None:
             pool = getattr(self.base_env, "buffers", None)

@@ -271,7 +271,7 @@ def pad_entity_tables(state: TensorDict, capacities: dict[str, int]) -> TensorDi
         table = state.get(key)
         missing = size - table.batch_size[1]
         if missing > 0:
-            # leaf by leaf: a TensorDict ``cat`` validates every entry and costs ten times more
+            # leaf by leaf: a TensorDict ``cat`` validates every entry and costs much more
             state.set(
                 key,
                 table.apply(functools.partial(_grow_slots, missing=missing), batch_size=[len(table), size]),

@@ -47,6 +47,7 @@ import torch
 from tensordict import TensorDict
 
 from gvgai_pcg.games import rng
+from gvgai_pcg.games.actions import SHOOT_ACTIONS, shoot_avatar
 from gvgai_pcg.games.base import (
     Game,
     GridLayer,
@@ -68,15 +69,15 @@ from gvgai_pcg.games.geometry import (
     RIGHT,
     any_last,
     count_last,
+    direction_dx,
+    direction_dy,
     overlaps_any,
-    pick,
     screen_cell,
+    small_cell_of,
 )
-from gvgai_pcg.games.geometry import small_cell_of as cell_of
 from gvgai_pcg.games.registry import register_game
 from gvgai_pcg.levels import Level
 
-NIL, USE = 0, 1
 BUTTERFLY, CRAB = 0, 1  # enemy kinds, in update order (RULES.md §7.2)
 ENEMY_CHARS = {"b": BUTTERFLY, "c": CRAB}
 DIAMOND_LIMIT = 10  # the avatar holds at most 10 diamonds
@@ -87,10 +88,6 @@ BOULDER_FALL = 2  # px per tick: speed 0.2 of a 10-px cell
 STREAM_ENEMY_DIRECTION = 1
 # A boulder's flat key is column * _COLUMN_KEY + y: one subtraction compares column and height.
 _COLUMN_KEY = 1 << 20
-
-# Unit displacement per direction code (LEFT, RIGHT, DOWN, UP, NONE), see geometry.py.
-_DX = (-1, 1, 0, 0, 0)
-_DY = (0, 0, 1, -1, 0)
 
 
 def draw_enemy_directions(seed: torch.Tensor, draw_tick: torch.Tensor, slots: torch.Tensor) -> torch.Tensor:
@@ -117,7 +114,7 @@ def boulder_cells(y: torch.Tensor, column: torch.Tensor, height: int, width: int
     aligned). Rows below the grid map to row ``height``, which the caller's grids keep empty (a
     boulder falls out of a level that has no bottom wall)."""
     y = y.clamp(max=CELL * height)
-    rows = cell_of(torch.stack([y, y + (CELL - 1)], dim=-1))
+    rows = small_cell_of(torch.stack([y, y + (CELL - 1)], dim=-1))
     return (rows * width + column.unsqueeze(-1)).view(y.shape[0], -1)
 
 
@@ -173,7 +170,7 @@ def collect_gems(
 
 @register_game("boulderdash")
 class Boulderdash(Game):
-    actions = ("NIL", "USE", "LEFT", "RIGHT", "DOWN", "UP")
+    actions = SHOOT_ACTIONS
     tile_types = ("wall", "sword", "dirt", "exitdoor", "diamond", "boulder", "crab", "butterfly", "avatar")
     art = {
         "background": SpriteArt((20, 20, 20)),
@@ -191,13 +188,13 @@ class Boulderdash(Game):
     def compile(self, levels: Sequence[Level], seeds: torch.Tensor, device: torch.device) -> TensorDict:
         batch = len(levels)
         if max(level.height for level in levels) * CELL + CELL > 1028:
-            raise ValueError("boulderdash levels must have at most 101 rows (cell arithmetic of cell_of)")
+            raise ValueError("boulderdash levels must have at most 101 rows (the range of small_cell_of)")
         ax, ay = avatar_cell(levels, "A")
         zeros = torch.zeros(batch, dtype=torch.int64)
         table = char_entities(levels, {"o": 0}, device, capacity=1)
         bx, by, balive = table.get("x"), table.get("y"), table.get("alive")
         below, has_below = below_neighbours(bx, by, balive)
-        column = cell_of(bx)
+        column = small_cell_of(bx)
         boulders = {  # int32: half the memory traffic of int64, and still valid gather indices
             "x": bx.int(),
             "y": by.int(),
@@ -250,23 +247,17 @@ class Boulderdash(Game):
         state.set("tick", tick)
         avatar, sword = state.get("avatar"), state.get("sword")
         enemies, boulders, gems = state.get("enemies"), state.get("boulders"), state.get("gems")
-        dx, dy = self._unit(tick.device)
         # Whether a sprite may be off its screen in this batch (one check, see the module docstring).
         leaving = bool(any_last(state.get("open")))
 
         # Step 2, the avatar (ShootAvatar): a new direction only turns it, the faced one moves it 10 px;
         # USE places the pickaxe in the faced cell unless one exists (singleton).
-        alive, ori = avatar.get("alive"), avatar.get("ori")
-        lastx, lasty = avatar.get("x"), avatar.get("y")
-        direction = torch.where(action >= 2, action - 2, torch.full_like(action, NONE))
-        pressed = alive & (direction != NONE)
-        step = (pressed & (direction == ori)).long() * CELL
-        ori = torch.where(pressed, direction, ori)
-        ax, ay = lastx + step * pick(dx, direction), lasty + step * pick(dy, direction)
+        alive, lastx, lasty = avatar.get("alive"), avatar.get("x"), avatar.get("y")
         exists = sword.get("exists")
-        place = alive & (action == USE) & ~exists
-        sx = torch.where(place, lastx + CELL * pick(dx, ori), sword.get("x"))
-        sy = torch.where(place, lasty + CELL * pick(dy, ori), sword.get("y"))
+        moved = shoot_avatar(action, alive, avatar.get("ori"), lastx, lasty, ~exists)
+        ax, ay, ori, place = moved.x, moved.y, moved.ori, moved.place
+        sx = torch.where(place, moved.place_x, sword.get("x"))
+        sy = torch.where(place, moved.place_y, sword.get("y"))
         age = torch.where(place, torch.zeros_like(sword.get("age")), sword.get("age"))
         exists = exists | place
 
@@ -274,7 +265,7 @@ class Boulderdash(Game):
         # from their second update on), the pickaxe (Flicker: killed once older than its limit).
         elastx, elasty, present = enemies.get("x"), enemies.get("y"), enemies.get("alive")
         heading = enemy_directions(state.get("seed"), tick, torch.arange(elastx.shape[1], device=tick.device))
-        ex, ey = elastx + CELL * pick(dx, heading), elasty + CELL * pick(dy, heading)
+        ex, ey = elastx + CELL * direction_dx(heading), elasty + CELL * direction_dy(heading)
         blasty = boulders.get("y")
         by = blasty + (BOULDER_FALL * (tick > 0)).int().unsqueeze(-1)
         sword_killed = exists & (age > SWORD_LIMIT)
@@ -337,7 +328,7 @@ class Boulderdash(Game):
         # overlaps now" is: same column and by − ay in (−10, 2 − 5).
         # Off the screen the avatar's column is clamped to one beside the grid, where no boulder is.
         still = alive & (ax == lastx) & (ay == lasty) & (tick > 0)
-        column = cell_of(ax.clamp(-CELL, CELL * width) if leaving else ax)
+        column = small_cell_of(ax.clamp(-CELL, CELL * width) if leaving else ax)
         offset = boulders.get("key") + by - (column * _COLUMN_KEY + ay).int().unsqueeze(-1)
         from_above = (offset > -CELL) & (offset < BOULDER_FALL - 5) & balive
         crushed = still & any_last(from_above)
@@ -409,13 +400,6 @@ class Boulderdash(Game):
         won = ~lost & (exits == 0)
         state.update(
             {"exits": exits, "score": score, "won": state.get("won") | won, "lost": state.get("lost") | lost}
-        )
-
-    @staticmethod
-    def _unit(device: torch.device) -> tuple[torch.Tensor, torch.Tensor]:
-        return (
-            torch.tensor(_DX, dtype=torch.int64, device=device),
-            torch.tensor(_DY, dtype=torch.int64, device=device),
         )
 
     def layers(self, state: TensorDict) -> list[Layer]:

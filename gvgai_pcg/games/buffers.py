@@ -16,8 +16,7 @@ import sys
 
 import torch
 
-# The number of references to a tensor's storage (PyTorch-internal; without it nothing is reused).
-_storage_use_count = getattr(torch._C, "_storage_Use_Count", None)
+from gvgai_pcg._private_apis import HAS_STORAGE_USE_COUNT, storage_use_count
 
 
 def _references(buffer: torch.Tensor) -> tuple[int, int]:
@@ -25,7 +24,7 @@ def _references(buffer: torch.Tensor) -> tuple[int, int]:
     holders of its Python storage object (``t.untyped_storage()``, which PyTorch keeps once per
     storage and so adds nothing to the use count) through that object's reference count."""
     storage = buffer.untyped_storage()
-    return _storage_use_count(storage._cdata), sys.getrefcount(storage)
+    return storage_use_count(storage), sys.getrefcount(storage)
 
 
 class BufferPool:
@@ -43,7 +42,7 @@ class BufferPool:
         device = torch.device(device)
         size = numel * dtype.itemsize
         pooled = self.min_bytes <= size <= self.max_bytes
-        if not pooled or device.type != "cpu" or _storage_use_count is None:
+        if not pooled or device.type != "cpu" or not HAS_STORAGE_USE_COUNT:
             return torch.empty(numel, dtype=dtype, device=device)
         # A buffer moved to shared memory (sent to another process) may be read there at any time.
         self._buffers = [entry for entry in self._buffers if not entry[0].untyped_storage().is_shared()]

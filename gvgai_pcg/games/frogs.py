@@ -12,31 +12,22 @@ pullWithIt (1 px, only if the frog did not move) · 3 frog × wall stepBack · 4
 5 frog × water kill (unless shielded).
 Termination: no goal → WIN, then no frog → LOSE.
 
-Logs live in one entity table. Each spawner owns a ring of slots sized from its position and
-cooldown (a log lives a fixed number of ticks, so a ring of ``(x + 2) // cooldown + 1`` slots can
-never be full when the spawner fires); level logs borrow ring slots that are first written after
-they are gone, or get slots of their own before the rings; a last "dump" slot absorbs the writes
-of spawners that do not fire. Slot order is therefore not creation order; no rule depends on it
-(see ``_apply_rules``, rule 2b).
-
-Since every log moves 1 px per tick from its second update on, the tick touches the whole table
-only to move all x at once and to find the logs near the frog: the other log events (first
-update, spawn, removal at x = −1) happen at ticks known in advance and are written into the few
-slots they concern (``_spawn_schedule``, ``_cleanup_logs``). Near-frog tests use a collision key
-that a moving log keeps (``log_key``).
+Logs live in one entity table whose slots are laid out, scheduled and keyed by
+:mod:`gvgai_pcg.games.frogs_logs` (the machinery and the invariants it keeps); slot order is not
+creation order, and no rule depends on it (see ``_apply_rules``, rule 2b). The tick touches the
+whole log table only to move all x at once and to find the logs near the frog.
 """
 
 from __future__ import annotations
 
-import bisect
 from collections.abc import Sequence
-from functools import cache, lru_cache
-from typing import NamedTuple
 
 import torch
 from tensordict import TensorDict
 
+from gvgai_pcg._private_apis import assert_async
 from gvgai_pcg.games import rng
+from gvgai_pcg.games.actions import MOVE_ACTIONS, NIL, move_displacement
 from gvgai_pcg.games.base import (
     Game,
     GridLayer,
@@ -49,7 +40,16 @@ from gvgai_pcg.games.base import (
     golden_record,
     single_sprite_layer,
 )
-from gvgai_pcg.games.geometry import CELL, cell_of, off_screen, pick
+from gvgai_pcg.games.frogs_logs import (
+    LOG_SPEED,
+    dying_log_slots,
+    log_key,
+    log_tables,
+    spawn_schedule,
+    wrap_around_,
+)
+from gvgai_pcg.games.geometry import CELL, gather_cells, off_screen, row_cells
+from gvgai_pcg.games.lookup import lookup
 from gvgai_pcg.games.registry import register_game
 from gvgai_pcg.levels import Level
 
@@ -74,126 +74,13 @@ SPAWNER_TYPES = ("forestSparse", "forestDense")
 SPAWNER_CHARS = {"3": 0, "4": 0, "1": 1, "2": 1}
 SPAWN_COOLDOWN = (5, 10)
 SPAWN_PROB = (0.1, 0.4)
-LOG_SPEED = 1  # px per tick, to the left
 STREAM_LOG_SPAWN = 1
 SLOT_ROW_STRIDE = 1 << 16  # rng slot of a spawner: y * stride + x, independent of the grid size
-LOG_ROW_KEY = 1 << 20  # rows of log keys are 10 * 2^20 apart (see log_key)
-
-NIL = 0
-# Frog actions 1..4 are LEFT, RIGHT, DOWN, UP: unit moves indexed by the action.
-ACTION_DX = (0, -1, 1, 0, 0)
-ACTION_DY = (0, 0, 0, 1, -1)
-
-
-@cache
-def _constant(values: tuple, dtype: torch.dtype, device: torch.device) -> torch.Tensor:
-    """A small lookup table (per-kind or per-action constants) on ``device``, made once."""
-    return torch.tensor(values, dtype=dtype, device=device)
-
-
-def _lookup(values: tuple, dtype: torch.dtype, index: torch.Tensor) -> torch.Tensor:
-    """``values[index]`` elementwise (see :func:`geometry.pick`)."""
-    return pick(_constant(values, dtype, index.device), index)
-
-
-def spawner_ring_size(x: torch.Tensor, cooldown: torch.Tensor) -> torch.Tensor:
-    """Slots a spawner at pixel column ``x`` needs so that its logs never outnumber them.
-
-    A log spawned at tick t sits at x in ticks t and t+1, moves 1 px per tick from t+2, reaches
-    x = −1 (EOS kill) in tick t + x + 2 and is removed at the end of that tick. Spawns happen
-    only at multiples of ``cooldown``, so slot ``(t // cooldown) % size`` is free again when
-    ``size * cooldown > x + 2``.
-    """
-    return (x + 2).div(cooldown, rounding_mode="floor") + 1
-
-
-def log_key(x: torch.Tensor, y: torch.Tensor, tick: torch.Tensor | int) -> torch.Tensor:
-    """The int32 collision key of a log (or the frog) at ``x, y`` in tick ``tick``.
-
-    ``(y + 10) * 2^20 + x + tick``: a moving log keeps its key, so keys change only when a log
-    is spawned, makes its first (non-moving) update, or dies (key 0). Keys of sprites in one row
-    differ by their x distance and rows are 10 * 2^20 apart, so ``|key - frog key| < 10`` is the
-    frog × log overlap; a dead slot (key 0) is never near a frog. Exact while the key fits in
-    int32: on an 11-row grid for 2e9 ticks.
-    """
-    return ((y + CELL) * LOG_ROW_KEY + x + tick).to(torch.int32)
-
-
-def _floor_mod(a: torch.Tensor, n: torch.Tensor) -> torch.Tensor:
-    """``a mod n`` (floor) of whole float64 numbers; float division, as integer division is slow."""
-    return a - (a / n).floor_() * n
-
-
-def _frog_cells(shape: torch.Size, x: torch.Tensor, y: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
-    """Flat cell indices ``[B, ..., 2]`` that frogs at ``x, y`` (``[B, ...]``) overlap, and a
-    validity mask.
-
-    The frog's y is always a multiple of 10 (it moves 10 px vertically, is pulled only
-    horizontally, and step-backs restore earlier positions), so it covers one row of one or two
-    cells; a cell off the grid (the frog carried to x = −1) is not valid.
-    """
-    _, height, width = shape
-    x0 = cell_of(x)
-    x1 = cell_of(x + CELL - 1)
-    cxs = torch.stack([x0, x1], dim=-1)
-    valid = (cxs >= 0) & (cxs < width)
-    valid[..., 1] &= x1 != x0
-    row = cell_of(y).clamp_(0, height - 1).unsqueeze(-1)
-    return row * width + cxs.clamp_(0, width - 1), valid
-
-
-def _grid_hits(grid: torch.Tensor, cells: torch.Tensor, valid: torch.Tensor) -> torch.Tensor:
-    """Which of the flat ``cells`` (``[B, ...]``, masked by ``valid``) are set in ``grid`` (``[B, H, W]``)."""
-    batch = grid.shape[0]
-    return torch.gather(grid.view(batch, -1), 1, cells.reshape(batch, -1)).view(cells.shape) & valid
-
-
-class LogLayout(NamedTuple):
-    """Where one level's logs live in the log table (see :func:`_log_layout`)."""
-
-    slots: tuple[int, ...]  # the slot of each level log (of the level's placed logs, in order)
-    by_column: tuple[int, ...]  # the level logs' slots ordered by column (their removal order)
-    bases: tuple[int, ...]  # the first slot of each spawner's ring
-    size: int  # slots used, the dump slot not counted
-
-
-@lru_cache(maxsize=4096)  # per distinct level; generated levels are many
-def _log_layout(xs: tuple[int, ...], rings: tuple[int, ...], cooldowns: tuple[int, ...]) -> LogLayout:
-    """Log slots of one level: level logs at pixel columns ``xs`` (−1: no log, padding) and
-    spawner rings of ``rings`` slots (0: no spawner).
-
-    A level log at x0 is gone after tick x0 + 1, and ring slot j of a spawner is first written
-    in tick j * cooldown, so a level log borrows such a ring slot when x0 + 2 <= j * cooldown
-    (fewest slots: most constrained logs first, each taking the earliest ring slot it may);
-    the others get slots of their own before the rings. A borrowed slot is free again before
-    its ring first writes it, so the guarantee of the rings holds as is.
-    """
-    free = sorted(
-        (j * cooldown, spawner, j)
-        for spawner, (ring, cooldown) in enumerate(zip(rings, cooldowns, strict=True))
-        for j in range(ring)
-    )
-    borrowed, own = {}, []
-    for log in sorted((k for k, x in enumerate(xs) if x >= 0), key=lambda k: -xs[k]):
-        k = bisect.bisect_left(free, (xs[log] + 2,))
-        if k < len(free):
-            borrowed[log] = free.pop(k)[1:]
-        else:
-            own.append(log)
-    bases = [len(own) + sum(rings[:spawner]) for spawner in range(len(rings))]
-    slots = [0] * len(xs)
-    for n, log in enumerate(own):
-        slots[log] = n
-    for log, (spawner, j) in borrowed.items():
-        slots[log] = bases[spawner] + j
-    placed = sorted((k for k, x in enumerate(xs) if x >= 0), key=lambda k: xs[k])
-    by_column = [slots[k] for k in placed] + [0] * (len(xs) - len(placed))
-    return LogLayout(tuple(slots), tuple(by_column), tuple(bases), len(own) + sum(rings))
 
 
 @register_game("frogs")
 class Frogs(Game):
-    actions = ("NIL", "LEFT", "RIGHT", "DOWN", "UP")
+    actions = MOVE_ACTIONS
     tile_types = ("wall", "water", "forestDense", "forestSparse", "goal", "log", *TRUCK_TYPES, "avatar")
     art = {
         "grass": SpriteArt((40, 110, 40)),
@@ -218,42 +105,9 @@ class Frogs(Game):
         cpu = torch.device("cpu")
 
         spawners = char_entities(levels, SPAWNER_CHARS, cpu)
-        kind, present = spawners.get("kind"), spawners.get("alive")
-        cooldown = torch.tensor(SPAWN_COOLDOWN)[kind]
-        ring = spawner_ring_size(spawners.get("x"), cooldown) * present
         placed = char_entities(levels, dict.fromkeys(LOG_CHARS, 0), cpu)
-        layouts = [
-            _log_layout(tuple(xs), tuple(rs), tuple(cs))
-            for xs, rs, cs in zip(
-                torch.where(placed.get("alive"), placed.get("x"), -1).tolist(),
-                ring.tolist(),
-                cooldown.tolist(),
-                strict=True,
-            )
-        ]
-        spawners.set(
-            "base", torch.tensor([layout.bases for layout in layouts], dtype=torch.int64).view_as(ring)
-        )
-        spawners.set("ring", ring)
+        logs, level_logs, log_columns = log_tables(spawners, placed, SPAWN_COOLDOWN, width)
         spawners.set("row", (spawners.get("y") // CELL).to(torch.int32))
-        capacity = max(layout.size for layout in layouts) + 1  # + the dump slot
-
-        count = placed.batch_size[1]
-        slot = torch.tensor([layout.slots for layout in layouts], dtype=torch.int64).view(batch, count)
-        slot = torch.where(placed.get("alive"), slot, capacity - 1)
-        alive = torch.zeros(batch, capacity, dtype=torch.bool).scatter_(1, slot, placed.get("alive"))
-        x = torch.zeros(batch, capacity, dtype=torch.int32).scatter_(1, slot, placed.get("x").to(torch.int32))
-        y = torch.zeros(batch, capacity, dtype=torch.int32).scatter_(1, slot, placed.get("y").to(torch.int32))
-        key = torch.where(alive, log_key(x, y, 0), 0)
-        # ``row`` (y // 10, a lane never changes) spares the tiles renderer working it out from y.
-        logs = TensorDict(
-            {"x": x, "y": y, "row": y // CELL, "key": key, "alive": alive}, batch_size=[batch, capacity]
-        )
-        # Level logs by column (their removal order), and where each column starts in that order.
-        order = torch.tensor([layout.by_column for layout in layouts], dtype=torch.int64).view(batch, count)
-        level_table = TensorDict({"slot": order}, batch_size=[batch, count])
-        columns = (placed.get("x") // CELL).masked_fill(~placed.get("alive"), width)
-        column_starts = (columns.unsqueeze(-1) < torch.arange(width + 1)).sum(1)
 
         ax, ay = avatar_cell(levels, "AB")
         avatar = {
@@ -284,8 +138,8 @@ class Frogs(Game):
             "forestSparse": char_grid(levels, SPARSE_CHARS, device),
             "avatar": TensorDict(avatar, batch_size=[batch]),
             "logs": logs,
-            "level_logs": level_table,
-            "log_columns": column_starts,
+            "level_logs": level_logs,
+            "log_columns": log_columns,
             **trucks,
             "spawners": spawners,
         }
@@ -302,7 +156,7 @@ class Frogs(Game):
         # Each env's own screen in px (a level padded to the batch's grid keeps its edges).
         screen_w, screen_h = CELL * state.get("width"), CELL * state.get("height")
         self._update_trucks(state, tick, screen_w)
-        schedule = self._spawn_schedule(state.get("spawners"), tick)
+        schedule = spawn_schedule(state.get("spawners"), tick, SPAWN_COOLDOWN)
         fresh = self._update_logs(state, tick, schedule)
         spawned = self._update_spawners(state, tick, schedule)
         x, y = self._apply_eos(x, y, lastx, lasty, screen_h, screen_w)
@@ -320,7 +174,7 @@ class Frogs(Game):
         often under random play (a sixth of its episodes last one step)."""
         tick = state.get("tick") + 1
         state.set("tick", tick)
-        self._update_spawners(state, tick, self._spawn_schedule(state.get("spawners"), tick))
+        self._update_spawners(state, tick, spawn_schedule(state.get("spawners"), tick, SPAWN_COOLDOWN))
         self._check_termination(state)
 
     # --- step 2: the frog (MovingAvatar: every direction action moves 10 px at once) ---
@@ -328,9 +182,7 @@ class Frogs(Game):
     def _update_avatar(
         action: torch.Tensor, pressed: torch.Tensor, x: torch.Tensor, y: torch.Tensor
     ) -> tuple[torch.Tensor, torch.Tensor]:
-        step = torch.where(pressed, action, NIL)
-        dx = _lookup(tuple(CELL * d for d in ACTION_DX), x.dtype, step)
-        dy = _lookup(tuple(CELL * d for d in ACTION_DY), y.dtype, step)
+        dx, dy = move_displacement(torch.where(pressed, action, NIL), CELL, x.dtype)
         return x + dx, y + dy
 
     # --- step 3: trucks, logs (Missiles, first update skipped), then spawners ---
@@ -347,38 +199,7 @@ class Frogs(Game):
         last = (screen_w - CELL).to(torch.int32).unsqueeze(-1)
         for name, velocity in zip(TRUCK_TYPES, TRUCK_VELOCITY, strict=True):
             tx = state.get(name).get("x")
-            tx.add_(running * velocity)
-            if velocity > 0:  # off the right edge (x > last) → 0: keep x only where x - last - 1 < 0
-                tx.bitwise_and_(torch.sub(tx, last + 1).bitwise_right_shift_(31))
-            else:  # off the left edge (x < 0) → last: x ^= (x ^ last) where x < 0
-                tx.bitwise_xor_(torch.bitwise_xor(tx, last).bitwise_and_(tx >> 31))
-
-    @staticmethod
-    def _spawn_schedule(spawners: TensorDict, tick: torch.Tensor) -> dict[str, torch.Tensor]:
-        """Which spawners are at a spawn tick, at the tick after one, or at the tick in which a
-        log they spawned reaches x = −1, and the ring slots these concern (all ``[B, S]``).
-
-        With q = tick // cooldown and r = tick % cooldown: a spawn tick has r = 0 and uses ring
-        slot q % ring; the tick after it has r = 1 and the same slot; the log spawned at
-        t0 = tick − x − 2 (r = (x + 2) % cooldown) lives in slot (q − (x + 2) // cooldown) % ring.
-        Float64 arithmetic on whole numbers is exact here and much faster than integer division.
-        """
-        kind, sx = spawners.get("kind"), spawners.get("x")
-        cooldown = _lookup(SPAWN_COOLDOWN, torch.float64, kind)
-        ring = spawners.get("ring").clamp_min(1).to(torch.float64)
-        now = tick.to(torch.float64).unsqueeze(-1)
-        q = (now / cooldown).floor_()
-        r = now - q * cooldown
-        life = sx.to(torch.float64) + 2
-        turns = (life / cooldown).floor_()
-        base = spawners.get("base")
-        return {
-            "spawn": r == 0,
-            "fresh": r == 1,
-            "kill": (r == life - turns * cooldown) & (now >= life),
-            "slot": base + _floor_mod(q, ring).to(torch.int64),
-            "kill_slot": base + _floor_mod(q - turns, ring).to(torch.int64),
-        }
+            wrap_around_(tx.add_(running * velocity), last, velocity)
 
     @staticmethod
     def _update_logs(state: TensorDict, tick: torch.Tensor, schedule: dict) -> torch.Tensor:
@@ -419,14 +240,14 @@ class Frogs(Game):
         sx, sy = of_due(spawners.get("x")), of_due(spawners.get("y"))
         slot_id = (sy * SLOT_ROW_STRIDE + sx).unsqueeze(-1)  # [K, 1]: one draw per due spawner
         draw = rng.uniform(state.get("seed")[env], tick[env], slot_id, STREAM_LOG_SPAWN).squeeze(-1)
-        fires = draw < _lookup(SPAWN_PROB, torch.float64, of_due(spawners.get("kind")))
+        fires = draw < lookup(SPAWN_PROB, of_due(spawners.get("kind")), torch.float64)
         fired, env = due[fires], env[fires]
         slot = schedule["slot"].reshape(-1).index_select(0, fired)
         alive = logs.get("alive")
-        torch._assert_async(
+        assert_async(
             ~alive[env, slot].any(),
             "frogs: a spawned log found its ring slot occupied; the log table is smaller than the "
-            "bound of spawner_ring_size",
+            "bound of frogs_logs.spawner_ring_size",
         )
         x32, y32 = sx[fires].to(torch.int32), sy[fires].to(torch.int32)
         where = (env, slot)
@@ -474,10 +295,10 @@ class Frogs(Game):
         # to the left (pulled by a log) and where it started the tick (stepped back by a wall).
         # Their cells are found at once; the log rules (2a, 2b) do not read the grids.
         px = torch.stack([x, x - LOG_SPEED, lastx], dim=-1)
-        cells, valid = _frog_cells(goal.shape, px, torch.stack([y, y, lasty], dim=-1))
+        cells, valid = row_cells(px, torch.stack([y, y, lasty], dim=-1), *goal.shape[1:])
 
         # 1 goal × avatar: kill every goal the frog overlaps, +1 each (in place: amin with 0).
-        hit = _grid_hits(goal, cells[:, 0], valid[:, 0]) & alive.unsqueeze(-1)
+        hit = gather_cells(goal, cells[:, 0], valid[:, 0]) & alive.unsqueeze(-1)
         state.set("score", state.get("score") + hit.sum(-1))
         state.set("goals", state.get("goals") - hit.sum(-1))
         goal.view(goal.shape[0], -1).view(torch.uint8).scatter_reduce_(
@@ -500,7 +321,7 @@ class Frogs(Game):
         x = torch.where(pulled, px[:, 1], x)
 
         # 3 avatar × wall: stepBack to the start-of-tick position.
-        on_wall = _grid_hits(wall, cells[:, :2], valid[:, :2]).any(-1)
+        on_wall = gather_cells(wall, cells[:, :2], valid[:, :2]).any(-1)
         back = alive & torch.where(pulled, on_wall[:, 1], on_wall[:, 0])
         x, y = torch.where(back, lastx, x), torch.where(back, lasty, y)
 
@@ -517,7 +338,7 @@ class Frogs(Game):
             or [torch.full_like(x, CELL)]
         )
         hit_truck = (nearest < CELL).any(0)
-        in_water = _grid_hits(water, cells, valid).any(-1)
+        in_water = gather_cells(water, cells, valid).any(-1)
         in_water = torch.where(back, in_water[:, 2], torch.where(pulled, in_water[:, 1], in_water[:, 0]))
         drowned = ~shielded & in_water
         killed = alive & (hit_truck | drowned)
@@ -527,28 +348,10 @@ class Frogs(Game):
     # --- step 5: cleanup (logs killed by EOS at x = −1 are removed) ---
     @staticmethod
     def _cleanup_logs(state: TensorDict, tick: torch.Tensor, schedule: dict) -> None:
-        """Every log dies at a tick known in advance: a spawned one in its spawner's ``kill`` tick,
-        the level logs of column c (x0 = 10c) in tick x0 + 1. Their slots get ``alive`` false and
-        key 0. Few envs lose a log in any tick, so the dying logs are found among those alone."""
-        logs, spawners = state.get("logs"), state.get("spawners")
-        envs, slots = (spawners.get("alive") & schedule["kill"]).nonzero(as_tuple=True)
-        envs, slots = [envs], [schedule["kill_slot"][envs, slots]]
-        level = state.get("level_logs").get("slot")
-        if level.shape[1]:
-            height, width = state.get("wall").shape[1:]
-            x0 = tick - 1
-            column = cell_of(x0)
-            at_column = ((column * CELL == x0) & (column >= 0) & (column < width)).nonzero().squeeze(1)
-            column = column[at_column].unsqueeze(-1)
-            starts = state.get("log_columns")[at_column]
-            first, end = torch.gather(starts, 1, column), torch.gather(starts, 1, column + 1)
-            rank = first + _constant(
-                tuple(range(height)), torch.int64, first.device
-            )  # a column has <= H logs
-            env, nth = (rank < end).nonzero(as_tuple=True)
-            envs.append(at_column[env])
-            slots.append(level[at_column[env], rank[env, nth]])
-        where = (torch.cat(envs), torch.cat(slots))
+        """Every log dies at a tick known in advance (``frogs_logs.dying_log_slots``): its slot gets
+        ``alive`` false and key 0."""
+        logs = state.get("logs")
+        where = dying_log_slots(state, tick, schedule)
         logs.get("alive").index_put_(where, torch.zeros_like(where[0], dtype=torch.bool))
         logs.get("key").index_put_(where, torch.zeros_like(where[0], dtype=torch.int32))
 

@@ -19,18 +19,16 @@ from functools import cache
 
 import torch
 
+from gvgai_pcg.games.lookup import lookup
+
 CELL = 10
 
 # Direction codes follow the Gym's action order for directions: LEFT, RIGHT, DOWN, UP; NONE last.
 LEFT, RIGHT, DOWN, UP, NONE = 0, 1, 2, 3, 4
 DIRECTION_NAMES = ("LEFT", "RIGHT", "DOWN", "UP", None)
-_DX = (-1, 1, 0, 0, 0)
-_DY = (0, 0, 1, -1, 0)
-
-
-@cache
-def _table(values: tuple[int, ...], device: torch.device) -> torch.Tensor:
-    return torch.tensor(values, dtype=torch.int64, device=device)
+# Unit displacement of each direction code (RULES.md §1.7; y grows downward, NONE stays).
+DIRECTION_DX = (-1, 1, 0, 0, 0)
+DIRECTION_DY = (0, 0, 1, -1, 0)
 
 
 @cache
@@ -38,25 +36,20 @@ def _zero(dtype: torch.dtype, device: torch.device) -> torch.Tensor:
     return torch.zeros((), dtype=dtype, device=device)
 
 
-def pick(table: torch.Tensor, codes: torch.Tensor) -> torch.Tensor:
-    """``table[codes]`` for a 1-D lookup table and codes of any shape, by ``index_select``
-    (several times cheaper than advanced indexing on the CPU)."""
-    return table.index_select(0, codes.reshape(-1)).view(codes.shape)
+def direction_dx(direction: torch.Tensor, dtype: torch.dtype = torch.int64) -> torch.Tensor:
+    """Unit x displacement of direction codes (any shape), as ``dtype``."""
+    return lookup(DIRECTION_DX, direction, dtype)
 
 
-def direction_dx(direction: torch.Tensor) -> torch.Tensor:
-    """Unit x displacement of direction codes (any shape)."""
-    return pick(_table(_DX, direction.device), direction)
-
-
-def direction_dy(direction: torch.Tensor) -> torch.Tensor:
-    """Unit y displacement of direction codes (any shape, y grows downward)."""
-    return pick(_table(_DY, direction.device), direction)
+def direction_dy(direction: torch.Tensor, dtype: torch.dtype = torch.int64) -> torch.Tensor:
+    """Unit y displacement of direction codes (any shape, y grows downward), as ``dtype``."""
+    return lookup(DIRECTION_DY, direction, dtype)
 
 
 def overlaps(ax: torch.Tensor, ay: torch.Tensor, bx: torch.Tensor, by: torch.Tensor) -> torch.Tensor:
-    """Strict overlap of 10x10 rectangles (edge-adjacent cells do not overlap); broadcasts."""
-    return (ax < bx + CELL) & (bx < ax + CELL) & (ay < by + CELL) & (by < ay + CELL)
+    """Strict overlap of 10x10 rectangles (edge-adjacent cells do not overlap): both distances
+    below 10 px, as one test on the larger; broadcasts."""
+    return torch.maximum((bx - ax).abs(), (by - ay).abs()) < CELL
 
 
 def off_screen(
@@ -98,31 +91,54 @@ def overlaps_aligned(ax: torch.Tensor, ay: torch.Tensor, bx: torch.Tensor, by: t
 
 
 def any_last(mask: torch.Tensor) -> torch.Tensor:
-    """``mask.any(-1)`` as a max over the bytes of the bool mask: the same result, about ten times
-    faster than PyTorch's bool ``any`` on the CPU."""
+    """``mask.any(-1)`` as a max over the bytes of the bool mask: the same result, much faster
+    than PyTorch's bool ``any`` on the CPU."""
     if mask.shape[-1] == 0:
         return torch.zeros(mask.shape[:-1], dtype=torch.bool, device=mask.device)
     return mask.view(torch.uint8).amax(-1).view(torch.bool)
 
 
 def count_last(mask: torch.Tensor) -> torch.Tensor:
-    """``mask.sum(-1)`` in int32 (a bool sum defaults to int64, three times slower)."""
+    """``mask.sum(-1)`` in int32 (a bool sum defaults to int64, which is slower)."""
     return mask.sum(-1, dtype=torch.int32)
 
 
-def cell_of(position: torch.Tensor) -> torch.Tensor:
-    """``floor(position / 10)``: the cell holding a pixel, for any integer tensor.
+# Cell arithmetic: which cell holds a pixel. Integer division is slow on the CPU, so each is a
+# multiply and a shift, exact on the range its docstring states (tests/games/test_geometry.py).
 
-    A multiply and a shift (int64), because integer division is slow on the CPU; exact for
-    positions in [-10000, 33000) px, far beyond any screen here.
+
+def cell_of(position: torch.Tensor) -> torch.Tensor:
+    """``floor(position / 10)``: the cell holding a pixel, for any integer tensor, as int64.
+
+    Exact for positions in [-10000, 33000) px, far beyond any screen here.
     """
     return ((position.long() + 10000) * 52429 >> 19) - 1000
 
 
 def small_cell_of(position: torch.Tensor) -> torch.Tensor:
-    """``position // 10`` for 0 <= position < 1029 (positions on a screen of up to 101 cells): a
-    multiply and a shift, cheaper still than :func:`cell_of`, in the input's dtype."""
+    """``position // 10`` for 0 <= position < 1029 (positions on a screen of up to 101 cells), in
+    the input's dtype: cheaper still than :func:`cell_of`."""
     return (position * 205) >> 11
+
+
+def centre_cell_of(position: torch.Tensor) -> torch.Tensor:
+    """``floor((position + 5) / 10) + 100``: the cell holding the centre of 10x10 sprites at
+    ``position``, offset by 100 (so that the cells just off a screen stay positive), in int32.
+    Exact for positions in [-1005, 14995), monotonic beyond (the renderer clamps)."""
+    return torch.add(_CENTRE_BIAS, position.to(torch.int32), alpha=6554).bitwise_right_shift_(16)
+
+
+# (p + 1005) * 6554 as one multiply-add: 6554 p + _CENTRE_BIAS.
+_CENTRE_BIAS = torch.tensor((CELL // 2 + 1000) * 6554, dtype=torch.int32)
+
+
+def flat_cell(
+    column: torch.Tensor, row: torch.Tensor, height: int, width: int
+) -> tuple[torch.Tensor, torch.Tensor]:
+    """The flat index (in a grid of ``height`` x ``width`` cells) of cells ``column, row`` (any
+    shape), clamped onto the grid, and whether the cell is inside the grid."""
+    column_in, row_in = column.clamp(0, width - 1), row.clamp(0, height - 1)
+    return row_in * width + column_in, (column_in == column) & (row_in == row)
 
 
 def screen_cell(
@@ -160,10 +176,29 @@ def aligned_cell(
 ) -> tuple[torch.Tensor, torch.Tensor]:
     """The flat index ``[..., 1]`` of the one cell a cell-aligned rectangle (x, y multiples of 10)
     covers, and whether that cell is inside the grid (``[..., 1]``)."""
-    cx, cy = cell_of(x), cell_of(y)
-    cx_in, cy_in = cx.clamp(0, width - 1), cy.clamp(0, height - 1)
-    inside = (cx_in == cx) & (cy_in == cy)
-    return (cy_in * width + cx_in).unsqueeze(-1), inside.unsqueeze(-1)
+    index, inside = flat_cell(cell_of(x), cell_of(y), height, width)
+    return index.unsqueeze(-1), inside.unsqueeze(-1)
+
+
+def row_cells(x: torch.Tensor, y: torch.Tensor, height: int, width: int) -> tuple[torch.Tensor, torch.Tensor]:
+    """Flat cell indices ``[..., 2]`` that rectangles at ``x, y`` (any shape) overlap when ``y`` is
+    a multiple of 10, so that they cover one row of one or two cells, and a validity mask
+    ``[..., 2]`` (false for the second cell of an aligned rectangle and cells off the grid). The
+    row is clamped onto the grid: callers keep such rectangles on it."""
+    x0 = cell_of(x)
+    x1 = cell_of(x + CELL - 1)
+    cxs = torch.stack([x0, x1], dim=-1)
+    valid = (cxs >= 0) & (cxs < width)
+    valid[..., 1] &= x1 != x0
+    row = cell_of(y).clamp_(0, height - 1).unsqueeze(-1)
+    return row * width + cxs.clamp_(0, width - 1), valid
+
+
+def gather_cells(grid: torch.Tensor, cells: torch.Tensor, valid: torch.Tensor) -> torch.Tensor:
+    """Which of the flat ``cells`` (``[B, ...]``, masked by ``valid`` of the same shape) are set in
+    ``grid`` (``[B, H, W]`` bool)."""
+    batch = grid.shape[0]
+    return torch.gather(grid.reshape(batch, -1), 1, cells.reshape(batch, -1)).view(cells.shape) & valid
 
 
 def grid_hits(
@@ -172,11 +207,9 @@ def grid_hits(
     """Which covered cells of ``grid`` (``[B, H, W]`` bool) are set under rectangles at ``x, y``
     (``[B]`` or ``[B, K]``): returns (flat cell index ``[..., 4]``, hit mask ``[..., 4]``). With
     ``aligned`` (x, y known to be multiples of 10, so one cell each) both are ``[..., 1]``."""
-    batch, height, width = grid.shape
+    _, height, width = grid.shape
     index, valid = (aligned_cell if aligned else covered_cells)(x, y, height, width)
-    flat = grid.reshape(batch, height * width)
-    gathered = torch.gather(flat, 1, index.reshape(batch, -1)).reshape(index.shape)
-    return index, gathered & valid
+    return index, gather_cells(grid, index, valid)
 
 
 def grid_count(grid: torch.Tensor, x: torch.Tensor, y: torch.Tensor, aligned: bool = False) -> torch.Tensor:

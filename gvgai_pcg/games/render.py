@@ -15,7 +15,7 @@ from tensordict import TensorDict
 
 from gvgai_pcg.games.base import Game, GridLayer, SpriteArt, SpriteLayer
 from gvgai_pcg.games.buffers import BufferPool
-from gvgai_pcg.games.geometry import CELL, DOWN, LEFT, RIGHT, UP
+from gvgai_pcg.games.geometry import CELL, DOWN, LEFT, RIGHT, UP, centre_cell_of
 from gvgai_pcg.levels import Level
 
 
@@ -142,7 +142,7 @@ def _sprite_index(
     none have): the cell of its centre in its channel, or ``spare`` if absent or off the grid."""
     layers = [layer for _, layer in group]
     lanes = layers[0].row is not None
-    # Each layer's channel start, less the offset of 100 of _centre_cell (in rows too unless given).
+    # Each layer's channel start, less the offset of 100 of centre_cell_of (in rows too unless given).
     starts = [channel * height * width - 100 - (0 if lanes else 100 * width) for channel, _ in group]
     if len(group) == 1:
         (layer,) = layers
@@ -154,13 +154,13 @@ def _sprite_index(
         present = torch.cat([layer.present for layer in layers], dim=1)
         counts = tuple(layer.x.shape[1] for layer in layers)
         first = rows + _slot_starts(tuple(starts), counts, str(rows.device), rows.dtype)
-    column = _centre_cell(x)
+    column = centre_cell_of(x)
     shown = present & (column.clamp(100, width + 99) == column)
     if row is None:
-        row = _centre_cell(y)
+        row = centre_cell_of(y)
         shown &= row.clamp(100, height + 99) == row
-    # spare + (cell - spare) * shown: a select by arithmetic, as torch.where on the CPU costs about
-    # ten times an add here (and masked_fill more).
+    # spare + (cell - spare) * shown: a select by arithmetic, as torch.where (and masked_fill) on
+    # the CPU cost many times an add here.
     index = torch.add(first - spare, row, alpha=width).add_(column).mul_(shown)
     return index.view(-1).long().add_(spare)
 
@@ -193,22 +193,11 @@ _ONES: dict[torch.device, torch.Tensor] = {}
 
 def _ones(count: int, device: torch.device) -> torch.Tensor:
     """``count`` uint8 ones (a slice of one kept buffer): a 1-D ``scatter_`` from a real tensor is
-    about three times faster than ``put_`` or a scatter of a scalar."""
+    faster than ``put_`` or a scatter of a scalar."""
     ones = _ONES.get(device)
     if ones is None or ones.numel() < count:
         ones = _ONES[device] = torch.ones(max(count, 1 << 16), dtype=torch.uint8, device=device)
     return ones[:count]
-
-
-def _centre_cell(position: torch.Tensor) -> torch.Tensor:
-    """``floor((p + 5) / 10) + 100``: the cell holding the centre of sprites at ``p``, offset by 100.
-    Integer division by multiply-and-shift as in :func:`geometry.cell_of` (exact for
-    p in [-1005, 14995), monotonic beyond), in int32."""
-    return torch.add(_CENTRE_BIAS, position.to(torch.int32), alpha=6554).bitwise_right_shift_(16)
-
-
-# (p + 1005) * 6554 as one multiply-add: 6554 p + _CENTRE_BIAS.
-_CENTRE_BIAS = torch.tensor((CELL // 2 + 1000) * 6554, dtype=torch.int32)
 
 
 def _depth_images(game: Game, type_name: str, depth: int, device: torch.device) -> torch.Tensor:

@@ -17,6 +17,8 @@ from functools import cache
 import torch
 from tensordict import TensorDict
 
+from gvgai_pcg._private_apis import unchecked_tensordict
+
 _WIDE = ((torch.int64, 8), (torch.int32, 4), (torch.int16, 2))
 # Copies of rows of at most SMALL_ROW_BYTES, or of fewer than SMALL_COPY_BYTES in all, go straight
 # to index_copy_: viewing them costs more than it saves.
@@ -83,4 +85,4 @@ def select_rows(state: TensorDict, index: torch.Tensor) -> TensorDict:
             values[key] = value.index_select(0, index)
     # Built unchecked: every entry was just cut from a valid state (the checks cost a third more).
     batch_size = torch.Size([len(index), *state.batch_size[1:]])
-    return TensorDict._new_unsafe(values, batch_size=batch_size, device=state.device)
+    return unchecked_tensordict(values, batch_size, state.device)

@@ -35,6 +35,7 @@ import torch
 from tensordict import TensorDict
 
 from gvgai_pcg.games import rng
+from gvgai_pcg.games.actions import MOVE_ACTIONS, move_direction
 from gvgai_pcg.games.base import (
     Game,
     GridLayer,
@@ -47,7 +48,20 @@ from gvgai_pcg.games.base import (
     golden_record,
     single_sprite_layer,
 )
-from gvgai_pcg.games.geometry import CELL, DIRECTION_NAMES, DOWN, LEFT, NONE, RIGHT, UP, any_last, cell_of
+from gvgai_pcg.games.geometry import (
+    CELL,
+    DIRECTION_NAMES,
+    NONE,
+    RIGHT,
+    any_last,
+    cell_of,
+    count_last,
+    direction_dx,
+    direction_dy,
+    flat_cell,
+    overlaps,
+)
+from gvgai_pcg.games.lookup import lookup
 from gvgai_pcg.games.registry import register_game
 from gvgai_pcg.levels import Level
 
@@ -71,21 +85,6 @@ BLIB_AT_RES = 2  # spawnIfHasMore limit of rule 6a
 DEATH_SCORE = -10
 NO_TURNING = -(1 << 20)  # turning_born of a cell without a powerblibturning
 STREAM_SHOT = 1
-
-# Gym action index -> heading (0 NIL keeps the heading).
-ACTION_DIRECTION = (NONE, LEFT, RIGHT, DOWN, UP)
-_DX = (-1, 1, 0, 0, 0)
-_DY = (0, 0, 1, -1, 0)
-
-
-@cache
-def _constants(device: str) -> dict[str, torch.Tensor]:
-    """Small lookup tables, made once per device."""
-    return {
-        "action_direction": torch.tensor(ACTION_DIRECTION, device=device),
-        "dx": torch.tensor(_DX, dtype=torch.int32, device=device),
-        "dy": torch.tensor(_DY, dtype=torch.int32, device=device),
-    }
 
 
 def _window_span(pos: torch.Tensor, count: int) -> tuple[torch.Tensor, torch.Tensor]:
@@ -134,7 +133,7 @@ def _window_rows(x: torch.Tensor, y: torch.Tensor, height: int, width: int) -> t
 
 @register_game("solarfox")
 class Solarfox(Game):
-    actions = ("NIL", "LEFT", "RIGHT", "DOWN", "UP")
+    actions = MOVE_ACTIONS
     tile_types = (
         "wall",
         "enemyground",
@@ -172,7 +171,7 @@ class Solarfox(Game):
             {
                 "col": (enemies.get("x") // CELL).to(torch.int32),
                 "row": (enemies.get("y") // CELL).to(torch.int32),
-                "dx": torch.tensor(ENEMY_START_DX, dtype=torch.int32, device=device)[kind],
+                "dx": lookup(ENEMY_START_DX, kind, torch.int32),
             }
         )
         del enemies["x"], enemies["y"]
@@ -182,9 +181,7 @@ class Solarfox(Game):
             "x": torch.zeros(batch, slots, dtype=torch.int32),
             "y": torch.zeros(batch, slots, dtype=torch.int32),
             # The owner's shot direction: -1 for the upshots of btm, +1 for the downshots of top.
-            "dy": torch.tensor(SHOT_DY, dtype=torch.int32)[kind.cpu()].repeat_interleave(
-                SHOTS_PER_ENEMY, dim=1
-            ),
+            "dy": lookup(SHOT_DY, kind.cpu(), torch.int32).repeat_interleave(SHOTS_PER_ENEMY, dim=1),
             "alive": torch.zeros(batch, slots, dtype=torch.bool),
             "fresh": torch.zeros(batch, slots, dtype=torch.bool),  # created this tick: no move next update
         }
@@ -234,17 +231,16 @@ class Solarfox(Game):
     # --- step 2: the ship (OngoingAvatar) ---
     def _update_avatar(self, state: TensorDict, action: torch.Tensor, tick: torch.Tensor) -> None:
         avatar = state.get("avatar")
-        const = _constants(str(action.device))
         alive = avatar.get("alive")
-        direction = const["action_direction"].index_select(0, action)
+        direction = move_direction(action)  # NIL keeps the heading
         ori = torch.where(alive & (direction != NONE), direction, avatar.get("ori"))
         # Passive move along the heading, skipped on the first update (tick 0).
         step = alive & (tick >= 1)
         avatar.update(
             {
                 "ori": ori,
-                "x": (avatar.get("x") + const["dx"].index_select(0, ori) * step).to(torch.int32),
-                "y": (avatar.get("y") + const["dy"].index_select(0, ori) * step).to(torch.int32),
+                "x": (avatar.get("x") + direction_dx(ori, torch.int32) * step).to(torch.int32),
+                "y": (avatar.get("y") + direction_dy(ori, torch.int32) * step).to(torch.int32),
             }
         )
 
@@ -286,12 +282,12 @@ class Solarfox(Game):
         # 1-4 avatar × wall, enemy, enemyground, shot: kill (disable) the ship, -10 per sprite overlapped.
         lethal = hits & torch.gather(state.get("deadly").view(batch, -1), 1, cells)
         ship_x, ship_y = ax.unsqueeze(-1), ay.unsqueeze(-1)
-        enemy_hit = e_alive & _overlap(ship_x, ship_y, CELL * col, CELL * row)
-        shot_hit = shots.get("alive") & _overlap(ship_x, ship_y, shots.get("x"), shots.get("y"))
-        lethal = _count(lethal) + alive * (_count(enemy_hit) + _count(shot_hit))
+        enemy_hit = e_alive & overlaps(ship_x, ship_y, CELL * col, CELL * row)
+        shot_hit = shots.get("alive") & overlaps(ship_x, ship_y, shots.get("x"), shots.get("y"))
+        lethal = count_last(lethal) + alive * (count_last(enemy_hit) + count_last(shot_hit))
         # 5 blib × avatar: collect, +1 each (the ship still collects in the tick it dies).
         blib = torch.gather(flat["blib"], 1, cells)
-        taken = _count(hits & blib)
+        taken = count_last(hits & blib)
         flat["blib"].scatter_(1, cells, blib & ~under)
         # 6a, 6b, 8 (and the turnings' expiry), only where a turning created in the last 10 ticks
         # may still pair with its powerblib.
@@ -323,8 +319,9 @@ class Solarfox(Game):
 
         # 10 enemy × wall: reverse (every tick of overlap, no stepBack). 11 btm × enemyground,
         # 12 top × enemyground: with probability 0.02 a shot at the enemy's cell.
-        on_grid = e_alive & (col >= 0) & (col < width) & (row >= 0) & (row < height)
-        cell = (row.clamp(0, height - 1) * width + col.clamp(0, width - 1)).view(batch, -1).long()
+        cell, on_grid = flat_cell(col, row, height, width)
+        on_grid &= e_alive
+        cell = cell.long()
         on_wall = on_grid & torch.gather(wall.view(batch, -1), 1, cell)
         enemies.set("dx", torch.where(on_wall, -enemies.get("dx"), enemies.get("dx")))
         slots = torch.arange(col.shape[1], device=col.device)
@@ -458,13 +455,3 @@ class Solarfox(Game):
         """+1 per blib and +2 per powerblib (its blib is worth 1 and eating its powerblib 1, §5.6),
         collected without dying."""
         return level.count("b") + 2 * level.count("p")
-
-
-def _count(hit: torch.Tensor) -> torch.Tensor:
-    """Set entries along the last axis, summed in int32 (cheaper than the default int64)."""
-    return hit.sum(-1, dtype=torch.int32)
-
-
-def _overlap(ax: torch.Tensor, ay: torch.Tensor, bx: torch.Tensor, by: torch.Tensor) -> torch.Tensor:
-    """Strict overlap of 10x10 rectangles (geometry.overlaps) as one distance test; broadcasts."""
-    return torch.maximum((bx - ax).abs(), (by - ay).abs()) < CELL

@@ -17,6 +17,7 @@ import torch
 from tensordict import TensorDict
 
 from gvgai_pcg.games import rng
+from gvgai_pcg.games.actions import SHOOT_ACTIONS, shoot_avatar
 from gvgai_pcg.games.base import (
     Game,
     GridLayer,
@@ -43,6 +44,7 @@ from gvgai_pcg.games.geometry import (
     overlaps,
     overlaps_aligned,
 )
+from gvgai_pcg.games.lookup import lookup
 from gvgai_pcg.games.registry import register_game
 from gvgai_pcg.games.rules import step_back_in_order
 from gvgai_pcg.levels import Level
@@ -53,16 +55,10 @@ MONSTER_CHARS = {"1": 0, "2": 1, "3": 2}
 MONSTER_COOLDOWN = (2, 4, 8)
 MONSTER_CONS = (6, 8, 12)
 SWORD_LIMIT = 5
-NIL, USE = 0, 1
 STREAM_MONSTER_DIRECTION = 1
 # Every Zelda sprite moves by whole cells and starts on one, so each covers exactly one cell.
 ALIGNED = True
 sprites_overlap = overlaps_aligned if ALIGNED else overlaps
-
-
-def action_direction(action: torch.Tensor) -> torch.Tensor:
-    """Direction code of a ShootAvatar action (0 NIL, 1 USE, 2.. LEFT RIGHT DOWN UP)."""
-    return torch.where(action >= 2, action - 2, torch.full_like(action, NONE))
 
 
 def random_npc_directions(
@@ -84,7 +80,7 @@ def random_npc_directions(
 
 @register_game("zelda")
 class Zelda(Game):
-    actions = ("NIL", "USE", "LEFT", "RIGHT", "DOWN", "UP")
+    actions = SHOOT_ACTIONS
     tile_types = ("wall", "goal", "key", "sword", "nokey", "withkey", *MONSTER_TYPES)
     art = {
         "floor": SpriteArt((40, 40, 40)),
@@ -155,21 +151,15 @@ class Zelda(Game):
     # --- step 2: the avatar (ShootAvatar: rotate in place, move, or place the sword) ---
     def _update_avatar(self, state: TensorDict, action: torch.Tensor) -> None:
         avatar, sword = state.get("avatar"), state.get("sword")
-        alive, ori = avatar.get("alive"), avatar.get("ori")
         x, y = avatar.get("x"), avatar.get("y")
         avatar.set("lastx", x)
         avatar.set("lasty", y)
-        direction = action_direction(action)
-        pressed = alive & (direction != NONE)
-        move = pressed & (direction == ori)
-        ori = torch.where(pressed, direction, ori)
-        avatar.set("ori", ori)
-        avatar.set("x", x + move * CELL * direction_dx(direction))
-        avatar.set("y", y + move * CELL * direction_dy(direction))
-        place = alive & (action == USE) & ~sword.get("exists")
-        sword.set("x", torch.where(place, x + CELL * direction_dx(ori), sword.get("x")))
-        sword.set("y", torch.where(place, y + CELL * direction_dy(ori), sword.get("y")))
-        sword.set("ori", torch.where(place, ori, sword.get("ori")))
+        moved = shoot_avatar(action, avatar.get("alive"), avatar.get("ori"), x, y, ~sword.get("exists"))
+        avatar.update({"x": moved.x, "y": moved.y, "ori": moved.ori})
+        place = moved.place
+        sword.set("x", torch.where(place, moved.place_x, sword.get("x")))
+        sword.set("y", torch.where(place, moved.place_y, sword.get("y")))
+        sword.set("ori", torch.where(place, moved.ori, sword.get("ori")))
         sword.set("age", torch.where(place, torch.zeros_like(sword.get("age")), sword.get("age")))
         sword.set("exists", sword.get("exists") | place)
 
@@ -177,8 +167,7 @@ class Zelda(Game):
     def _update_monsters(self, state: TensorDict) -> None:
         monsters = state.get("monsters")
         kind, alive = monsters.get("kind"), monsters.get("alive")
-        cons = torch.tensor(MONSTER_CONS, device=kind.device)[kind]
-        cooldown = torch.tensor(MONSTER_COOLDOWN, device=kind.device)[kind]
+        cons, cooldown = lookup(MONSTER_CONS, kind), lookup(MONSTER_COOLDOWN, kind)
         direction, counter = random_npc_directions(state, "monsters", cons, STREAM_MONSTER_DIRECTION)
         lastmove = monsters.get("lastmove") + 1
         move = alive & (direction != NONE) & (lastmove >= cooldown)

@@ -65,7 +65,7 @@ def test_entries_missing_on_one_side_count_as_zeros():
 def test_other_reset_layouts_go_to_torchrl(keys, monkeypatch):
     calls = []
     monkeypatch.setattr(
-        "gvgai_pcg.envs.reset_rows._update_during_reset", lambda *args: calls.append(args) or args[1]
+        "gvgai_pcg.envs.reset_rows.torchrl_reset_merge", lambda *args: calls.append(args) or args[1]
     )
     running = TensorDict({"_reset": torch.tensor([True, False])}, [2])
     merge_reset_rows(TensorDict({}, [2]), running, keys)

@@ -10,7 +10,7 @@ from __future__ import annotations
 import pytest
 import torch
 
-from gvgai_pcg.games import frogs, get_game
+from gvgai_pcg.games import frogs, frogs_logs, get_game
 from gvgai_pcg.games.base import merge_states, pad_level
 from gvgai_pcg.games.render import render_tiles
 from gvgai_pcg.levels import Level, human_level
@@ -236,13 +236,13 @@ def test_a_log_heavy_level_stays_within_the_log_table_for_2000_ticks(spawn_only_
     assert most <= capacity - 1
     spawners = state.get("spawners")
     cooldown = torch.tensor(frogs.SPAWN_COOLDOWN)[spawners.get("kind")]
-    bound = int((frogs.spawner_ring_size(spawners.get("x"), cooldown) * spawners.get("alive")).sum())
+    bound = int((frogs_logs.spawner_ring_size(spawners.get("x"), cooldown) * spawners.get("alive")).sum())
     assert most >= bound  # the ring sizes are reached, so the bound is tight
 
 
 def test_an_undersized_log_table_fails_loudly(spawn_only_at, monkeypatch):
     spawn_only_at(set(range(100)))
-    monkeypatch.setattr(frogs, "spawner_ring_size", lambda x, cooldown: torch.ones_like(x))
+    monkeypatch.setattr(frogs_logs, "spawner_ring_size", lambda x, cooldown: torch.ones_like(x))
     state = GAME.compile([Level("frogs", tuple(DENSE_ROWS))], torch.tensor([0]), CPU)
     with pytest.raises(RuntimeError, match="ring slot occupied"):
         for _ in range(12):
@@ -267,7 +267,7 @@ def test_log_keys_follow_the_logs_and_dead_slots_are_never_near():
         GAME.tick(state, torch.zeros(5, dtype=torch.int64))
         logs = state.get("logs")
         alive, x, y = logs.get("alive"), logs.get("x"), logs.get("y")
-        expected = torch.where(alive, frogs.log_key(x, y, state.get("tick").unsqueeze(-1)), 0)
+        expected = torch.where(alive, frogs_logs.log_key(x, y, state.get("tick").unsqueeze(-1)), 0)
         assert torch.equal(logs.get("key"), expected)
         assert (x[alive] >= 0).all()
 

@@ -26,7 +26,7 @@ def test_byte_reductions_equal_torch_ones():
 
 
 def test_pick_is_a_table_look_up_for_codes_of_any_shape():
-    from gvgai_pcg.games.geometry import pick
+    from gvgai_pcg.games.lookup import pick
 
     table = torch.tensor([5, -1, 7])
     codes = torch.tensor([[2, 0], [1, 1]])
@@ -89,3 +89,38 @@ def test_overlaps_any_tests_only_the_selected_sprites_by_rectangles():
     # the one at (30, 0) but is not selected; env 1's sprites are not present.
     assert overlaps_any(x, y, which, tx, ty, present).tolist() == [[True, False, True, False], [False] * 4]
     assert overlaps_any(x[:, 0], y[:, 0], which[:, 0], tx, ty, present).tolist() == [True, False]
+
+
+def test_each_cell_of_equals_floor_division_on_its_stated_range():
+    from gvgai_pcg.games.geometry import cell_of, centre_cell_of, small_cell_of
+
+    wide = torch.arange(-10000, 33000)
+    assert torch.equal(cell_of(wide), torch.div(wide, 10, rounding_mode="floor"))
+    screen = torch.arange(0, 1029)
+    for dtype in (torch.int32, torch.int64):
+        assert torch.equal(small_cell_of(screen.to(dtype)), (screen // 10).to(dtype))
+    centred = torch.arange(-1005, 14995)
+    expected = torch.div(centred + 5, 10, rounding_mode="floor") + 100
+    assert torch.equal(centre_cell_of(centred), expected.to(torch.int32))
+
+
+def test_flat_and_row_cells_agree_with_the_general_cell_look_up():
+    from gvgai_pcg.games.geometry import covered_cells, flat_cell, gather_cells, row_cells
+
+    index, inside = flat_cell(torch.tensor([-1, 0, 6, 7, 3]), torch.tensor([0, 4, 4, 2, 5]), 5, 7)
+    assert inside.tolist() == [False, True, True, False, False]
+    assert index[inside].tolist() == [28, 34]
+    generator = torch.Generator().manual_seed(1)
+    x = torch.randint(-15, 80, (6, 3), generator=generator)
+    y = 10 * torch.randint(0, 5, (6, 3), generator=generator)  # rows: y a multiple of 10
+    cells, valid = row_cells(x, y, 5, 7)
+    general, general_valid = covered_cells(x, y, 5, 7)
+    assert torch.equal(valid.sum(-1), general_valid.sum(-1))
+    assert torch.equal(
+        torch.where(valid, cells, -1), torch.where(general_valid[..., :2], general[..., :2], -1)
+    )
+    grid = torch.rand(6, 5, 7, generator=generator) > 0.5
+    assert torch.equal(
+        gather_cells(grid, cells, valid),
+        grid.view(6, -1).gather(1, cells.view(6, -1)).view(cells.shape) & valid,
+    )
