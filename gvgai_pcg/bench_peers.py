@@ -5,11 +5,14 @@ figure is only compared with another taken in the same minutes. ``gvgai-pcg benc
 measures, when the optional extra is installed (``pip install -e '.[peers]'``), at each batch
 size our Zelda tiles env and then, right after it, the peer:
 
-- XLand-MiniGrid's ``MiniGrid-DoorKey-8x8`` (JAX): ``jax.jit(jax.vmap(env.step))`` behind
-  xminigrid's own ``GymAutoResetWrapper`` (a finished env is reset inside the step), uniformly
+- XLand-MiniGrid's ``MiniGrid-DoorKey-8x8`` (JAX): ``jax.jit(jax.vmap(env.step))``, uniformly
   random actions drawn inside the same jitted call, and the count of finished episodes read back
-  every step as our measurement reads its ``done`` count. Tracing and XLA compilation (reset and
-  step, with their first calls) are timed apart from the steady state.
+  every step as our measurement reads its ``done`` count. Twice: behind xminigrid's own
+  ``GymAutoResetWrapper`` (a finished env is reset inside the step, as ours are; under ``vmap``
+  its ``lax.cond`` becomes a select, so every env computes a reset every step), and the bare
+  step with no resets (the issue's figure; random play rarely ends DoorKey's 640-step episodes).
+  Tracing and XLA compilation (reset and step, with their first calls) are timed apart from the
+  steady state.
 - Griddly's GVGAI Zelda (Griddly's own port of the game, fed our five human levels in turn),
   one env through its gym wrapper with vector observations and random actions: the single-env
   engine the issue's B = 4,096 target is set against. Griddly ships wheels for Python 3.10 and
@@ -31,7 +34,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from importlib.metadata import PackageNotFoundError, version
 
-from gvgai_pcg.benchmark import Rate, _spread, measure_env, windowed_rate
+from gvgai_pcg.benchmark import Rate, measure_env, windowed_rate
 from gvgai_pcg.progress import track
 
 DOORKEY = "MiniGrid-DoorKey-8x8"
@@ -54,7 +57,8 @@ class Timed:
 class PeerRow:
     batch: int
     ours: Timed
-    doorkey: Timed
+    doorkey: Timed  # with xminigrid's auto-reset
+    bare: Timed  # the bare step, no resets
 
 
 def missing_peers() -> list[str]:
@@ -87,8 +91,9 @@ def measure_ours(batch: int, min_seconds: float = 2.0) -> Timed:
     return Timed(result.rate, result.warmup_s, cores, result.resets)
 
 
-def measure_doorkey(batch: int, min_seconds: float = 2.0, seed: int = 0) -> Timed:
-    """XLand-MiniGrid DoorKey-8x8, ``jax.jit(jax.vmap(env.step))``, random actions, auto-reset."""
+def measure_doorkey(batch: int, min_seconds: float = 2.0, seed: int = 0, auto_reset: bool = True) -> Timed:
+    """XLand-MiniGrid DoorKey-8x8, ``jax.jit(jax.vmap(env.step))``, random actions, with xminigrid's
+    auto-reset or without resets."""
     import jax
     import xminigrid
     from xminigrid.types import StepType
@@ -96,7 +101,8 @@ def measure_doorkey(batch: int, min_seconds: float = 2.0, seed: int = 0) -> Time
 
     begin = time.perf_counter()
     env, params = xminigrid.make(DOORKEY)
-    env = GymAutoResetWrapper(env)
+    if auto_reset:
+        env = GymAutoResetWrapper(env)
     num_actions = env.num_actions(params)
     reset = jax.jit(jax.vmap(env.reset, in_axes=(None, 0)))
     vstep = jax.vmap(env.step, in_axes=(None, 0, 0))
@@ -186,7 +192,9 @@ def measure_peers(
     """At each batch size ours, then DoorKey right after; then Griddly's one env if installed."""
     rows = []
     for batch in track(batch_sizes, "peers", "batch size", progress):
-        rows.append(PeerRow(batch, measure_ours(batch, min_seconds), measure_doorkey(batch, min_seconds)))
+        ours = measure_ours(batch, min_seconds)
+        doorkey = measure_doorkey(batch, min_seconds)
+        rows.append(PeerRow(batch, ours, doorkey, measure_doorkey(batch, min_seconds, auto_reset=False)))
     griddly = measure_griddly(min_seconds) if griddly_installed() else None
     return rows, griddly
 
@@ -196,6 +204,10 @@ def _load() -> str:
         return "load average " + ", ".join(f"{x:.1f}" for x in os.getloadavg())
     except OSError:
         return "load average unknown"
+
+
+def _slowest(rate: Rate) -> str:
+    return f"{rate} ({rate.low:,.0f})"
 
 
 def _ratio(ours: float, peer: float) -> str:
@@ -210,24 +222,26 @@ def peer_lines(rows: list[PeerRow], griddly: Timed | None, load: str | None = No
         "",
         f"Ours: {GAME}, {OBS}, as in the env table, measured again right before the peer at each batch "
         f"size. XLand-MiniGrid {_version('xminigrid')} `{DOORKEY}` (jax {_version('jax')}, CPU): "
-        "`jax.jit(jax.vmap(env.step))` behind its `GymAutoResetWrapper`, random actions drawn inside "
-        "the jitted call, its count of finished episodes read back every step; compile is tracing, "
-        "XLA compilation and the first calls of reset and step, timed apart. Medians of the same "
-        "windows, the slowest in brackets; cores = CPU seconds per wall second over the windows. "
+        "`jax.jit(jax.vmap(env.step))`, random actions drawn inside the jitted call, its count of "
+        "finished episodes read back every step; behind its `GymAutoResetWrapper` (resets, like ours; "
+        "under `vmap` every env computes a reset every step) and bare (no resets). Compile is tracing, "
+        "XLA compilation and the first calls of reset and step, timed apart. Steps/s: medians of the "
+        "same windows, the slowest in brackets; cores: CPU seconds per wall second over the windows. "
         f"Measured with {load or _load()} at the end.",
         "",
-        "| B | ours: steps/s | cores | DoorKey-8x8 jit: steps/s | cores | ours / DoorKey "
-        "| DoorKey compile (s) | slowest - fastest window, ours / DoorKey |",
+        "| B | ours: steps/s | DoorKey, auto-reset | ours / DoorKey | DoorKey, bare step | ours / bare "
+        "| cores: ours, auto-reset, bare | compile (s): auto-reset, bare |",
         "|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     lines = list(header)
     for row in rows:
-        ours, peer = row.ours, row.doorkey
+        ours, peer, bare = row.ours, row.doorkey, row.bare
         lines.append(
-            f"| {row.batch} | {ours.rate} ({ours.rate.low:,.0f}) | {ours.cores:.1f} "
-            f"| {peer.rate} ({peer.rate.low:,.0f}) | {peer.cores:.1f} "
-            f"| {_ratio(ours.rate.median, peer.rate.median)} | {peer.setup_s:.1f} "
-            f"| {_spread(ours.rate)} / {_spread(peer.rate)} |"
+            f"| {row.batch} | {_slowest(ours.rate)} | {_slowest(peer.rate)} "
+            f"| {_ratio(ours.rate.median, peer.rate.median)} | {_slowest(bare.rate)} "
+            f"| {_ratio(ours.rate.median, bare.rate.median)} "
+            f"| {ours.cores:.1f}, {peer.cores:.1f}, {bare.cores:.1f} "
+            f"| {peer.setup_s:.1f}, {bare.setup_s:.1f} |"
         )
     lines.append("")
     if griddly is None:

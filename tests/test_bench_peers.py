@@ -17,21 +17,24 @@ def _timed(median: float, setup_s: float = 0.0) -> bench_peers.Timed:
 
 def test_the_peer_table_has_a_row_per_batch_size_with_the_ratio_ours_over_the_peer():
     rows = [
-        bench_peers.PeerRow(64, _timed(20_000), _timed(160_000, setup_s=12.3)),
-        bench_peers.PeerRow(4096, _timed(400_000), _timed(800_000)),
+        bench_peers.PeerRow(64, _timed(20_000), _timed(160_000, setup_s=12.3), _timed(40_000, setup_s=4.5)),
+        bench_peers.PeerRow(4096, _timed(400_000), _timed(800_000), _timed(1_000_000)),
     ]
     lines = bench_peers.peer_lines(rows, griddly=_timed(40_000), load="load average 1.0, 2.0, 3.0")
     header = next(line for line in lines if line.startswith("| B |"))
     table = [line for line in lines if line.startswith("| ") and line[2].isdigit()]
     assert [line.count("|") for line in table] == [header.count("|")] * 2
-    assert table[0].startswith("| 64 | 20,000 (10,000) | 1.0 | 160,000 (80,000) | 1.0 | 0.12x | 12.3 |")
-    assert "| 0.50x |" in table[1]
+    assert table[0] == (
+        "| 64 | 20,000 (10,000) | 160,000 (80,000) | 0.12x | 40,000 (20,000) | 0.50x "
+        "| 1.0, 1.0, 1.0 | 12.3, 4.5 |"
+    )
+    assert "| 0.50x |" in table[1] and "| 0.40x |" in table[1]
     assert "load average 1.0, 2.0, 3.0" in "\n".join(lines)
     assert lines[-1].endswith("Ours / Griddly: 0.50x at B = 64, 10.00x at B = 4096.")
 
 
 def test_without_griddly_the_table_says_so():
-    rows = [bench_peers.PeerRow(8, _timed(1_000), _timed(2_000))]
+    rows = [bench_peers.PeerRow(8, _timed(1_000), _timed(2_000), _timed(3_000))]
     lines = bench_peers.peer_lines(rows, griddly=None, load="load average 0.0, 0.0, 0.0")
     assert lines[-1].startswith("Griddly not installed")
 
@@ -64,10 +67,11 @@ def test_the_bench_command_adds_the_peers_only_beside_zelda_tiles_on_the_cpu(mon
     assert bench._peers(no_peers, "cpu") == ""
 
 
-def test_doorkey_is_measured_when_the_extra_is_installed():
+@pytest.mark.parametrize("auto_reset", [True, False])
+def test_doorkey_is_measured_when_the_extra_is_installed(auto_reset):
     pytest.importorskip("jax")
     pytest.importorskip("xminigrid")
-    timed = bench_peers.measure_doorkey(batch=4, min_seconds=0.0)
+    timed = bench_peers.measure_doorkey(batch=4, min_seconds=0.0, auto_reset=auto_reset)
     assert 0 < timed.rate.low <= timed.rate.median <= timed.rate.high and timed.setup_s > 0
 
 
