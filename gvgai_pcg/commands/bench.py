@@ -18,6 +18,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--obs", default=",".join(OBSERVATIONS))
     parser.add_argument("--seconds", type=float, default=2.0, help="minimum timed seconds per configuration")
     parser.add_argument("--threads", type=int, default=None, help="torch CPU threads (default: torch's)")
+    parser.add_argument("--no-peers", action="store_true", help="leave out the peers (bench_peers)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -32,8 +33,19 @@ def run(args: argparse.Namespace) -> int:
             observations=tuple(args.obs.split(",")),
             min_seconds=args.seconds,
         )
+        body += _peers(args, device)
         print(body)
         if args.output:
             write_section(args.output, torch.device(device).type, body)
             print(f"updated {args.output}")
     return 0
+
+
+def _peers(args: argparse.Namespace, device: str) -> str:
+    """The peers subsection: measured beside Zelda tiles on the CPU (the extra is CPU JAX)."""
+    zelda = not args.games or "zelda" in args.games.split(",")
+    if args.no_peers or torch.device(device).type != "cpu" or not zelda or "tiles" not in args.obs.split(","):
+        return ""
+    from gvgai_pcg.bench_peers import peers_section
+
+    return peers_section(tuple(int(b) for b in args.batch_sizes.split(",")), args.seconds)

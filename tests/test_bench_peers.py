@@ -1,0 +1,81 @@
+"""The peers beside our benchmark: tables built from fake rates (no JAX needed), the line that
+says how to install the extra, and, only where the extra is installed, one real measurement of
+each peer (its numbers are for `make bench`, never asserted)."""
+
+import argparse
+
+import pytest
+
+from gvgai_pcg import bench_peers
+from gvgai_pcg.benchmark import Rate
+from gvgai_pcg.commands import bench
+
+
+def _timed(median: float, setup_s: float = 0.0) -> bench_peers.Timed:
+    return bench_peers.Timed(Rate(median, median / 2, median * 2), setup_s, cores=1.0, resets=3)
+
+
+def test_the_peer_table_has_a_row_per_batch_size_with_the_ratio_ours_over_the_peer():
+    rows = [
+        bench_peers.PeerRow(64, _timed(20_000), _timed(160_000, setup_s=12.3), _timed(40_000, setup_s=4.5)),
+        bench_peers.PeerRow(4096, _timed(400_000), _timed(800_000), _timed(1_000_000)),
+    ]
+    lines = bench_peers.peer_lines(rows, griddly=_timed(40_000), load="load average 1.0, 2.0, 3.0")
+    header = next(line for line in lines if line.startswith("| B |"))
+    table = [line for line in lines if line.startswith("| ") and line[2].isdigit()]
+    assert [line.count("|") for line in table] == [header.count("|")] * 2
+    assert table[0] == (
+        "| 64 | 20,000 (10,000) | 160,000 (80,000) | 0.12x | 40,000 (20,000) | 0.50x "
+        "| 1.0, 1.0, 1.0 | 12.3, 4.5 |"
+    )
+    assert "| 0.50x |" in table[1] and "| 0.40x |" in table[1]
+    assert "load average 1.0, 2.0, 3.0" in "\n".join(lines)
+    assert lines[-1].endswith("Ours / Griddly: 0.50x at B = 64, 10.00x at B = 4096.")
+
+
+def test_without_griddly_the_table_says_so():
+    rows = [bench_peers.PeerRow(8, _timed(1_000), _timed(2_000), _timed(3_000))]
+    lines = bench_peers.peer_lines(rows, griddly=None, load="load average 0.0, 0.0, 0.0")
+    assert lines[-1].startswith("Griddly not installed")
+
+
+def test_without_the_extra_the_section_says_how_to_install_it(monkeypatch):
+    monkeypatch.setattr(bench_peers, "missing_peers", lambda: ["jax", "xminigrid"])
+    section = bench_peers.peers_section((64,), min_seconds=0.0)
+    assert "peers not installed: pip install -e '.[peers]'" in section
+
+
+def _args(**overrides) -> argparse.Namespace:
+    parser = argparse.ArgumentParser()
+    bench.add_arguments(parser)
+    return parser.parse_args([f"--{k.replace('_', '-')}={v}" for k, v in overrides.items()])
+
+
+def test_the_bench_command_adds_the_peers_only_beside_zelda_tiles_on_the_cpu(monkeypatch, capsys):
+    monkeypatch.setattr(bench, "run_benchmarks", lambda **kwargs: "ours\n")
+    monkeypatch.setattr(bench_peers, "missing_peers", lambda: ["jax"])
+    assert bench.run(_args(games="zelda", obs="tiles", batch_sizes="4", device="cpu")) == 0
+    assert bench_peers.NOT_INSTALLED in capsys.readouterr().out
+    for args in (
+        _args(games="frogs", obs="tiles", device="cpu"),
+        _args(games="zelda", obs="pixels", device="cpu"),
+        _args(games="zelda", obs="tiles", device="cuda"),
+    ):
+        assert bench._peers(args, args.device) == ""
+    no_peers = _args(games="zelda", obs="tiles")
+    no_peers.no_peers = True
+    assert bench._peers(no_peers, "cpu") == ""
+
+
+@pytest.mark.parametrize("auto_reset", [True, False])
+def test_doorkey_is_measured_when_the_extra_is_installed(auto_reset):
+    pytest.importorskip("jax")
+    pytest.importorskip("xminigrid")
+    timed = bench_peers.measure_doorkey(batch=4, min_seconds=0.0, auto_reset=auto_reset)
+    assert 0 < timed.rate.low <= timed.rate.median <= timed.rate.high and timed.setup_s > 0
+
+
+def test_griddly_zelda_loads_our_human_levels_and_steps():
+    pytest.importorskip("griddly")
+    timed = bench_peers.measure_griddly(min_seconds=0.0)
+    assert 0 < timed.rate.low <= timed.rate.median <= timed.rate.high
