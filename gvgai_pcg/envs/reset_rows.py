@@ -15,8 +15,8 @@ from tensordict import TensorDictBase
 from torchrl.envs import EnvBase, TransformedEnv
 from torchrl.envs.utils import _update_during_reset
 
-from gvgai_pcg.games.buffers import BufferPool
-from gvgai_pcg.games.rows import copy_tensor_rows_
+from gvgai_pcg.engine.buffers import BufferPool
+from gvgai_pcg.engine.rows import copy_tensor_rows_
 
 RESET_KEY = "_reset"
 

@@ -56,14 +56,14 @@ def test_the_extractor_sees_fences_and_the_marker() -> None:
 @pytest.fixture
 def isolated_registries():
     """A page may register its own generator or game; keep that out of the other tests."""
-    from gvgai_pcg.games import registry as game_registry
-    from gvgai_pcg.generators import registry as generator_registry
+    from gvgai_pcg.games import registry
 
-    saved = dict(game_registry._GAMES), dict(generator_registry._GENERATORS)
+    tables = (registry._SPECS, registry._GAMES, registry._RULES, registry._GENERATORS)
+    saved = [dict(table) for table in tables]
     yield
-    for registry, before in zip((game_registry._GAMES, generator_registry._GENERATORS), saved, strict=True):
-        registry.clear()
-        registry.update(before)
+    for table, before in zip(tables, saved, strict=True):
+        table.clear()
+        table.update(before)
 
 
 @pytest.mark.parametrize("page", pages(), ids=lambda path: str(path.relative_to(DOCS)))

@@ -9,7 +9,8 @@ from torchrl.envs import TransformedEnv, check_env_specs
 
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.difficulty import DifficultyTransform
-from gvgai_pcg.envs.level_sources import TEST_SEED_BASE, TRAINING_SEED_SPACE, GeneratedLevels
+from gvgai_pcg.envs.level_sources import GeneratedLevels
+from gvgai_pcg.levels.seeds import TEST_SEED_BASE, TRAINING_SEED_SPACE
 from gvgai_pcg.rl.environment import share_through_files
 
 
