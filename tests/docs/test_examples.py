@@ -55,15 +55,21 @@ def test_the_extractor_sees_fences_and_the_marker() -> None:
 
 @pytest.fixture
 def isolated_registries():
-    """A page may register its own generator or game; keep that out of the other tests."""
+    """A page may register its own generator or game (and its Gymnasium id); keep that out of the
+    other tests."""
+    import gymnasium
+
     from gvgai_pcg.games import registry
 
     tables = (registry._SPECS, registry._GAMES, registry._RULES, registry._GENERATORS)
     saved = [dict(table) for table in tables]
+    ids = set(gymnasium.registry)
     yield
     for table, before in zip(tables, saved, strict=True):
         table.clear()
         table.update(before)
+    for added in set(gymnasium.registry) - ids:
+        del gymnasium.registry[added]
 
 
 @pytest.mark.parametrize("page", pages(), ids=lambda path: str(path.relative_to(DOCS)))
