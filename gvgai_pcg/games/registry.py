@@ -11,9 +11,10 @@ Where games come from, in order:
 A game's own generator is registered under the game's name. Other generators (a second generator
 for a game, a plugin's) register under their own names with ``register_generator`` or through
 the entry-point group ``gvgai_pcg.generators``, which loads the function. Entry points are read
-when a name is missing, so installing a plugin needs no change here, and a plugin never replaces
-a registered name. ``generate_level`` is the checked front door of generation: it refuses a
-difficulty outside [0, 1] and a seed that is not a non-negative integer before a generator runs.
+when a name is missing (the games' also once per process), so installing a plugin needs no
+change here, and a plugin never replaces a registered name. ``generate_level`` is the checked
+front door of generation: it refuses a difficulty outside [0, 1] and a seed that is not a
+non-negative integer before a generator runs.
 
 Importing this module imports neither torch nor any game: the rules are imported when
 ``get_game`` first asks for them.
@@ -45,6 +46,7 @@ _GAMES: dict[str, Game] = {}  # the rules of each game, made on first use
 _RULES: dict[str, type] = {}  # classes named by @register_game
 _GENERATORS: dict[str, Generator] = {}  # generators by name: the games' own (once loaded) and others
 _found_builtins = False
+_read_game_entry_points = False
 
 
 # --- games ------------------------------------------------------------------------------------
@@ -80,8 +82,14 @@ def _find_builtin_games() -> None:
                 _SPECS.setdefault(spec.name, spec)
 
 
-def _discover_games() -> None:
-    """Register every entry point of ``gvgai_pcg.games`` whose game is not registered yet."""
+def _discover_games(again: bool = False) -> None:
+    """Register every entry point of ``gvgai_pcg.games`` whose game is not registered yet: once
+    per process, or ``again`` (for a name that is missing). Reading the entry points costs tens
+    of milliseconds, and level loading asks for the list of games for every file."""
+    global _read_game_entry_points
+    if _read_game_entry_points and not again:
+        return
+    _read_game_entry_points = True
     for entry_point in entry_points(group=GAME_ENTRY_POINT_GROUP):
         if entry_point.name in _SPECS:
             if _SPECS[entry_point.name] != entry_point.load():
@@ -116,7 +124,7 @@ def get_game_spec(name: str) -> GameSpec:
     """The spec of game ``name``; an unknown name is refused with the registered names."""
     _find_builtin_games()
     if name not in _SPECS:
-        _discover_games()
+        _discover_games(again=True)
     try:
         return _SPECS[name]
     except KeyError:
