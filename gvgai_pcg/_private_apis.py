@@ -8,12 +8,12 @@ the package pins (pyproject.toml: torch 2.13.0, torchrl 0.14.x, tensordict 0.14.
 fails after an upgrade, fix the function here; its callers need not change.
 
 * ``torch._C._storage_Use_Count``: how many tensors share a storage. :class:`BufferPool`
-  (games/buffers.py) hands a kept buffer out again only when nothing else uses it; without this
+  (engine/buffers.py) hands a kept buffer out again only when nothing else uses it; without this
   count it just allocates (:data:`HAS_STORAGE_USE_COUNT`).
 * ``torch._assert_async``: a check on a tensor that raises without syncing the device in the
   step (Frogs' log table is never full when a spawner fires).
 * ``TensorDict._new_unsafe``: builds a TensorDict without validating its entries, for states cut
-  row by row from a valid one (games/rows.py), where the checks would cost more than the cut.
+  row by row from a valid one (engine/rows.py), where the checks would cost more than the cut.
 * ``EnvBase._reset_proc_data`` (a hook), ``EnvBase._reset_check_done``, ``EnvBase._complete_done``,
   ``EnvBase._allow_done_after_reset`` and ``torchrl.envs.utils._update_during_reset``: TorchRL
   merges a partial reset into the running tensordict with ``torch.where`` over every entry; the

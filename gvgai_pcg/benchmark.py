@@ -26,13 +26,11 @@ from tensordict import TensorDict
 
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.shards import ShardedStepper
-from gvgai_pcg.games import registered_games
+from gvgai_pcg.games import get_game_spec, registered_games
 from gvgai_pcg.progress import track
 
 BATCH_SIZES = (1, 64, 1024, 4096)
 ENGINE_BATCH = 4096
-# Tiles steps/s at B = 4096 on 2 CPU cores that issues 2-5 ask of each game.
-TARGETS = {"zelda": 250_000, "solarfox": 250_000, "frogs": 150_000, "boulderdash": 150_000}
 OBSERVATIONS = ("tiles", "pixels")
 WINDOWS = 5  # timed windows per measurement; the median is reported
 MIN_CALLS = 3  # calls of the step in every window, however long they take
@@ -253,7 +251,7 @@ def _target_lines(results: list[StepResult], engine: dict[str, tuple[Rate, ...]]
         "|---|---:|---:|:-:|---:|:-:|",
     ]
     for game in engine:
-        target = TARGETS.get(game)
+        target = get_game_spec(game).bench_target
         if target is None or game not in env:
             continue
         rate = engine[game][0]

@@ -64,10 +64,10 @@ def test_an_installed_wheel_trains_and_evaluates(tmp_path):
         "gvgai_pcg/conf/config.yaml",
         "gvgai_pcg/conf/regimen/levels.yaml",
         "gvgai_pcg/conf/hydra/launcher/slurm.yaml",
-        "gvgai_pcg/levels/data/zelda_lvl0.txt",
-        "gvgai_pcg/levels/data/NOTICE",
-        "gvgai_pcg/levels/test_sets/manifest.csv",
-        "gvgai_pcg/levels/test_sets/boulderdash_pcg1_29.txt",
+        "gvgai_pcg/games/zelda/human_levels/zelda_lvl0.txt",
+        "gvgai_pcg/games/NOTICE",
+        "gvgai_pcg/games/frogs/test_sets/manifest.csv",
+        "gvgai_pcg/games/boulderdash/test_sets/boulderdash_pcg1_29.txt",
     ):
         assert name in names
 

@@ -15,11 +15,10 @@ from gvgai_pcg.analysis.distances import (
     nearest_generated,
 )
 from gvgai_pcg.analysis.distribution import HumanPlacement, LevelDistribution, analyze_levels
-from gvgai_pcg.analysis.encoding import STUDY_TILESETS, encode_level, encode_levels, padded_rows, tileset
+from gvgai_pcg.analysis.encoding import encode_level, encode_levels, padded_rows, tileset
 
 __all__ = [
     "NOISE",
-    "STUDY_TILESETS",
     "Cluster",
     "HumanPlacement",
     "LevelDistribution",

@@ -2,10 +2,11 @@
 
 A level becomes a ``[T, H, W]`` 0/1 array at the game's full size: channel ``t`` is 1 where the
 cell holds ``tileset[t]``. Floor (``.``) is never encoded, and characters outside the tileset are
-dropped (all-zero), as in the study. Its tilesets leave out some sprite types (Boulderdash's
-avatar, Frogs' ``_`` and ``B``); ``complete=True`` encodes every character of the game's legend
-except floor instead. Smaller levels are padded with wall at the bottom and right first, the
-study's padding of human Frogs level 4, so every vector of a game has the same length.
+dropped (all-zero), as in the study. Its tilesets (each game's ``GameSpec.study_tileset``) leave
+out some sprite types (Boulderdash's avatar, Frogs' ``_`` and ``B``); ``complete=True`` encodes
+every character of the game's legend except floor instead. Smaller levels are padded with wall
+at the bottom and right first, the study's padding of human Frogs level 4, so every vector of a
+game has the same length.
 """
 
 from __future__ import annotations
@@ -14,25 +15,21 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from gvgai_pcg.levels import Level, level_format
+from gvgai_pcg.games.registry import get_game_spec
+from gvgai_pcg.levels import Level
 
 FLOOR = "."
 PAD = "w"
 
-STUDY_TILESETS: dict[str, str] = {
-    "zelda": "wAg+123",
-    "solarfox": "wAp+b12",
-    "frogs": "wAg+x0=-4321l",
-    "boulderdash": "wxoc-be",
-}
-
 
 def tileset(game: str, complete: bool = False) -> str:
-    """The characters encoded for ``game``, one channel each, in channel order."""
-    fmt = level_format(game)
-    if complete:
-        return "".join(ch for ch in fmt.chars if ch != FLOOR)
-    return STUDY_TILESETS[game]
+    """The characters encoded for ``game``, one channel each, in channel order: the study's
+    tileset (``GameSpec.study_tileset``), or with ``complete`` (or for a game that names none)
+    every character of its legend but floor."""
+    spec = get_game_spec(game)
+    if complete or spec.study_tileset is None:
+        return "".join(ch for ch in spec.level_format.chars if ch != FLOOR)
+    return spec.study_tileset
 
 
 def padded_rows(level: Level) -> list[str]:

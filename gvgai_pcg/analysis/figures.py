@@ -20,6 +20,7 @@ import numpy as np  # noqa: E402
 from gvgai_pcg.analysis.clustering import NOISE  # noqa: E402
 from gvgai_pcg.analysis.distribution import LevelDistribution  # noqa: E402
 from gvgai_pcg.analysis.encoding import padded_rows  # noqa: E402
+from gvgai_pcg.games.registry import get_game_spec  # noqa: E402
 from gvgai_pcg.levels import Level  # noqa: E402
 
 POINT_SIZE = 6  # marker sizes in points, as in the notebook
@@ -28,7 +29,8 @@ PANEL_COLUMNS = 5
 
 
 def game_title(game: str) -> str:
-    return {"boulderdash": "Boulderdash", "solarfox": "Solarfox"}.get(game, game.capitalize())
+    """The game's name as people write it (``GameSpec.title``)."""
+    return get_game_spec(game).title
 
 
 def scatter_figure(analysis: LevelDistribution, path: Path, by: str = "cluster") -> Path:

@@ -26,7 +26,7 @@ DIFFICULTY_IN_NAME = re.compile(r"_d(?:if)?(\d+(?:\.\d+)?)(?:_|$)")
 
 def difficulty_list(spec: str) -> list[float]:
     """``"1"`` -> [1.0]; ``"0,0.5,1"`` -> [0.0, 0.5, 1.0]; each value must be in [0, 1]."""
-    from gvgai_pcg.generators.registry import check_difficulty
+    from gvgai_pcg.generators import check_difficulty
 
     try:
         return [check_difficulty(float(part)) for part in spec.split(",") if part.strip()]

@@ -11,8 +11,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from gvgai_pcg.generators import generate_level, registered_generators
-from gvgai_pcg.generators.registry import check_difficulty
+from gvgai_pcg.generators import check_difficulty, generate_level, registered_generators
 from gvgai_pcg.levels.level import Level
 
 MAX_SWEEP = 10_001  # difficulties in one sweep (0:1:0.0001)

@@ -22,13 +22,13 @@ import torch
 from tensordict import TensorDictBase
 from torchrl.envs.transforms import Transform
 
+from gvgai_pcg.games.registry import get_game_spec
+
 MODES = ("fixed", "progressive")
 # Each move rounds d to this many decimals: a sum of steps (0.07 + 0.01 = 0.08000000000000002)
 # stays the d a log shows and a level name records, whatever alpha (1e-5 moves as well).
 DECIMALS = 10
 WIN_RULES = ("game", "study")
-# The study's win rule (GENERATORS.md §2): Boulderdash counts an episode score of 20 or more.
-STUDY_SCORE_WIN = {"boulderdash": 20.0}
 
 
 class DifficultyTransform(Transform):
@@ -39,7 +39,8 @@ class DifficultyTransform(Transform):
         alpha: the step per finished episode (0.01 in the study).
         start: the initial difficulty (0 for PPCG, X for PCG X).
         win_rule: ``"game"`` (the game's own win flag) or ``"study"`` (anything but a loss is a
-            win, so a step-limit timeout raises d; Boulderdash: episode score >= 20).
+            win, so a step-limit timeout raises d; a game whose ``GameSpec.study_score_win``
+            is set counts an episode score of at least that instead: Boulderdash 20).
         game: the game name, needed by the study's win rule (which differs by game).
     """
 
@@ -94,8 +95,9 @@ class DifficultyTransform(Transform):
         won = next_tensordict.get("won").reshape(-1)
         if self.win_rule == "game":
             return won
-        if self.game in STUDY_SCORE_WIN:
-            return next_tensordict.get("score").reshape(-1) >= STUDY_SCORE_WIN[self.game]
+        score_win = get_game_spec(self.game).study_score_win if self.game is not None else None
+        if score_win is not None:  # the study's rule for this game (GENERATORS.md §2)
+            return next_tensordict.get("score").reshape(-1) >= score_win
         terminated = next_tensordict.get("terminated").reshape(-1)
         return won | ~terminated  # anything but a loss: a win or a step-limit timeout
 

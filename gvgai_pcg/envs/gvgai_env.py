@@ -17,18 +17,19 @@ import torch
 from tensordict import TensorDict, TensorDictBase
 from torchrl.data import Binary, Bounded, Categorical, Composite, Unbounded
 
+from gvgai_pcg.engine.buffers import BufferPool
+from gvgai_pcg.engine.rows import copy_tensor_rows_
 from gvgai_pcg.envs.level_bank import CompiledLevelBank
 from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
 from gvgai_pcg.envs.ready_episodes import ReadyEpisodes
 from gvgai_pcg.envs.reset_rows import RowResetEnv
 from gvgai_pcg.envs.shards import ShardedStepper
+from gvgai_pcg.envs.states import merge_states
 from gvgai_pcg.games import get_game
-from gvgai_pcg.games.base import merge_states, pad_level
-from gvgai_pcg.games.buffers import BufferPool
+from gvgai_pcg.games.base import pad_level
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.games.render import ascii_frame, render_pixels, render_tiles
 from gvgai_pcg.games.rng import derive_seeds, mix64
-from gvgai_pcg.games.rows import copy_tensor_rows_
 from gvgai_pcg.levels import Level
 
 OBSERVATION_KINDS = ("tiles", "pixels")

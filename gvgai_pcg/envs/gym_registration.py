@@ -1,20 +1,21 @@
-"""Gymnasium ids ``gvgai_pcg/<Game>-v0`` for the four games, registered when this module is imported.
+"""Gymnasium ids ``gvgai_pcg/<Game>-v0`` for every registered game (``<Game>`` is its
+``GameSpec.title``), registered when this module is imported.
 
 Gymnasium 1.x loads no plugins by itself, so the ids exist once this module has been imported
 (``import gvgai_pcg.envs.gym_registration``), or when an id is written with its module,
-``gymnasium.make("gvgai_pcg.envs.gym_registration:gvgai_pcg/Zelda-v0")``. Registration only
-records entry-point strings: the engine is imported when an env is made.
+``gymnasium.make("gvgai_pcg.envs.gym_registration:gvgai_pcg/Zelda-v0")``. A game registered later
+gets its id from ``register_envs()``. Registration only records entry-point strings: the engine
+is imported when an env is made.
 """
 
 from __future__ import annotations
 
 import gymnasium as gym
 
+from gvgai_pcg.games.registry import get_game_spec, registered_games
+
 NAMESPACE = "gvgai_pcg"
 VERSION = 0
-# Gymnasium name -> game name. The step limit lives in the env itself (max_steps), so no
-# TimeLimit wrapper is registered on top of it.
-GAMES = {"Zelda": "zelda", "Solarfox": "solarfox", "Frogs": "frogs", "Boulderdash": "boulderdash"}
 
 
 def env_id(name: str) -> str:
@@ -23,9 +24,11 @@ def env_id(name: str) -> str:
 
 
 def register_envs() -> list[str]:
-    """Register every game (idempotent); returns the ids."""
+    """Register every registered game (idempotent); returns the ids. The step limit lives in the
+    env itself (``max_steps``), so no TimeLimit wrapper is registered on top of it."""
     ids = []
-    for name, game in GAMES.items():
+    for game in registered_games():
+        name = get_game_spec(game).title
         ids.append(env_id(name))
         if env_id(name) in gym.registry:
             continue

@@ -13,8 +13,9 @@ from collections.abc import Sequence
 import torch
 from tensordict import TensorDict
 
-from gvgai_pcg.games.base import Game, concatenate_states, pad_level
-from gvgai_pcg.games.rows import select_rows
+from gvgai_pcg.engine.rows import select_rows
+from gvgai_pcg.envs.states import concatenate_states
+from gvgai_pcg.games.base import Game, pad_level
 from gvgai_pcg.levels import Level
 
 

@@ -18,6 +18,7 @@ from typing import Protocol, runtime_checkable
 import torch
 
 from gvgai_pcg.levels import Level, human_levels, resolve_level
+from gvgai_pcg.levels.seeds import TRAINING_SEED_SPACE
 
 
 @runtime_checkable
@@ -116,12 +117,6 @@ def as_level_source(game: str, levels: LevelSource | Level | Sequence[Level | st
     if source.game != game:
         raise ValueError(f"level source is for {source.game!r}, but the env plays {game!r}")
     return source
-
-
-# Generated training levels draw their seeds from [0, 2**31); the frozen evaluation test sets
-# use seeds at and above TEST_SEED_BASE, so no training episode can ever see a test level.
-TRAINING_SEED_SPACE = 2**31
-TEST_SEED_BASE = 2**40
 
 
 class GeneratedLevels:

@@ -15,8 +15,8 @@ from __future__ import annotations
 import torch
 from tensordict import TensorDict
 
-from gvgai_pcg.games.base import merge_states
-from gvgai_pcg.games.rows import select_rows
+from gvgai_pcg.engine.rows import select_rows
+from gvgai_pcg.envs.states import merge_states
 from gvgai_pcg.levels import Level
 
 

@@ -22,8 +22,8 @@ from gvgai_pcg._private_apis import (
     reset_check_done,
     torchrl_reset_merge,
 )
-from gvgai_pcg.games.buffers import BufferPool
-from gvgai_pcg.games.rows import copy_tensor_rows_
+from gvgai_pcg.engine.buffers import BufferPool
+from gvgai_pcg.engine.rows import copy_tensor_rows_
 
 RESET_KEY = "_reset"
 

@@ -27,7 +27,6 @@ import torch
 from tensordict import TensorDict
 
 from gvgai_pcg.games.geometry import CELL
-from gvgai_pcg.games.rows import copy_tensor_rows_
 from gvgai_pcg.levels import Level, LevelFormat, level_format
 
 # A cell beyond a level's screen, where padding grows the level to a batch's grid. No legend has
@@ -291,27 +290,3 @@ def entity_capacities(state: TensorDict) -> dict[str, int]:
         for key, value in state.items()
         if isinstance(value, TensorDict) and value.batch_dims == 2
     }
-
-
-def merge_states(state: TensorDict, fresh: TensorDict, index: torch.Tensor) -> TensorDict:
-    """``state`` with envs ``index`` replaced by ``fresh`` (a partial reset). An entity table of
-    ``state`` is grown where ``fresh`` has more slots; where it has fewer, the fresh rows get empty
-    slots (zeros, as padding would give them) leaf by leaf, which costs a fraction of padding the
-    fresh tables as TensorDicts."""
-    ours, theirs = entity_capacities(state), entity_capacities(fresh)
-    state = pad_entity_tables(state, {key: theirs[key] for key in ours if theirs[key] > ours[key]})
-    for key, value in fresh.items(True, True):
-        target = state.get(key)
-        if isinstance(key, tuple) and key[0] in ours and value.shape[1] < target.shape[1]:
-            value = _grow_slots(value, target.shape[1] - value.shape[1])
-        copy_tensor_rows_(target, index, value)
-    return state
-
-
-def concatenate_states(states: Sequence[TensorDict]) -> TensorDict:
-    """One batch of the envs of ``states`` (in order); entity tables are grown to the largest."""
-    sizes: dict[str, int] = {}
-    for state in states:
-        for key, size in entity_capacities(state).items():
-            sizes[key] = max(size, sizes.get(key, 0))
-    return torch.cat([pad_entity_tables(state.clone(False), sizes) for state in states], dim=0)

@@ -13,8 +13,8 @@ import numpy as np
 import torch
 from tensordict import TensorDict
 
+from gvgai_pcg.engine.buffers import BufferPool
 from gvgai_pcg.games.base import Game, GridLayer, SpriteArt, SpriteLayer
-from gvgai_pcg.games.buffers import BufferPool
 from gvgai_pcg.games.geometry import CELL, DOWN, LEFT, RIGHT, UP, centre_cell_of
 from gvgai_pcg.levels import Level
 

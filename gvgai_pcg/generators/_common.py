@@ -1,4 +1,5 @@
-"""Pieces every generator shares: the uniform stream, framing in `w`, and the Level it returns.
+"""Pieces every generator shares: the uniform stream, framing in `w`, the Level it returns, and
+the reachability search its checks use.
 
 The originals draw from JavaScript's ``Math.random()`` one value at a time. ``UniformStream``
 plays that role on top of a seeded ``numpy.random.Generator``, fetching draws in blocks because a
@@ -57,3 +58,22 @@ def generated_level(game: str, rows: list[str], difficulty: float, seed: int) ->
     """The Level a generator returns, named ``<game>_d<d>_s<seed>`` and carrying its seed."""
     name = f"{game}_d{difficulty_tag(difficulty)}_s{seed}"
     return Level(game=game, rows=tuple(rows), name=name, seed=seed)
+
+
+def reachable(level: Level, start: tuple[int, int], blocked: str) -> set[tuple[int, int]]:
+    """Cells 4-connected to ``start`` through cells whose character is not in ``blocked``."""
+    rows = level.rows
+    seen = {start}
+    stack = [start]
+    while stack:
+        r, c = stack.pop()
+        for nr, nc in ((r - 1, c), (r + 1, c), (r, c - 1), (r, c + 1)):
+            if (
+                0 <= nr < len(rows)
+                and 0 <= nc < len(rows[0])
+                and (nr, nc) not in seen
+                and rows[nr][nc] not in blocked
+            ):
+                seen.add((nr, nc))
+                stack.append((nr, nc))
+    return seen

@@ -10,7 +10,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from gvgai_pcg.generators.registry import generate_level  # noqa: E402
+from gvgai_pcg.games.registry import generate_level, get_game_spec, study_games  # noqa: E402
 from gvgai_pcg.levels import Level  # noqa: E402
 
 
@@ -24,13 +24,15 @@ def write_png(level: Level, path: Path) -> Path:
 
 def difficulty_figure(
     path: Path,
-    games: tuple[str, ...] = ("zelda", "solarfox", "frogs", "boulderdash"),
+    games: tuple[str, ...] | None = None,
     difficulties: tuple[float, ...] = (0.0, 0.5, 1.0),
     seed: int = 0,
 ) -> Path:
-    """One row per game, one column per difficulty: the level each (game, d, seed) generates."""
+    """One row per game (default: the study's, in its order), one column per difficulty: the level
+    each (game, d, seed) generates."""
     from gvgai_pcg.games.render import level_pictures
 
+    games = tuple(study_games()) if games is None else games
     fig, axes = plt.subplots(
         len(games), len(difficulties), figsize=(3.2 * len(difficulties), 1.9 * len(games)), squeeze=False
     )
@@ -44,7 +46,7 @@ def difficulty_figure(
             if row == 0:
                 ax.set_title(f"d = {d:g}")
             if col == 0:
-                ax.set_ylabel(game.capitalize())
+                ax.set_ylabel(get_game_spec(game).title)
     fig.suptitle(f"Generated levels at increasing difficulty (seed {seed})")
     fig.tight_layout()
     fig.savefig(path, dpi=110)

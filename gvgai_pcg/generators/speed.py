@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import time
 
-from gvgai_pcg.generators.registry import get_generator
+from gvgai_pcg.games.registry import get_generator
 
 
 def levels_per_second(

@@ -1,30 +1,34 @@
-"""The 20 human-designed levels of the study, shipped as package data (see ``data/NOTICE``)."""
+"""The human-designed levels of each game (the study's 20), shipped as package data in each game's
+folder (``gvgai_pcg/games/<game>/human_levels/``; see ``gvgai_pcg/games/NOTICE``)."""
 
 from __future__ import annotations
 
 from functools import cache
 from importlib.resources import files
 
-from gvgai_pcg.levels.formats import LEVEL_FORMATS, level_format
+from gvgai_pcg.games.registry import get_game_spec, registered_games
 from gvgai_pcg.levels.level import Level
 
-HUMAN_LEVEL_COUNT = 5
+HUMAN_LEVELS_FOLDER = "human_levels"  # in a game's data package
 
 
 @cache
 def human_level(game: str, index: int) -> Level:
     """Human level ``index`` (0-4) of ``game``, e.g. ``human_level("zelda", 0)``."""
-    level_format(game)  # refuses unknown games with the valid choices
-    if not 0 <= index < HUMAN_LEVEL_COUNT:
-        raise ValueError(f"human level index must be 0..{HUMAN_LEVEL_COUNT - 1}, got {index}")
+    spec = get_game_spec(game)  # refuses unknown games with the valid choices
+    if spec.human_levels == 0 or spec.data_package is None:
+        raise ValueError(f"game {game!r} ships no human levels")
+    if not 0 <= index < spec.human_levels:
+        raise ValueError(f"human level index must be 0..{spec.human_levels - 1}, got {index}")
     name = f"{game}_lvl{index}"
-    text = files("gvgai_pcg.levels").joinpath("data", f"{name}.txt").read_text()
-    return Level.parse(text, game, source=f"gvgai_pcg/levels/data/{name}.txt", name=name)
+    text = files(spec.data_package).joinpath(HUMAN_LEVELS_FOLDER, f"{name}.txt").read_text()
+    source = f"{spec.data_package.replace('.', '/')}/{HUMAN_LEVELS_FOLDER}/{name}.txt"
+    return Level.parse(text, game, source=source, name=name)
 
 
 def human_levels(game: str) -> list[Level]:
-    """All five human levels of ``game``, in index order."""
-    return [human_level(game, i) for i in range(HUMAN_LEVEL_COUNT)]
+    """All human levels of ``game`` (five for each game of the study), in index order."""
+    return [human_level(game, i) for i in range(get_game_spec(game).human_levels)]
 
 
 def resolve_level(spec: str, game: str | None = None) -> Level:
@@ -42,6 +46,6 @@ def resolve_level(spec: str, game: str | None = None) -> Level:
 
 def check_named_game(name: str, game: str) -> None:
     """Refuse a level named after another game (``boulderdash_lvl0``, ``frogs_d0.5_s3``)."""
-    for other in LEVEL_FORMATS:
+    for other in registered_games():
         if other != game and name.startswith(f"{other}_"):
             raise ValueError(f"{name} is named as a {other} level, not a {game} one")

@@ -21,11 +21,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from gvgai_pcg.games.registry import find_game_spec
 from gvgai_pcg.study.conditions import Budget
 
-# Relative cost of a frame of each game's training (measured frames/s of the default training,
-# docs/benchmarks.md); only used to share the conditions fairly between parallel jobs.
-FRAME_COST = {"zelda": 1.0, "solarfox": 1.3, "frogs": 2.0, "boulderdash": 2.3}
 MODEL_LIMIT_BYTES = 1_000_000  # a trained model is published only below this size
 
 
@@ -40,15 +38,23 @@ class Outcome:
     sweep_seconds: float
 
 
+def frame_cost(condition: str) -> float:
+    """The relative cost of a frame of ``condition``'s training (its game's ``GameSpec.frame_cost``,
+    measured frames/s of the default training, docs/benchmarks.md; 1 for an unknown game): only
+    used to share the conditions fairly between parallel jobs."""
+    spec = find_game_spec(condition.split("-")[0])
+    return 1.0 if spec is None else spec.frame_cost
+
+
 def share_conditions(conditions: Sequence[str], jobs: int) -> list[list[str]]:
     """``conditions`` split into at most ``jobs`` shares of about equal expected cost (greedy,
     most expensive first); each share keeps the conditions' given order."""
     shares: list[list[str]] = [[] for _ in range(max(1, min(jobs, len(conditions))))]
     costs = [0.0] * len(shares)
-    for condition in sorted(conditions, key=lambda c: -FRAME_COST.get(c.split("-")[0], 1.0)):
+    for condition in sorted(conditions, key=lambda c: -frame_cost(c)):
         lightest = costs.index(min(costs))
         shares[lightest].append(condition)
-        costs[lightest] += FRAME_COST.get(condition.split("-")[0], 1.0)
+        costs[lightest] += frame_cost(condition)
     order = {c: i for i, c in enumerate(conditions)}
     return [sorted(share, key=order.__getitem__) for share in shares if share]
 

@@ -55,15 +55,21 @@ def test_the_extractor_sees_fences_and_the_marker() -> None:
 
 @pytest.fixture
 def isolated_registries():
-    """A page may register its own generator or game; keep that out of the other tests."""
-    from gvgai_pcg.games import registry as game_registry
-    from gvgai_pcg.generators import registry as generator_registry
+    """A page may register its own generator or game (and its Gymnasium id); keep that out of the
+    other tests."""
+    import gymnasium
 
-    saved = dict(game_registry._GAMES), dict(generator_registry._GENERATORS)
+    from gvgai_pcg.games import registry
+
+    tables = (registry._SPECS, registry._GAMES, registry._RULES, registry._GENERATORS)
+    saved = [dict(table) for table in tables]
+    ids = set(gymnasium.registry)
     yield
-    for registry, before in zip((game_registry._GAMES, generator_registry._GENERATORS), saved, strict=True):
-        registry.clear()
-        registry.update(before)
+    for table, before in zip(tables, saved, strict=True):
+        table.clear()
+        table.update(before)
+    for added in set(gymnasium.registry) - ids:
+        del gymnasium.registry[added]
 
 
 @pytest.mark.parametrize("page", pages(), ids=lambda path: str(path.relative_to(DOCS)))

@@ -3,7 +3,8 @@ change cannot alter them silently."""
 
 import torch
 
-from gvgai_pcg.envs.level_sources import TEST_SEED_BASE, TRAINING_SEED_SPACE, GeneratedLevels
+from gvgai_pcg.envs.level_sources import GeneratedLevels
+from gvgai_pcg.levels.seeds import TEST_SEED_BASE, TRAINING_SEED_SPACE
 from gvgai_pcg.levels.test_sets import (
     MANIFEST_NAME,
     TEST_DIFFICULTIES,
@@ -52,5 +53,6 @@ def test_regenerating_gives_exactly_the_shipped_files(tmp_path):
     write_test_sets(tmp_path)
     from importlib.resources import files
 
-    shipped = files("gvgai_pcg.levels").joinpath("test_sets", MANIFEST_NAME).read_text()
-    assert (tmp_path / MANIFEST_NAME).read_text() == shipped
+    for game in GAMES:
+        shipped = files(f"gvgai_pcg.games.{game}").joinpath("test_sets", MANIFEST_NAME).read_text()
+        assert (tmp_path / game / MANIFEST_NAME).read_text() == shipped

@@ -7,7 +7,8 @@ Scenarios that need a monster to walk a given way monkeypatch ``boulderdash.draw
 import pytest
 import torch
 
-from gvgai_pcg.games import boulderdash, get_game
+from gvgai_pcg.games import get_game
+from gvgai_pcg.games.boulderdash import rules as boulderdash
 from gvgai_pcg.games.geometry import DOWN, LEFT, RIGHT, UP
 from gvgai_pcg.levels import Level, human_level
 

@@ -10,8 +10,11 @@ from __future__ import annotations
 import pytest
 import torch
 
-from gvgai_pcg.games import frogs, frogs_logs, get_game
-from gvgai_pcg.games.base import merge_states, pad_level
+from gvgai_pcg.envs.states import merge_states
+from gvgai_pcg.games import get_game
+from gvgai_pcg.games.base import pad_level
+from gvgai_pcg.games.frogs import logs as frogs_logs
+from gvgai_pcg.games.frogs import rules as frogs
 from gvgai_pcg.games.render import render_tiles
 from gvgai_pcg.levels import Level, human_level
 

@@ -1,4 +1,4 @@
-"""The invariants of Frogs' log machinery (gvgai_pcg/games/frogs_logs.py), each checked against a
+"""The invariants of Frogs' log machinery (gvgai_pcg/games/frogs/logs.py), each checked against a
 brute-force version of what it stands for."""
 
 from __future__ import annotations
@@ -9,8 +9,9 @@ import pytest
 import torch
 from tensordict import TensorDict
 
-from gvgai_pcg.games import frogs, frogs_logs
-from gvgai_pcg.games.frogs_logs import (
+from gvgai_pcg.games.frogs import logs as frogs_logs
+from gvgai_pcg.games.frogs import rules as frogs
+from gvgai_pcg.games.frogs.logs import (
     LOG_SPEED,
     log_key,
     log_layout,

@@ -8,7 +8,7 @@ import pytest
 import torch
 
 from gvgai_pcg.games import get_game, rng
-from gvgai_pcg.games.solarfox import SHOTS_PER_ENEMY
+from gvgai_pcg.games.solarfox.rules import SHOTS_PER_ENEMY
 from gvgai_pcg.levels import Level, human_level
 
 GAME = get_game("solarfox")

@@ -6,7 +6,7 @@ from collections import deque
 
 import numpy as np
 
-from gvgai_pcg.generators import boulderdash
+from gvgai_pcg.games.boulderdash import generator as boulderdash
 
 
 def naive_connected(open_cells: set[int], width: int, start: int, targets: set[int]) -> bool:

@@ -7,9 +7,9 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from gvgai_pcg.games.solarfox.generator import _draw
 from gvgai_pcg.generators import generate_level
 from gvgai_pcg.generators._common import UniformStream, difficulty_tag
-from gvgai_pcg.generators.solarfox import _draw
 from gvgai_pcg.generators.validation import playability_problems
 from gvgai_pcg.levels.level import Level
 

@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from gvgai_pcg.games import registry
 from gvgai_pcg.generators import (
     generate_level,
     get_generator,
     register_generator,
     registered_generators,
-    registry,
 )
 from gvgai_pcg.levels.level import Level
 
@@ -75,4 +75,4 @@ def test_plugin_cannot_replace_a_registered_generator(monkeypatch):
     monkeypatch.setattr(registry, "_GENERATORS", dict(registry._GENERATORS))
     with pytest.warns(UserWarning, match="already registered"):
         registered_generators()
-    assert get_generator("zelda").__module__ == "gvgai_pcg.generators.zelda"
+    assert get_generator("zelda").__module__ == "gvgai_pcg.games.zelda.generator"

@@ -15,7 +15,6 @@ import math
 import numpy as np
 
 from gvgai_pcg.generators._common import UniformStream, generated_level
-from gvgai_pcg.generators.registry import register_generator
 from gvgai_pcg.levels.level import Level
 
 WIDTH, HEIGHT = 10, 11
@@ -89,7 +88,6 @@ def place_pills(grid: list[list[int]], pills: int, concentration: float, r: Unif
                     grid[HEIGHT - y - 1][x] = grid[y][x]
 
 
-@register_generator("solarfox")
 def generate(difficulty: float, seed: int) -> Level:
     """A 10x11 Solarfox level at ``difficulty``; the same seed gives the same level.
 

@@ -32,12 +32,10 @@ import math
 import numpy as np
 from scipy import ndimage
 
+from gvgai_pcg.games.boulderdash import LEVEL_FORMAT as FULL
 from gvgai_pcg.generators._common import UniformStream, frame, generated_level
-from gvgai_pcg.generators.registry import register_generator
-from gvgai_pcg.levels.formats import LEVEL_FORMATS
 from gvgai_pcg.levels.level import Level
 
-FULL = LEVEL_FORMATS["boulderdash"]
 DIRT, WALL, GEM, BOULDER, BUTTERFLY, CRAB, EMPTY, AVATAR, EXIT = range(9)
 CHARS = ".wxobc-Ae"
 BASE_GEMS = 10
@@ -274,7 +272,6 @@ def _distance(i: int, j: int, width: int) -> int:
     return abs(iy - jy) + abs(ix - jx)
 
 
-@register_generator("boulderdash")
 def generate(difficulty: float, seed: int) -> Level:
     """A Boulderdash level at ``difficulty``, framed to 26x13; the same seed gives the same level."""
     rng = np.random.default_rng(seed)

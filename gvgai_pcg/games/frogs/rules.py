@@ -13,7 +13,7 @@ pullWithIt (1 px, only if the frog did not move) · 3 frog × wall stepBack · 4
 Termination: no goal → WIN, then no frog → LOSE.
 
 Logs live in one entity table whose slots are laid out, scheduled and keyed by
-:mod:`gvgai_pcg.games.frogs_logs` (the machinery and the invariants it keeps); slot order is not
+:mod:`gvgai_pcg.games.frogs.logs` (the machinery and the invariants it keeps); slot order is not
 creation order, and no rule depends on it (see ``_apply_rules``, rule 2b). The tick touches the
 whole log table only to move all x at once and to find the logs near the frog.
 """
@@ -40,7 +40,7 @@ from gvgai_pcg.games.base import (
     golden_record,
     single_sprite_layer,
 )
-from gvgai_pcg.games.frogs_logs import (
+from gvgai_pcg.games.frogs.logs import (
     LOG_SPEED,
     dying_log_slots,
     log_key,
@@ -247,7 +247,7 @@ class Frogs(Game):
         assert_async(
             ~alive[env, slot].any(),
             "frogs: a spawned log found its ring slot occupied; the log table is smaller than the "
-            "bound of frogs_logs.spawner_ring_size",
+            "bound of frogs.logs.spawner_ring_size",
         )
         x32, y32 = sx[fires].to(torch.int32), sy[fires].to(torch.int32)
         where = (env, slot)
@@ -348,7 +348,7 @@ class Frogs(Game):
     # --- step 5: cleanup (logs killed by EOS at x = −1 are removed) ---
     @staticmethod
     def _cleanup_logs(state: TensorDict, tick: torch.Tensor, schedule: dict) -> None:
-        """Every log dies at a tick known in advance (``frogs_logs.dying_log_slots``): its slot gets
+        """Every log dies at a tick known in advance (``logs.dying_log_slots``): its slot gets
         ``alive`` false and key 0."""
         logs = state.get("logs")
         where = dying_log_slots(state, tick, schedule)

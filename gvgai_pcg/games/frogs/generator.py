@@ -21,12 +21,10 @@ import math
 
 import numpy as np
 
+from gvgai_pcg.games.frogs import LEVEL_FORMAT as FULL
 from gvgai_pcg.generators._common import UniformStream, frame, generated_level
-from gvgai_pcg.generators.registry import register_generator
-from gvgai_pcg.levels.formats import LEVEL_FORMATS
 from gvgai_pcg.levels.level import Level
 
-FULL = LEVEL_FORMATS["frogs"]
 GRASS, STREET, WATER = 0, 1, 2
 _VEHICLES = {0: "l_", 1: "x-"}  # per lane direction: (fast, slow)
 
@@ -101,7 +99,6 @@ def _lane(kind: int, width: int, r: UniformStream) -> list[str]:
     return [("3" if r() < 0.5 else "1") if c == "spawner" else c for c in row]
 
 
-@register_generator("frogs")
 def generate(difficulty: float, seed: int) -> Level:
     """A Frogs level at ``difficulty``, framed to 28x11; the same seed gives the same level."""
     r = UniformStream(np.random.default_rng(seed))

@@ -3,7 +3,7 @@
 import numpy as np
 import torch
 
-from gvgai_pcg.games.buffers import BufferPool
+from gvgai_pcg.engine.buffers import BufferPool
 
 
 def address(tensor: torch.Tensor) -> int:

@@ -21,7 +21,6 @@ import math
 import numpy as np
 
 from gvgai_pcg.generators._common import UniformStream, generated_level
-from gvgai_pcg.generators.registry import register_generator
 from gvgai_pcg.levels.level import Level
 
 WIDTH, HEIGHT = 13, 9
@@ -82,7 +81,6 @@ def _noisy_first(score: np.ndarray, rng: np.random.Generator, count: int = 1) ->
     return np.argsort(keys, kind="stable")[:count]
 
 
-@register_generator("zelda")
 def generate(difficulty: float, seed: int) -> Level:
     """A 13x9 Zelda level at ``difficulty``; the same seed gives the same level."""
     rng = np.random.default_rng(seed)

@@ -4,8 +4,8 @@ import pytest
 import torch
 from tensordict import TensorDict
 
-from gvgai_pcg.games import rows
-from gvgai_pcg.games.rows import copy_rows, copy_tensor_rows_, select_rows, wide_rows
+from gvgai_pcg.engine import rows
+from gvgai_pcg.engine.rows import copy_rows, copy_tensor_rows_, select_rows, wide_rows
 
 SHAPES = [(), (1,), (3,), (5,), (8,), (195,), (11, 28), (11, 11, 28), (0,), (3, 0)]
 DTYPES = [torch.bool, torch.uint8, torch.int16, torch.int32, torch.int64, torch.float32]
@@ -72,24 +72,3 @@ def test_copy_rows_equals_indexed_assignment():
     expected[index] = source
     copy_rows(target, source, index)
     assert (target == expected).all()
-
-
-def test_merging_fresh_states_with_fewer_slots_equals_merging_padded_ones():
-    from gvgai_pcg.games import get_game
-    from gvgai_pcg.games.base import entity_capacities, merge_states, pad_entity_tables, pad_level
-    from gvgai_pcg.generators import generate_level
-
-    game = get_game("frogs")
-    fmt = game.level_format
-    levels = [
-        pad_level(generate_level("frogs", d, seed), fmt.height, fmt.width)
-        for seed, d in enumerate((1.0, 0.9, 0.0, 0.1))
-    ]
-    state = game.compile(levels[:2], torch.arange(2), torch.device("cpu"))
-    fresh = game.compile(levels[2:], torch.arange(2, 4), torch.device("cpu"))
-    sizes = entity_capacities(state)
-    assert any(entity_capacities(fresh)[key] < size for key, size in sizes.items())  # fewer slots
-    expected = state.clone()
-    copy_rows(expected, pad_entity_tables(fresh.clone(), sizes), torch.tensor([1, 0]))
-    merged = merge_states(state.clone(), fresh, torch.tensor([1, 0]))
-    assert (merged == expected).all()

@@ -1,0 +1,41 @@
+"""Batched game states as the env moves them around: partial resets merge fresh envs into the
+running state, and the level bank keeps many compiled envs in one batch.
+
+Env plumbing, not rules: a game only compiles levels into a state and ticks it
+(``gvgai_pcg.games.base``). Entity tables of two states may have different slot counts; both
+operations grow the smaller ones with empty (zero) slots, as padding would give them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import torch
+from tensordict import TensorDict
+
+from gvgai_pcg.engine.rows import copy_tensor_rows_
+from gvgai_pcg.games.base import _grow_slots, entity_capacities, pad_entity_tables
+
+
+def merge_states(state: TensorDict, fresh: TensorDict, index: torch.Tensor) -> TensorDict:
+    """``state`` with envs ``index`` replaced by ``fresh`` (a partial reset). An entity table of
+    ``state`` is grown where ``fresh`` has more slots; where it has fewer, the fresh rows get empty
+    slots (zeros, as padding would give them) leaf by leaf, which costs a fraction of padding the
+    fresh tables as TensorDicts."""
+    ours, theirs = entity_capacities(state), entity_capacities(fresh)
+    state = pad_entity_tables(state, {key: theirs[key] for key in ours if theirs[key] > ours[key]})
+    for key, value in fresh.items(True, True):
+        target = state.get(key)
+        if isinstance(key, tuple) and key[0] in ours and value.shape[1] < target.shape[1]:
+            value = _grow_slots(value, target.shape[1] - value.shape[1])
+        copy_tensor_rows_(target, index, value)
+    return state
+
+
+def concatenate_states(states: Sequence[TensorDict]) -> TensorDict:
+    """One batch of the envs of ``states`` (in order); entity tables are grown to the largest."""
+    sizes: dict[str, int] = {}
+    for state in states:
+        for key, size in entity_capacities(state).items():
+            sizes[key] = max(size, sizes.get(key, 0))
+    return torch.cat([pad_entity_tables(state.clone(False), sizes) for state in states], dim=0)

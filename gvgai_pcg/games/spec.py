@@ -1,0 +1,119 @@
+"""``GameSpec``: everything that makes one game, named in one place.
+
+A game is one folder, ``gvgai_pcg/games/<name>/``: its rules (a ``Game`` subclass), its level
+generator, its level format, the counts and checks of its generated levels, its human levels and
+frozen test sets, and the constants the study keeps for it. The folder's ``__init__.py`` holds a
+``GameSpec`` called ``SPEC`` that names all of these, and every table of the package (level
+parsing, the generators, the analysis, the Gymnasium ids, the curriculum's win rule, the
+benchmark) reads the spec through ``gvgai_pcg.games.registry``, never a list of games.
+
+This module imports nothing of gvgai_pcg, so that parsing a level (``gvgai_pcg.levels``) can read
+the format of its game without the engine: the spec names the rules and the generator by import
+path (``"package.module:attribute"``), which the registry imports on first use. A game defined
+outside a package may give the class and the function themselves.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from gvgai_pcg.levels.level import Level
+
+Generator = Callable[[float, int], "Level"]
+
+
+@dataclass(frozen=True)
+class WinNeed:
+    """Something a level must hold to be winnable: at least ``count`` cells of ``chars``."""
+
+    chars: str  # any of these characters counts
+    count: int
+    what: str  # how a person names it, e.g. "key (+)"
+
+
+@dataclass(frozen=True)
+class LevelFormat:
+    """What a level file of one game may contain."""
+
+    game: str
+    chars: str  # every legal character, in legend order
+    avatar_chars: str  # characters that place the avatar; a level has exactly one of them
+    height: int  # full grid height in cells (rows); levels may be smaller, never larger
+    width: int  # full grid width in cells (columns)
+    # What the game's win condition needs (docs/spec/RULES.md): without it a level is lost or won
+    # without play. Checked by ``gvgai_pcg.levels.winnable``, never by parsing.
+    win_needs: tuple[WinNeed, ...] = ()
+
+
+@dataclass(frozen=True)
+class GameSpec:
+    """One game: what it is called, where its parts are, and what the study keeps for it.
+
+    Args:
+        name: the registry key and the prefix of its level names (``zelda_lvl0``), lower case.
+        title: the name as people write it (``"Boulderdash"``): figure titles and the Gymnasium
+            id ``gvgai_pcg/<title>-v0``.
+        level_format: the legend, avatar characters and full grid size of its levels.
+        rules: the ``Game`` subclass, or its import path ``"package.module:Class"``.
+        generator: ``generate(difficulty, seed) -> Level``, or its import path; registered as
+            the generator named ``name``. ``None``: the game has no generator.
+        counts: what a level contains (``{"keys": 1, ...}``), for the generator tests and docs.
+        playability_problems: what keeps a generated level from being playable as the generator
+            promises (an empty list when nothing does).
+        study_tileset: the characters the study's PCA encodes, one channel each, in order;
+            ``None``: every character of the legend but floor.
+        study_score_win: the study's curriculum counts an episode with at least this score as a
+            win (GENERATORS.md §2); ``None``: anything but a loss is a win.
+        data_package: the package whose folder holds ``human_levels/<name>_lvl<i>.txt`` and
+            ``test_sets/`` (a manifest and its level files); ``None``: no shipped levels.
+        human_levels: how many human-designed levels ``human_levels/`` holds.
+        study_index: the game's place in the study (0-3): the order of its tables and figures
+            and the block of its frozen test-set seeds. ``None`` for a game outside the study.
+        bench_target: the tiles steps/s at B = 4096 on 2 CPU cores that the benchmark holds the
+            game to (what issues 2-5 asked of each game); ``None``: no target.
+        frame_cost: the relative cost of a training frame, to share a sweep between jobs.
+    """
+
+    name: str
+    title: str
+    level_format: LevelFormat
+    rules: str | type
+    generator: str | Generator | None = None
+    counts: Callable[[Level], dict[str, int]] | None = None
+    playability_problems: Callable[[Level], list[str]] | None = None
+    study_tileset: str | None = None
+    study_score_win: float | None = None
+    data_package: str | None = None
+    human_levels: int = 0
+    study_index: int | None = None
+    bench_target: int | None = None
+    frame_cost: float = 1.0
+
+    def __post_init__(self) -> None:
+        if not self.name.isidentifier() or self.name != self.name.lower() or "_" in self.name:
+            raise ValueError(
+                f"game name {self.name!r}: use lower-case letters and digits (no '_', which separates "
+                "a level name's parts, e.g. zelda_lvl0)"
+            )
+        if self.level_format.game != self.name:
+            raise ValueError(
+                f"game {self.name!r}: its level format says game {self.level_format.game!r}; "
+                "the two names must agree"
+            )
+        if self.human_levels and self.data_package is None:
+            raise ValueError(f"game {self.name!r} has {self.human_levels} human levels but no data_package")
+
+
+def load_object(reference: Any) -> Any:
+    """``reference`` itself, or the object an import path ``"package.module:attribute"`` names."""
+    if not isinstance(reference, str):
+        return reference
+    import importlib
+
+    module_name, _, attribute = reference.partition(":")
+    if not attribute:
+        raise ValueError(f"{reference!r} is not an import path of the form 'package.module:attribute'")
+    return getattr(importlib.import_module(module_name), attribute)

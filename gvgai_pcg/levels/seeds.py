@@ -1,0 +1,9 @@
+"""The two seed ranges that keep training and evaluation apart.
+
+Generated training levels draw their seeds from ``[0, TRAINING_SEED_SPACE)``; the frozen
+evaluation test sets use seeds at and above ``TEST_SEED_BASE``, so no training episode can ever
+see a test level.
+"""
+
+TRAINING_SEED_SPACE = 2**31
+TEST_SEED_BASE = 2**40

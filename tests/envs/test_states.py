@@ -1,0 +1,27 @@
+"""Merging a partial reset into the running state: fresh envs with fewer entity slots than the
+running batch merge as if they had been padded first."""
+
+import torch
+
+from gvgai_pcg.engine.rows import copy_rows
+from gvgai_pcg.envs.states import merge_states
+from gvgai_pcg.games import get_game
+from gvgai_pcg.games.base import entity_capacities, pad_entity_tables, pad_level
+from gvgai_pcg.generators import generate_level
+
+
+def test_merging_fresh_states_with_fewer_slots_equals_merging_padded_ones():
+    game = get_game("frogs")
+    fmt = game.level_format
+    levels = [
+        pad_level(generate_level("frogs", d, seed), fmt.height, fmt.width)
+        for seed, d in enumerate((1.0, 0.9, 0.0, 0.1))
+    ]
+    state = game.compile(levels[:2], torch.arange(2), torch.device("cpu"))
+    fresh = game.compile(levels[2:], torch.arange(2, 4), torch.device("cpu"))
+    sizes = entity_capacities(state)
+    assert any(entity_capacities(fresh)[key] < size for key, size in sizes.items())  # fewer slots
+    expected = state.clone()
+    copy_rows(expected, pad_entity_tables(fresh.clone(), sizes), torch.tensor([1, 0]))
+    merged = merge_states(state.clone(), fresh, torch.tensor([1, 0]))
+    assert (merged == expected).all()
