@@ -17,6 +17,7 @@ import numpy as np
 
 from gvgai_pcg.games.registry import get_game_spec
 from gvgai_pcg.levels import Level
+from gvgai_pcg.levels.padding import pad_rows
 
 FLOOR = "."
 PAD = "w"
@@ -35,13 +36,7 @@ def tileset(game: str, complete: bool = False) -> str:
 def padded_rows(level: Level) -> list[str]:
     """``level``'s rows grown to the game's full size with wall rows/columns at the bottom and right."""
     fmt = level.format
-    if level.height > fmt.height or level.width > fmt.width:
-        raise ValueError(
-            f"level {level.name or ''} is {level.width}x{level.height}, larger than the {level.game} "
-            f"full size {fmt.width}x{fmt.height}"
-        )
-    rows = [row + PAD * (fmt.width - level.width) for row in level.rows]
-    return rows + [PAD * fmt.width] * (fmt.height - level.height)
+    return pad_rows(level.rows, fmt.height, fmt.width, PAD, f"{level.name or ''} of {level.game}")
 
 
 def encode_level(level: Level, complete: bool = False) -> np.ndarray:

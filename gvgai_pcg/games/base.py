@@ -28,6 +28,7 @@ from tensordict import TensorDict
 
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.levels import Level, LevelFormat, level_format
+from gvgai_pcg.levels.padding import pad_rows
 
 # A cell beyond a level's screen, where padding grows the level to a batch's grid. No legend has
 # this character (and Level.parse refuses it), so nothing is there: no wall, no sprite.
@@ -253,14 +254,9 @@ def pad_level(level: Level, height: int, width: int) -> Level:
     """``level`` grown to ``height x width`` with ``OUTSIDE`` rows at the bottom and columns at the
     right: cells beyond its screen, which hold nothing and keep its edge where it was (a level
     already that size is returned as is)."""
-    if level.height > height or level.width > width:
-        raise ValueError(
-            f"level {level.name or ''} is {level.width}x{level.height}, larger than {width}x{height}"
-        )
+    rows = pad_rows(level.rows, height, width, OUTSIDE, level.name or "")
     if (level.height, level.width) == (height, width):
         return level
-    rows = [row + OUTSIDE * (width - level.width) for row in level.rows]
-    rows += [OUTSIDE * width] * (height - level.height)
     return Level(level.game, tuple(rows), name=level.name, seed=level.seed)
 
 

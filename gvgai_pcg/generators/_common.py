@@ -13,6 +13,7 @@ import numpy as np
 
 from gvgai_pcg.levels.formats import level_format
 from gvgai_pcg.levels.level import Level
+from gvgai_pcg.levels.padding import centre_rows
 
 _BLOCK = 256
 
@@ -37,14 +38,7 @@ class UniformStream:
 def frame(rows: list[str], game: str, pad: str = "w") -> list[str]:
     """Centre ``rows`` in a ``pad`` frame of the game's full size (floor on the left and top)."""
     fmt = level_format(game)
-    height, width = len(rows), len(rows[0])
-    if (height, width) == (fmt.height, fmt.width):
-        return rows
-    left = (fmt.width - width) // 2
-    top = (fmt.height - height) // 2
-    left_pad, right_pad = pad * left, pad * (fmt.width - width - left)
-    full = pad * fmt.width
-    return [full] * top + [left_pad + row + right_pad for row in rows] + [full] * (fmt.height - height - top)
+    return centre_rows(rows, fmt.height, fmt.width, pad, game)
 
 
 def difficulty_tag(difficulty: float) -> str:
