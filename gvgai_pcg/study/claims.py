@@ -96,7 +96,8 @@ def collect(runs: Iterable[Path], random_cache: Path | None, protocol) -> dict[s
                 info.game, {}, {}, _set_means(baseline, "scores"), _set_means(records, "max_score"), {}
             )
         game = games[info.game]
-        game.frames.setdefault(info.label, []).append(info.frames)
+        # the frames of the model the records were made from: a run trains on after its evaluation
+        game.frames.setdefault(info.label, []).append(int(records[0].frames))
         sets = game.conditions.setdefault(info.label, {})
         for test_set in {record.test_set for record in records}:
             of_set = [record for record in records if record.test_set == test_set]

@@ -93,3 +93,23 @@ def test_one_level_short_of_the_max_but_random_elsewhere_is_inconclusive():
     assert one_level_overfits(game({"Lv 0": flat(0.5, lv0=6.0), "Lv 4": flat(0.5, lv4=6.0)})).verdict == (
         "inconclusive"
     )
+
+
+def test_claims_count_the_frames_of_the_evaluated_model_not_of_a_later_checkpoint(tmp_path):
+    """A run that trains on after its evaluation is judged at the frames it was evaluated at."""
+    import torch
+
+    from gvgai_pcg.evaluation.checkpoints import run_info
+    from gvgai_pcg.evaluation.evaluator import evaluate_run
+    from gvgai_pcg.evaluation.protocol import Protocol
+    from gvgai_pcg.study.claims import collect
+    from tests.evaluation.conftest import make_run
+
+    protocol = Protocol(test_levels=1, test_episodes=1, human_episodes=1, max_steps=5)
+    run = make_run(tmp_path, "lv0", seed=0, frames=1000)
+    evaluate_run(run_info(run), protocol, progress=False)
+    later = torch.load(run / "model.pt", weights_only=True) | {"frames": 2000}
+    (run / "checkpoints").mkdir()
+    torch.save(later, run / "checkpoints" / "last.pt")  # the run trained on
+    assert run_info(run).frames == 2000
+    assert collect([run], None, protocol)["zelda"].frames == {"Lv 0": [1000]}
