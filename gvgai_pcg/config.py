@@ -24,10 +24,9 @@ from typing import Any
 
 from omegaconf import DictConfig, OmegaConf
 
+from gvgai_pcg.levels.seeds import TRAINING_SEED_SPACE  # generated training levels' seeds lie below
+
 CONFIG_NAME = "config"
-# Generated training levels take seeds below this (gvgai_pcg.envs.level_sources.TRAINING_SEED_SPACE);
-# the frozen test sets' seeds lie far above it.
-TRAINING_SEED_SPACE = 2**31
 
 
 class ConfigError(ValueError):

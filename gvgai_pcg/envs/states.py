@@ -14,7 +14,7 @@ import torch
 from tensordict import TensorDict
 
 from gvgai_pcg.engine.rows import copy_tensor_rows_
-from gvgai_pcg.games.base import _grow_slots, entity_capacities, pad_entity_tables
+from gvgai_pcg.games.base import entity_capacities, grow_slots, pad_entity_tables
 
 
 def merge_states(state: TensorDict, fresh: TensorDict, index: torch.Tensor) -> TensorDict:
@@ -27,7 +27,7 @@ def merge_states(state: TensorDict, fresh: TensorDict, index: torch.Tensor) -> T
     for key, value in fresh.items(True, True):
         target = state.get(key)
         if isinstance(key, tuple) and key[0] in ours and value.shape[1] < target.shape[1]:
-            value = _grow_slots(value, target.shape[1] - value.shape[1])
+            value = grow_slots(value, target.shape[1] - value.shape[1])
         copy_tensor_rows_(target, index, value)
     return state
 

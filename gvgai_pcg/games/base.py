@@ -269,12 +269,12 @@ def pad_entity_tables(state: TensorDict, capacities: dict[str, int]) -> TensorDi
             # leaf by leaf: a TensorDict ``cat`` validates every entry and costs much more
             state.set(
                 key,
-                table.apply(functools.partial(_grow_slots, missing=missing), batch_size=[len(table), size]),
+                table.apply(functools.partial(grow_slots, missing=missing), batch_size=[len(table), size]),
             )
     return state
 
 
-def _grow_slots(tensor: torch.Tensor, missing: int) -> torch.Tensor:
+def grow_slots(tensor: torch.Tensor, missing: int) -> torch.Tensor:
     """``tensor [B, K, ...]`` with ``missing`` zero slots appended along ``K``."""
     return torch.cat([tensor, tensor.new_zeros((tensor.shape[0], missing, *tensor.shape[2:]))], dim=1)
 
