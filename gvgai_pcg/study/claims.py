@@ -186,7 +186,13 @@ def generated_generalise(game: GameResults) -> Verdict:
     generated = [c for c in game.conditions if c.startswith(("PCG", "PPCG"))]
     human = [c for c in game.conditions if c.startswith("Lv")]
     if not generated or not human:
-        return Verdict(claim, "not run", "needs both generated-level and human-level conditions")
+        missing = "human-level" if generated else "generated-level"
+        return Verdict(
+            claim,
+            "not run",
+            f"no {missing} condition was trained for this game (the study trained only PCG 1 and PPCG "
+            "on Solarfox, Frogs and Boulderdash; `reproduce --extra` adds Lv 0, Lv 4, Lv 0-3, PCG 0.5)",
+        )
     lines, outcomes, by_seed = [], [], True
     for test_set in GENERATED_SETS:
         best_gen = max(generated, key=lambda c: game.normalised(c, test_set)[0])
