@@ -57,6 +57,8 @@ class GameResults:
     random: dict[str, float]
     maximum: dict[str, float]
     max_difficulty: dict[str, list[float]]  # PPCG: the highest d each run reached in training
+    # runs left out because a run of their condition has reached the target and they have not yet
+    training: dict[str, list[int]] = field(default_factory=dict)
 
     def normalised(self, label: str, test_set: str) -> tuple[float, float, bool]:
         """Normalised mean score of a condition on a set, its standard error, and whether the
@@ -75,20 +77,31 @@ class Verdict:
     evidence: str
 
 
-def collect(runs: Iterable[Path], random_cache: Path | None, protocol) -> dict[str, GameResults]:
+def collect(
+    runs: Iterable[Path], random_cache: Path | None, protocol, target_frames: int | None = None
+) -> dict[str, GameResults]:
     """Every game's results from run directories (their evaluation records for ``protocol``, and
-    for PPCG the highest difficulty in their logs); runs without records are left out."""
+    for PPCG the highest difficulty in their logs); runs without records are left out. With
+    ``target_frames``, a condition with runs at the target is judged on those alone: a later
+    seed still training would otherwise pull its mean back (its frames go to ``training``)."""
     from gvgai_pcg.evaluation.checkpoints import run_info
     from gvgai_pcg.evaluation.evaluator import random_results_path, read_records, run_results_path
     from gvgai_pcg.rl.run_log import read_log
 
-    games: dict[str, GameResults] = {}
+    evaluated = []
     for path in runs:
         info = run_info(path)
         results_path = run_results_path(info.path, protocol)
-        if not results_path.is_file():
-            continue
-        records = read_records(results_path)
+        if results_path.is_file():
+            evaluated.append((info, read_records(results_path)))
+    finished = {
+        (info.game, info.label)
+        for info, records in evaluated
+        if target_frames is not None and int(records[0].frames) >= target_frames
+    }
+    games: dict[str, GameResults] = {}
+    for info, records in evaluated:
+        frames = int(records[0].frames)  # of the model the records were made from
         if info.game not in games:
             random_path = random_results_path(info.game, protocol, random_cache)
             baseline = read_records(random_path) if random_path.is_file() else []
@@ -96,8 +109,10 @@ def collect(runs: Iterable[Path], random_cache: Path | None, protocol) -> dict[s
                 info.game, {}, {}, _set_means(baseline, "scores"), _set_means(records, "max_score"), {}
             )
         game = games[info.game]
-        # the frames of the model the records were made from: a run trains on after its evaluation
-        game.frames.setdefault(info.label, []).append(int(records[0].frames))
+        if (info.game, info.label) in finished and frames < target_frames:
+            game.training.setdefault(info.label, []).append(frames)
+            continue
+        game.frames.setdefault(info.label, []).append(frames)
         sets = game.conditions.setdefault(info.label, {})
         for test_set in {record.test_set for record in records}:
             of_set = [record for record in records if record.test_set == test_set]
@@ -345,6 +360,12 @@ def claims_markdown(verdicts: Sequence[tuple[str, Verdict]], games: dict[str, Ga
     for name, game in games.items():
         runs = ", ".join(
             f"{label} {len(frames)} run(s) at {min(frames):,}-{max(frames):,} frames"
+            + (
+                f" (and {len(game.training[label])} still training, left out: at "
+                f"{', '.join(f'{f:,}' for f in game.training[label])} frames)"
+                if label in game.training
+                else ""
+            )
             for label, frames in game.frames.items()
         )
         lines.append(f"- {name}: {runs}")

@@ -154,7 +154,7 @@ def write_claims(
     from gvgai_pcg.evaluation.checkpoints import find_runs
     from gvgai_pcg.study.claims import claims_markdown, collect, study_claims
 
-    games = collect(find_runs([runs_dir]), random_cache, protocol)
+    games = collect(find_runs([runs_dir]), random_cache, protocol, target_frames)
     path.write_text(claims_markdown(study_claims(games, target_frames), games))
     return path
 

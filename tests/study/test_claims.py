@@ -113,3 +113,25 @@ def test_claims_count_the_frames_of_the_evaluated_model_not_of_a_later_checkpoin
     torch.save(later, run / "checkpoints" / "last.pt")  # the run trained on
     assert run_info(run).frames == 2000
     assert collect([run], None, protocol)["zelda"].frames == {"Lv 0": [1000]}
+
+
+def test_a_seed_still_training_is_left_out_where_its_condition_has_finished_runs(tmp_path):
+    """Seed 1 at a tenth of the budget beside a finished seed 0: the claim is judged on seed 0,
+    and the list says seed 1 is still training."""
+    from gvgai_pcg.evaluation.checkpoints import run_info
+    from gvgai_pcg.evaluation.evaluator import evaluate_run
+    from gvgai_pcg.evaluation.protocol import Protocol
+    from gvgai_pcg.study.claims import claims_markdown, collect
+    from tests.evaluation.conftest import make_run
+
+    protocol = Protocol(test_levels=1, test_episodes=1, human_episodes=1, max_steps=5)
+    runs = [make_run(tmp_path, "lv0", seed=0, frames=1000), make_run(tmp_path, "lv0", seed=1, frames=100)]
+    for run in runs:
+        evaluate_run(run_info(run), protocol, progress=False)
+    zelda = collect(runs, None, protocol, target_frames=1000)["zelda"]
+    assert zelda.frames == {"Lv 0": [1000]} and zelda.training == {"Lv 0": [100]}
+    assert "Lv 0 1 run(s) at 1,000-1,000 frames (and 1 still training" in claims_markdown(
+        [], {"zelda": zelda}
+    )
+    unfinished = collect(runs, None, protocol, target_frames=5000)["zelda"]  # none finished: both count
+    assert sorted(unfinished.frames["Lv 0"]) == [100, 1000] and unfinished.training == {}
