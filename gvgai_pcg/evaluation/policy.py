@@ -12,20 +12,17 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import torch
 from tensordict import TensorDictBase
 
+from gvgai_pcg.evaluation.checkpoints import RunInfo, load_state
 from gvgai_pcg.evaluation.runner import SAMPLE_KEY, sample_actions
 from gvgai_pcg.games import get_game
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.levels import level_format
-from gvgai_pcg.rl.checkpoint import CheckpointError, check_finite, read_file
+from gvgai_pcg.rl.checkpoint import CheckpointError
 from gvgai_pcg.rl.models import ActorCritic, make_actor_critic
-
-if TYPE_CHECKING:
-    from gvgai_pcg.evaluation.checkpoints import RunInfo
 
 
 def observation_shape(game: str, obs: str) -> tuple[int, int, int]:
@@ -71,15 +68,9 @@ def load_policy(
 ) -> ActorCriticPolicy:
     """The policy of a run (``RunInfo``: its config, the checkpoint it names) or of one model or
     checkpoint file (its own saved config), on ``device``."""
-    if isinstance(source, str | Path):
-        path = Path(source)
-        state = read_file(path)  # tensors and plain data only
-        check_finite(state, path)
-        config = state["config"]
-    else:
-        path, config = source.checkpoint, source.config
-        state = read_file(path)
-        check_finite(state, path)
+    path = Path(source) if isinstance(source, str | Path) else source.checkpoint
+    state = load_state(path)  # tensors and plain data only, finite weights
+    config = state["config"] if isinstance(source, str | Path) else source.config
     game, obs, model = config["game"]["name"], config["env"]["obs"], config["model"]
     net = make_actor_critic(
         model["name"], obs, observation_shape(game, obs), get_game(game).num_actions, model["hidden"]
