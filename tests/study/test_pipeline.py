@@ -63,6 +63,7 @@ def test_a_published_run_rebuilds_the_report_without_its_model(tmp_path):
     [run] = find_runs([published / "runs"])
     assert not (run / "model.pt").exists() or (run / "model.pt").stat().st_size < 1_000_000
     assert run_info(run).frames == budget.frames
+    assert_committable(published, Path("results") / budget.name)
     rebuilt = tmp_path / "rebuilt"
     protocol = ["--test-levels", "2", "--human-episodes", "1", "--max-steps", "100"]
     command = [sys.executable, "-m", "gvgai_pcg.cli", "report", "--no-evaluate", str(published / "runs")]
@@ -82,6 +83,25 @@ def test_a_published_run_rebuilds_the_report_without_its_model(tmp_path):
     assert (
         "](images/results/curves-zelda.png)" in text and (tmp_path / "images" / "curves-zelda.png").is_file()
     )
+
+
+def assert_committable(published: Path, where: Path) -> None:
+    """Every file ``publish`` wrote, placed at ``where`` in this checkout (the Makefile's
+    ``--publish results/BUDGET``), is one git would commit: an ignore rule there once kept every
+    run's data out of the repository while the page said it was in."""
+    repo = Path(__file__).resolve().parents[2]
+    if not (repo / ".git").exists():
+        pytest.skip("not a git checkout")
+    files = [str(where / path.relative_to(published)) for path in published.rglob("*") if path.is_file()]
+    assert any("/runs/" in name and name.endswith("log.csv") for name in files)
+    found = subprocess.run(
+        ["git", "check-ignore", "--no-index", "--stdin"],
+        cwd=repo,
+        input="\n".join(files),
+        capture_output=True,
+        text=True,
+    )
+    assert found.stdout.split() == [], f"git ignores published files: {found.stdout.split()[:5]}"
 
 
 @pytest.mark.slow
