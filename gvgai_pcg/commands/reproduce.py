@@ -76,27 +76,11 @@ def run(args: argparse.Namespace) -> int:
     if args.page is not None:
         if outcome.published is None:
             raise ValueError("--page needs --publish (the page is written from the published data)")
+        from gvgai_pcg.rl.provenance import code_commit
         from gvgai_pcg.study.page import write_results_page
 
         images = args.page.parent / "images" / "results"
-        commit = args.trained_at or _commit()
+        commit = args.trained_at or code_commit()
         write_results_page(args.page, outcome.published, images, "images/results", budget.frames, commit)
         print(f"page: {args.page}")
     return 0
-
-
-def _commit() -> str:
-    """The commit of the code that runs (``unknown`` outside a git checkout)."""
-    import subprocess
-
-    try:
-        found = subprocess.run(
-            ["git", "rev-parse", "--short", "HEAD"],
-            cwd=Path(__file__).parent,
-            capture_output=True,
-            text=True,
-            check=True,
-        )
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown"
-    return found.stdout.strip()

@@ -33,6 +33,7 @@ from gvgai_pcg.rl.checkpoint import restore, save_model
 from gvgai_pcg.rl.curves import plot_curve
 from gvgai_pcg.rl.environment import EnvFactory, make_difficulty
 from gvgai_pcg.rl.models import as_tensordict_module, make_actor_critic
+from gvgai_pcg.rl.provenance import record_session
 from gvgai_pcg.rl.rollout import ActingRollouts
 from gvgai_pcg.rl.run_log import EpisodeTracker, RunLog
 from gvgai_pcg.rl.run_session import RunSession, open_run
@@ -75,6 +76,7 @@ def train(
     config = OmegaConf.to_container(cfg, resolve=True)
     files = {"config.yaml": OmegaConf.to_yaml(cfg, resolve=True), **(files or {})}
     with open_run(run_dir, config, files, stop) as session:
+        record_session(run_dir, int(session.saved["frames"]) if session.saved else 0)
         return _train(cfg, run_dir, config, session)
 
 

@@ -52,7 +52,7 @@ ASIDE_DIR = "previous-runs"
 # to, and Hydra's log (this session's log is already open there; it tells every session's story).
 STAYS = {LOCK_NAME, ASIDE_DIR, "train.log"}
 # An earlier session that wrote only these (and empty folders) left nothing worth keeping.
-BOOKKEEPING = {"config.yaml", ".hydra", "shared"}
+BOOKKEEPING = {"config.yaml", ".hydra", "shared", "sessions.csv"}
 
 
 @dataclass

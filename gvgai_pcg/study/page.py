@@ -17,11 +17,13 @@ START, END = "<!-- results:start -->", "<!-- results:end -->"
 
 
 def _runs_table(published: Path, target_frames: int) -> str:
+    from gvgai_pcg.rl.provenance import session_commits
     from gvgai_pcg.rl.run_log import read_log
 
     lines = [
-        "| run | frames evaluated | finished | training wall time so far (h) | last logged mean score |",
-        "|---|---:|---|---:|---:|",
+        "| run | frames evaluated | finished | training wall time so far (h) | last logged mean score "
+        "| trained at |",
+        "|---|---:|---|---:|---:|---|",
     ]
     for run in sorted((published / "runs").iterdir()):
         if not (run / "published.json").is_file():
@@ -31,7 +33,8 @@ def _runs_table(published: Path, target_frames: int) -> str:
         hours = rows[-1]["time"] / 3600 if rows else 0.0
         score = f"{rows[-1]['mean_score']:.2f}" if rows else "-"
         done = "yes" if frames >= target_frames else "no (resumes)"
-        lines.append(f"| {run.name} | {frames:,} | {done} | {hours:.2f} | {score} |")
+        commits = ", ".join(f"`{commit}`" for commit in session_commits(run)) or "-"
+        lines.append(f"| {run.name} | {frames:,} | {done} | {hours:.2f} | {score} | {commits} |")
     return "\n".join(lines)
 
 
@@ -50,7 +53,8 @@ def results_block(published: Path, images: Path, image_prefix: str, target_frame
     return "\n".join(
         [
             START,
-            f"Data: `{published}` (commit `{commit}` of the code that trained and evaluated it; {machine}).",
+            f"Data: `{published}` (commit `{commit}` of the code that evaluated it, and trained every run "
+            f"whose own record below names no other; {machine}).",
             "",
             "### Runs",
             "",

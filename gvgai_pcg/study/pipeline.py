@@ -128,7 +128,7 @@ def publish(out: Path, dest: Path, protocol=None) -> Path:
         info = run_info(run)
         target = dest / "runs" / run.name
         (target / "eval").mkdir(parents=True, exist_ok=True)
-        for name in ("config.yaml", "log.csv", "curve.png"):
+        for name in ("config.yaml", "log.csv", "sessions.csv", "curve.png"):
             if (run / name).is_file():
                 shutil.copy2(run / name, target / name)
         for results in sorted((run / "eval").glob("*.jsonl")):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import csv
 import os
 import signal
 import subprocess
@@ -14,6 +15,7 @@ import pytest
 import torch
 
 from gvgai_pcg.rl import CheckpointError, train
+from gvgai_pcg.rl.provenance import code_commit
 from gvgai_pcg.rl.run_log import COLUMNS, read_log
 from tests.rl.conftest import needs_generated_levels
 
@@ -122,6 +124,10 @@ def test_a_killed_run_resumes_at_its_checkpoint(tmp_path):
     assert all(a["frames"] < b["frames"] for a, b in zip(rows, rows[1:], strict=False))
     assert all(a["episodes"] < b["episodes"] for a, b in zip(rows, rows[1:], strict=False))
     assert torch.load(checkpoint, weights_only=False)["frames"] == 6400
+    with open(run_dir / "sessions.csv", newline="") as file:
+        sessions = list(csv.DictReader(file))
+    assert [int(row["frames"]) for row in sessions] == [0, saved["frames"]]  # one row per sitting
+    assert sessions[0]["commit"] == sessions[1]["commit"] == code_commit()
 
 
 @pytest.mark.slow  # spawning two worker processes costs most of a minute on a loaded 2-core machine

@@ -12,6 +12,7 @@ from hydra import compose, initialize_config_dir
 
 from gvgai_pcg.config import config_dir
 from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
+from gvgai_pcg.rl.provenance import code_commit, session_commits
 from gvgai_pcg.study import BUDGETS, STUDY_CONDITIONS, reproduce
 from gvgai_pcg.study.conditions import EXTRA_CONDITIONS, known_conditions
 from gvgai_pcg.study.page import write_results_page
@@ -80,6 +81,8 @@ def test_a_published_run_rebuilds_the_report_without_its_model(tmp_path):
     text = page.read_text()
     assert text.startswith("# Results\n\nbefore\n") and text.endswith("after\n") and "\nold\n" not in text
     assert "| zelda-lv0-tiles-compact-seed0 | 1,600 | yes |" in text and "commit `abc1234`" in text
+    trained_at = session_commits(published / "runs" / "zelda-lv0-tiles-compact-seed0")
+    assert trained_at == [code_commit()] and f"| `{trained_at[0]}` |" in text
     assert (
         "](images/results/curves-zelda.png)" in text and (tmp_path / "images" / "curves-zelda.png").is_file()
     )
