@@ -8,6 +8,11 @@ The sweep is a Hydra multirun of ``gvgai-pcg train`` over ``condition`` x ``seed
 Hydra launcher runs it unchanged (``launcher="ray"``, ``"slurm"``). With the basic launcher,
 ``jobs`` multiruns run side by side, each over a share of the conditions (balanced by their
 expected cost), which is how two runs share a 2-core machine.
+
+The published folder carries the study across machines: a run published as finished (at the
+budget's frames, with the protocol's records) is not trained again where its run directory is
+missing (a new machine, a fresh clone); its published records and log go into the report as they
+are. So ``make reproduce BUDGET=small`` in a fresh clone trains only what ``results/small`` lacks.
 """
 
 from __future__ import annotations
@@ -16,8 +21,9 @@ import json
 import shutil
 import subprocess
 import sys
+import threading
 import time
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -65,12 +71,14 @@ def sweep_arguments(
     runs_dir: Path,
     launcher: str | None = None,
     overrides: Sequence[str] = (),
+    seeds: Sequence[int] | None = None,
 ) -> list[str]:
-    """The ``gvgai-pcg train -m`` arguments of one multirun over ``conditions`` x the budget's
-    seeds. Seeds vary slowest, so a sweep cut short holds every condition at its first seed."""
+    """The ``gvgai-pcg train -m`` arguments of one multirun over ``conditions`` x ``seeds`` (the
+    budget's by default). Seeds vary slowest, so a sweep cut short holds every condition at its
+    first seed."""
     arguments = [
         "-m",
-        "seed=" + ",".join(map(str, budget.seeds)),
+        "seed=" + ",".join(map(str, budget.seeds if seeds is None else seeds)),
         "condition=" + ",".join(conditions),
         f"total_frames={budget.frames}",
         f"out_dir={runs_dir}",
@@ -81,6 +89,25 @@ def sweep_arguments(
     return [*arguments, *overrides]
 
 
+def sweep_plan(
+    budget: Budget, conditions: Sequence[str], skip: Iterable[tuple[str, int]] = ()
+) -> list[tuple[tuple[int, ...], list[str]]]:
+    """The multiruns that train ``conditions`` x the budget's seeds less the ``(condition, seed)``
+    pairs in ``skip``, in order: seeds in turn, consecutive seeds with the same conditions in one
+    multirun (so nothing skipped is one multirun over every seed)."""
+    skip = set(skip)
+    plan: list[tuple[tuple[int, ...], list[str]]] = []
+    for seed in budget.seeds:
+        left = [c for c in conditions if (c, seed) not in skip]
+        if not left:
+            continue
+        if plan and plan[-1][1] == left:
+            plan[-1] = ((*plan[-1][0], seed), left)
+        else:
+            plan.append(((seed,), left))
+    return plan
+
+
 def run_sweep(
     budget: Budget,
     conditions: Sequence[str],
@@ -88,26 +115,71 @@ def run_sweep(
     jobs: int = 1,
     launcher: str | None = None,
     overrides: Sequence[str] = (),
+    skip: Iterable[tuple[str, int]] = (),
 ) -> float:
-    """Train every run of the budget (resuming those that exist); returns the wall seconds. The
-    output of each multirun goes to ``out/logs/sweep-<i>.log``."""
+    """Train every run of the budget but the ``(condition, seed)`` pairs in ``skip`` (resuming
+    those that exist); returns the wall seconds. Each job runs its multiruns one after another,
+    with their output in ``out/logs/sweep-<i>.log``."""
     runs_dir, logs = out / "runs", out / "logs"
     logs.mkdir(parents=True, exist_ok=True)
     shares = [list(conditions)] if launcher else share_conditions(conditions, jobs)
+    skip = set(skip)
     start = time.perf_counter()
-    processes = []
-    for i, share in enumerate(shares):
-        arguments = sweep_arguments(budget, share, runs_dir, launcher, overrides)
+    failed: list[str] = []
+
+    def run_share(i: int, share: list[str]) -> None:
         log_path = logs / f"sweep-{i}.log"
-        with open(log_path, "a") as log:
-            log.write(f"$ gvgai-pcg train {' '.join(arguments)}\n")
-            log.flush()
-            command = [sys.executable, "-m", "gvgai_pcg.cli", "train", *arguments]
-            processes.append((subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT), log_path))
-    failed = [str(path) for process, path in processes if process.wait() != 0]
+        for seeds, left in sweep_plan(budget, share, skip):
+            arguments = sweep_arguments(budget, left, runs_dir, launcher, overrides, seeds)
+            with open(log_path, "a") as log:
+                log.write(f"$ gvgai-pcg train {' '.join(arguments)}\n")
+                log.flush()
+                command = [sys.executable, "-m", "gvgai_pcg.cli", "train", *arguments]
+                if subprocess.run(command, stdout=log, stderr=subprocess.STDOUT).returncode != 0:
+                    failed.append(str(log_path))
+                    return
+
+    threads = [threading.Thread(target=run_share, args=(i, share)) for i, share in enumerate(shares)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
     if failed:
-        raise RuntimeError(f"the sweep failed; see {', '.join(failed)}")
+        raise RuntimeError(f"the sweep failed; see {', '.join(sorted(failed))}")
     return time.perf_counter() - start
+
+
+def run_names(budget: Budget, conditions: Sequence[str], overrides: Sequence[str] = ()) -> dict:
+    """``(condition, seed) -> run name`` as ``gvgai-pcg train`` composes it for the budget (Hydra's
+    own ``hydra...`` overrides, which cannot change a name, are left out)."""
+    from hydra import compose, initialize_config_dir
+
+    from gvgai_pcg.config import config_dir
+
+    shared = [*budget.overrides, *(o for o in overrides if not o.lstrip("+~").startswith("hydra"))]
+    names = {}
+    with initialize_config_dir(config_dir=str(config_dir()), version_base="1.3"):
+        for condition in conditions:
+            for seed in budget.seeds:
+                cfg = compose("config", overrides=[f"condition={condition}", f"seed={seed}", *shared])
+                names[condition, seed] = str(cfg.run_name)
+    return names
+
+
+def published_finished(published: Path, frames: int, protocol) -> dict[str, Path]:
+    """``run name -> folder`` of the runs in ``published`` that were published at ``frames`` or
+    more, with ``protocol``'s records: what another machine finished and need not train again."""
+    from gvgai_pcg.evaluation.checkpoints import PUBLISHED
+    from gvgai_pcg.evaluation.evaluator import run_results_path
+
+    runs = Path(published) / "runs"
+    finished = {}
+    for run in sorted(runs.iterdir()) if runs.is_dir() else []:
+        model = run / PUBLISHED
+        if model.is_file() and run_results_path(run, protocol).is_file():
+            if int(json.loads(model.read_text())["frames"]) >= frames:
+                finished[run.name] = run
+    return finished
 
 
 def publish(out: Path, dest: Path, protocol=None) -> Path:
@@ -121,7 +193,7 @@ def publish(out: Path, dest: Path, protocol=None) -> Path:
     from gvgai_pcg.evaluation.evaluator import read_records, run_results_path
 
     dest.mkdir(parents=True, exist_ok=True)
-    for run in find_runs([out / "runs"]):
+    for run in find_runs([out / "runs"]) if (out / "runs").is_dir() else []:
         records_path = run_results_path(run, protocol) if protocol is not None else None
         if records_path is not None and not records_path.is_file():
             continue  # not evaluated yet: nothing of it is in the report
@@ -148,13 +220,13 @@ def publish(out: Path, dest: Path, protocol=None) -> Path:
 
 
 def write_claims(
-    runs_dir: Path, random_cache: Path, protocol, path: Path, target_frames: int | None = None
+    runs: Sequence[Path], random_cache: Path, protocol, path: Path, target_frames: int | None = None
 ) -> Path:
-    """The study's claims tested on the runs under ``runs_dir`` (``gvgai_pcg.study.claims``)."""
+    """The study's claims tested on the runs under ``runs`` (``gvgai_pcg.study.claims``)."""
     from gvgai_pcg.evaluation.checkpoints import find_runs
     from gvgai_pcg.study.claims import claims_markdown, collect, study_claims
 
-    games = collect(find_runs([runs_dir]), random_cache, protocol, target_frames)
+    games = collect(find_runs(list(runs)), random_cache, protocol, target_frames)
     path.write_text(claims_markdown(study_claims(games, target_frames), games))
     return path
 
@@ -171,15 +243,36 @@ def reproduce(
     progress: bool = True,
 ) -> Outcome:
     """The whole study at ``budget``: sweep, evaluate, report into ``out``, publish to
-    ``publish_to``."""
+    ``publish_to``. Runs that ``publish_to`` holds as finished and ``out`` lacks are reported from
+    there, not trained again."""
     from gvgai_pcg.evaluation.protocol import Protocol
     from gvgai_pcg.report import build_report
 
     out = Path(out).resolve()
-    seconds = run_sweep(budget, conditions, out, jobs, launcher, overrides) if train else 0.0
-    report_dir = out / "report"
     protocol = Protocol(**budget.protocol)
-    build_report([out / "runs"], report_dir, protocol, cache_dir=out / "random", progress=progress)
-    write_claims(out / "runs", out / "random", protocol, report_dir / "claims.md", budget.frames)
+    elsewhere: dict[tuple[str, int], Path] = {}
+    if publish_to is not None:
+        finished = published_finished(Path(publish_to), budget.frames, protocol)
+        names = run_names(budget, conditions, overrides) if finished else {}
+        elsewhere = {
+            pair: finished[name].resolve()
+            for pair, name in names.items()
+            if name in finished and not (out / "runs" / name).exists()
+        }
+        if (Path(publish_to) / "random").is_dir():
+            shutil.copytree(
+                Path(publish_to) / "random", out / "random", dirs_exist_ok=True, copy_function=_keep
+            )
+    seconds = run_sweep(budget, conditions, out, jobs, launcher, overrides, elsewhere) if train else 0.0
+    report_dir = out / "report"
+    report_dir.mkdir(parents=True, exist_ok=True)
+    runs = [out / "runs", *elsewhere.values()] if (out / "runs").is_dir() else list(elsewhere.values())
+    build_report(runs, report_dir, protocol, cache_dir=out / "random", progress=progress)
+    write_claims(runs, out / "random", protocol, report_dir / "claims.md", budget.frames)
     published = publish(out, Path(publish_to), protocol) if publish_to is not None else None
     return Outcome(out, out / "runs", report_dir, published, seconds)
+
+
+def _keep(source: str, target: str) -> str:
+    """Copy ``source`` to ``target`` unless ``target`` exists (what is here already wins)."""
+    return target if Path(target).exists() else shutil.copy2(source, target)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import subprocess
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -16,7 +17,7 @@ from gvgai_pcg.rl.provenance import code_commit, session_commits
 from gvgai_pcg.study import BUDGETS, STUDY_CONDITIONS, reproduce
 from gvgai_pcg.study.conditions import EXTRA_CONDITIONS, known_conditions
 from gvgai_pcg.study.page import write_results_page
-from gvgai_pcg.study.pipeline import share_conditions, sweep_arguments
+from gvgai_pcg.study.pipeline import share_conditions, sweep_arguments, sweep_plan
 
 REGIMEN_NAMES = {"lv0": "lv", "lv4": "lv", "lv0-3": "lv0-3", "pcg0.5": "pcg", "pcg1": "pcg", "ppcg": "ppcg"}
 
@@ -55,6 +56,35 @@ def test_a_sweep_varies_the_seed_slowest_and_passes_the_launcher_and_overrides()
     assert arguments[:3] == ["-m", "seed=0,1,2", "condition=zelda-lv0,frogs-ppcg"]
     assert "total_frames=5000000" in arguments and "out_dir=/r" in arguments
     assert arguments[-2:] == ["hydra/launcher=ray", "algo.lr=1e-3"]
+
+
+def test_a_sweep_skips_finished_pairs_seed_by_seed_and_is_one_multirun_when_none_are():
+    budget = BUDGETS["small"]
+    conditions = ["zelda-lv0", "frogs-ppcg"]
+    assert sweep_plan(budget, conditions) == [((0, 1, 2), conditions)]
+    skipped = sweep_plan(budget, conditions, {("zelda-lv0", 0), ("frogs-ppcg", 0), ("zelda-lv0", 1)})
+    assert skipped == [((1,), ["frogs-ppcg"]), ((2,), conditions)]
+    assert sweep_plan(budget, ["zelda-lv0"], {("zelda-lv0", s) for s in budget.seeds}) == []
+    assert sweep_arguments(budget, conditions, Path("/r"), seeds=(2,))[1] == "seed=2"
+
+
+def test_a_fresh_machine_trains_only_what_the_published_folder_lacks(tmp_path):
+    published = tmp_path / "published"
+    one_seed, two_seeds = replace(BUDGETS["smoke"], seeds=(0,)), replace(BUDGETS["smoke"], seeds=(0, 1))
+    reproduce(one_seed, ["zelda-lv0"], tmp_path / "first", publish_to=published, progress=False)
+    # another machine: nothing of the first out folder, only the published one (a clone)
+    second = reproduce(two_seeds, ["zelda-lv0"], tmp_path / "second", publish_to=published, progress=False)
+    assert sorted(p.name for p in (tmp_path / "second" / "runs").iterdir() if p.is_dir()) == [
+        "zelda-lv0-tiles-compact-seed1"
+    ]
+    rows = list(csv.DictReader(open(second.report / "results.csv")))
+    lv0 = [row for row in rows if row["row"].startswith("Lv 0")]
+    assert lv0 and all(row["runs"] == "2" for row in lv0), lv0  # the published seed 0 is in
+    assert "Lv 0 2 run(s)" in (second.report / "claims.md").read_text()
+    assert sorted(p.name for p in (published / "runs").iterdir()) == [
+        "zelda-lv0-tiles-compact-seed0",
+        "zelda-lv0-tiles-compact-seed1",
+    ]
 
 
 def test_a_published_run_rebuilds_the_report_without_its_model(tmp_path):
