@@ -23,6 +23,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--conditions", help="comma-separated conditions instead of the budget's")
     parser.add_argument("--extra", action="store_true", help="also the conditions the study skipped")
     parser.add_argument("--no-train", action="store_true", help="evaluate and report the runs there are")
+    parser.add_argument(
+        "--finished-only",
+        action="store_true",
+        help="report only runs at the budget's frames (a report taken while the sweep trains)",
+    )
     parser.add_argument("--publish", type=Path, help="copy configs, logs, results and report here")
     parser.add_argument(
         "--page", type=Path, help="with --publish: rewrite the results block of this page (docs/results.md)"
@@ -68,6 +73,7 @@ def run(args: argparse.Namespace) -> int:
         train=not args.no_train,
         publish_to=args.publish,
         progress=not args.no_progress,
+        finished_only=args.finished_only,
     )
     print(f"runs:   {outcome.runs}")
     print(f"report: {outcome.report / 'results.md'}")

@@ -241,10 +241,12 @@ def reproduce(
     train: bool = True,
     publish_to: Path | None = None,
     progress: bool = True,
+    finished_only: bool = False,
 ) -> Outcome:
     """The whole study at ``budget``: sweep, evaluate, report into ``out``, publish to
     ``publish_to``. Runs that ``publish_to`` holds as finished and ``out`` lacks are reported from
-    there, not trained again."""
+    there, not trained again. ``finished_only`` leaves out runs short of the budget's frames (a
+    report taken while the sweep still trains evaluates no model that will change)."""
     from gvgai_pcg.evaluation.protocol import Protocol
     from gvgai_pcg.report import build_report
 
@@ -266,11 +268,23 @@ def reproduce(
     seconds = run_sweep(budget, conditions, out, jobs, launcher, overrides, elsewhere) if train else 0.0
     report_dir = out / "report"
     report_dir.mkdir(parents=True, exist_ok=True)
-    runs = [out / "runs", *elsewhere.values()] if (out / "runs").is_dir() else list(elsewhere.values())
+    runs = [*_trained_here(out / "runs", budget.frames if finished_only else 0), *elsewhere.values()]
     build_report(runs, report_dir, protocol, cache_dir=out / "random", progress=progress)
     write_claims(runs, out / "random", protocol, report_dir / "claims.md", budget.frames)
     published = publish(out, Path(publish_to), protocol) if publish_to is not None else None
     return Outcome(out, out / "runs", report_dir, published, seconds)
+
+
+def _trained_here(runs_dir: Path, frames: int) -> list[Path]:
+    """The runs under ``runs_dir`` that have trained ``frames`` or more."""
+    from gvgai_pcg.evaluation.checkpoints import find_runs
+    from gvgai_pcg.report.build import usable_run
+
+    if not runs_dir.is_dir():
+        return []
+    if frames <= 0:
+        return [runs_dir]
+    return [run for run in find_runs([runs_dir]) if (info := usable_run(run)) and info.frames >= frames]
 
 
 def _keep(source: str, target: str) -> str:

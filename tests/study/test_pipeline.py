@@ -17,7 +17,7 @@ from gvgai_pcg.rl.provenance import code_commit, session_commits
 from gvgai_pcg.study import BUDGETS, STUDY_CONDITIONS, reproduce
 from gvgai_pcg.study.conditions import EXTRA_CONDITIONS, known_conditions
 from gvgai_pcg.study.page import write_results_page
-from gvgai_pcg.study.pipeline import share_conditions, sweep_arguments, sweep_plan
+from gvgai_pcg.study.pipeline import run_sweep, share_conditions, sweep_arguments, sweep_plan
 
 REGIMEN_NAMES = {"lv0": "lv", "lv4": "lv", "lv0-3": "lv0-3", "pcg0.5": "pcg", "pcg1": "pcg", "ppcg": "ppcg"}
 
@@ -85,6 +85,16 @@ def test_a_fresh_machine_trains_only_what_the_published_folder_lacks(tmp_path):
         "zelda-lv0-tiles-compact-seed0",
         "zelda-lv0-tiles-compact-seed1",
     ]
+
+
+def test_a_report_of_finished_runs_only_evaluates_no_run_still_training(tmp_path):
+    budget = BUDGETS["smoke"]
+    out = tmp_path / "out"
+    run_sweep(budget, ["zelda-lv0"], out, overrides=[f"total_frames={budget.frames // 2}"])  # cut short
+    [run] = find_runs([out / "runs"])
+    with pytest.raises(FileNotFoundError, match="no run directories"):
+        reproduce(budget, ["zelda-lv0"], out, train=False, progress=False, finished_only=True)
+    assert not (run / "eval").exists()
 
 
 def test_a_published_run_rebuilds_the_report_without_its_model(tmp_path):
