@@ -43,6 +43,8 @@ def results_block(published: Path, images: Path, image_prefix: str, target_frame
     and referenced as ``image_prefix/<name>``."""
     report = (published / "report" / "results.md").read_text()
     images.mkdir(parents=True, exist_ok=True)
+    for stale in images.glob("curves-*.png"):  # a game no longer in the report keeps no figure
+        stale.unlink()
     for figure in sorted((published / "report").glob("curves-*.png")):
         shutil.copy2(figure, images / figure.name)
     report = re.sub(r"\]\((curves-[\w-]+\.(?:png|svg))\)", rf"]({image_prefix}/\1)", report)

@@ -213,9 +213,11 @@ def publish(out: Path, dest: Path, protocol=None) -> Path:
             shutil.copy2(info.checkpoint, target / info.checkpoint.name)
             model["copied"] = info.checkpoint.name
         (target / PUBLISHED).write_text(json.dumps(model, indent=1) + "\n")
-    for folder in ("random", "report"):
-        if (out / folder).is_dir():
-            shutil.copytree(out / folder, dest / folder, dirs_exist_ok=True)
+    if (out / "report").is_dir():
+        shutil.rmtree(dest / "report", ignore_errors=True)  # no figure of an earlier report stays
+        shutil.copytree(out / "report", dest / "report")
+    if (out / "random").is_dir():
+        shutil.copytree(out / "random", dest / "random", dirs_exist_ok=True)
     return dest
 
 

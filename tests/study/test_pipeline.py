@@ -73,7 +73,9 @@ def test_a_fresh_machine_trains_only_what_the_published_folder_lacks(tmp_path):
     one_seed, two_seeds = replace(BUDGETS["smoke"], seeds=(0,)), replace(BUDGETS["smoke"], seeds=(0, 1))
     reproduce(one_seed, ["zelda-lv0"], tmp_path / "first", publish_to=published, progress=False)
     # another machine: nothing of the first out folder, only the published one (a clone)
+    (published / "report" / "curves-frogs.png").write_bytes(b"a figure of no run any more")
     second = reproduce(two_seeds, ["zelda-lv0"], tmp_path / "second", publish_to=published, progress=False)
+    assert not (published / "report" / "curves-frogs.png").exists()
     assert sorted(p.name for p in (tmp_path / "second" / "runs").iterdir() if p.is_dir()) == [
         "zelda-lv0-tiles-compact-seed1"
     ]
@@ -115,6 +117,8 @@ def test_a_published_run_rebuilds_the_report_without_its_model(tmp_path):
     assert any(row[1].startswith("Lv 0") for row in original)  # the trained run is in the table
     claims = (out / "report" / "claims.md").read_text()
     assert "| zelda | A policy trained on one human level" in claims and "Lv 0 1 run(s)" in claims
+    (tmp_path / "images").mkdir()
+    (tmp_path / "images" / "curves-frogs.png").write_bytes(b"an earlier report's figure")
     page = tmp_path / "results.md"
     page.write_text("# Results\n\nbefore\n<!-- results:start -->\nold\n<!-- results:end -->\nafter\n")
     write_results_page(page, published, tmp_path / "images", "images/results", budget.frames, "abc1234")
@@ -126,6 +130,7 @@ def test_a_published_run_rebuilds_the_report_without_its_model(tmp_path):
     assert (
         "](images/results/curves-zelda.png)" in text and (tmp_path / "images" / "curves-zelda.png").is_file()
     )
+    assert not (tmp_path / "images" / "curves-frogs.png").exists()
 
 
 def assert_committable(published: Path, where: Path) -> None:
