@@ -31,6 +31,7 @@ from gvgai_pcg.games.registry import find_game_spec
 from gvgai_pcg.study.conditions import Budget
 
 MODEL_LIMIT_BYTES = 1_000_000  # a trained model is published only below this size
+WRITER_LOCKS = shutil.ignore_patterns(".lock", ".*.lock")  # the evaluator's, never published
 
 
 @dataclass
@@ -215,9 +216,9 @@ def publish(out: Path, dest: Path, protocol=None) -> Path:
         (target / PUBLISHED).write_text(json.dumps(model, indent=1) + "\n")
     if (out / "report").is_dir():
         shutil.rmtree(dest / "report", ignore_errors=True)  # no figure of an earlier report stays
-        shutil.copytree(out / "report", dest / "report")
+        shutil.copytree(out / "report", dest / "report", ignore=WRITER_LOCKS)
     if (out / "random").is_dir():
-        shutil.copytree(out / "random", dest / "random", dirs_exist_ok=True)
+        shutil.copytree(out / "random", dest / "random", dirs_exist_ok=True, ignore=WRITER_LOCKS)
     return dest
 
 

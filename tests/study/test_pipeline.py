@@ -141,6 +141,7 @@ def assert_committable(published: Path, where: Path) -> None:
     if not (repo / ".git").exists():
         pytest.skip("not a git checkout")
     files = [str(where / path.relative_to(published)) for path in published.rglob("*") if path.is_file()]
+    assert not [name for name in files if name.endswith(".lock")]  # a writer's lock is not data
     assert any("/runs/" in name and name.endswith("log.csv") for name in files)
     found = subprocess.run(
         ["git", "check-ignore", "--no-index", "--stdin"],
