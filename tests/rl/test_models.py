@@ -31,3 +31,23 @@ def test_heads_are_initialised_like_baselines():
 def test_unknown_model_names_the_valid_ones():
     with pytest.raises(ValueError, match="nature, compact"):
         make_actor_critic("resnet", "tiles", (9, 9, 13), 6, 256)
+
+
+def test_the_compact_torso_runs_channels_last_with_the_same_numbers_and_state():
+    torch.manual_seed(0)
+    net = make_actor_critic("compact", "tiles", (11, 11, 28), 5, 256)
+    conv = net.torso[0][0]
+    assert conv.weight.is_contiguous(memory_format=torch.channels_last)
+    assert make_actor_critic("nature", "pixels", (3, 90, 130), 6, 512).torso[0][0].weight.is_contiguous()
+    plain = make_actor_critic("compact", "tiles", (11, 11, 28), 5, 256)
+    plain.load_state_dict(net.state_dict())  # checkpoints move between layouts unchanged
+    plain.memory_format = torch.contiguous_format
+    plain.to(memory_format=torch.contiguous_format)
+    assert plain.torso[0][0].weight.is_contiguous()
+    obs = torch.randint(0, 2, (64, 11, 11, 28), dtype=torch.uint8)
+    for model in (net, plain):
+        logits, value = model(obs)
+        (logits.square().sum() + value.sum()).backward()
+    assert torch.allclose(net(obs)[0], plain(obs)[0], atol=1e-5)
+    for mine, theirs in zip(net.parameters(), plain.parameters(), strict=True):
+        assert torch.allclose(mine.grad, theirs.grad, rtol=1e-4, atol=1e-5)
