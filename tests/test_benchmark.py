@@ -61,6 +61,15 @@ def test_the_training_benchmark_times_the_network_both_ways_and_splits_a_batch(m
     named = parts["acting"].cpu + parts["env"].cpu + parts["update"].cpu
     assert 0 < named <= parts["total"].cpu + 1e-9
     assert abs(named + parts["rest"].cpu - parts["total"].cpu) < 1e-9
+    layouts = training.layout_costs(cfg, seconds=0.2)
+    assert set(layouts) == {"own", "contiguous"} and all(c.cpu > 0 for c in layouts.values())
+    text = training.describe("run", {**dict.fromkeys(NUMBERS, 1.0), "layout_cpu_speedup": 1.25})
+    assert "updates 1.25x as fast as contiguous" in text
+
+
+NUMBERS = ("frames_per_batch", "load", "end_to_end_fps", "end_to_end_cpu_fps", "limit_fps", "limit_cpu_fps")
+NUMBERS += ("ratio", "cpu_ratio", "reused_limit_fps", "reused_limit_cpu_fps", "reused_ratio")
+NUMBERS += ("reused_cpu_ratio",)
 
 
 @pytest.fixture
