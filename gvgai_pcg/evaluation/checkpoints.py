@@ -170,10 +170,10 @@ def run_info(run_dir: Path, checkpoint: Path | None = None) -> RunInfo:
     checkpoint has trained longer, ``model.pt`` on a tie: a resumed session that was killed leaves
     a newer checkpoint beside an older final model)."""
     run_dir = Path(run_dir).resolve()
+    if checkpoint is None and (run_dir / PUBLISHED).is_file():
+        return published_run_info(run_dir)  # its records name the model, a copy beside them or not
     if checkpoint is None:
         found = [run_dir / name for name in (FINAL_MODEL, LAST_CHECKPOINT) if (run_dir / name).is_file()]
-        if not found and (run_dir / PUBLISHED).is_file():
-            return published_run_info(run_dir)
         if not found:
             raise FileNotFoundError(
                 f"{run_dir}: no model to evaluate (looked for {FINAL_MODEL} and {LAST_CHECKPOINT}); "

@@ -17,15 +17,19 @@ are. So ``make reproduce BUDGET=small`` in a fresh clone trains only what ``resu
 
 from __future__ import annotations
 
+import contextlib
 import json
 import shutil
+import signal
 import subprocess
 import sys
 import threading
 import time
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+
+from omegaconf import OmegaConf
 
 from gvgai_pcg.games.registry import find_game_spec
 from gvgai_pcg.study.conditions import Budget
@@ -119,87 +123,165 @@ def run_sweep(
     skip: Iterable[tuple[str, int]] = (),
 ) -> float:
     """Train every run of the budget but the ``(condition, seed)`` pairs in ``skip`` (resuming
-    those that exist); returns the wall seconds. Each job runs its multiruns one after another,
-    with their output in ``out/logs/sweep-<i>.log``."""
+    those that exist); returns the wall seconds. With the basic launcher each of ``jobs`` runs its
+    multiruns one after another; a Hydra launcher gets them all at once. The output of each goes
+    to ``out/logs/sweep-<i>.log``. An interrupt (SIGINT, or SIGTERM in the main thread) is passed
+    on to the training processes, which checkpoint and stop, and no further multirun starts."""
     runs_dir, logs = out / "runs", out / "logs"
     logs.mkdir(parents=True, exist_ok=True)
-    shares = [list(conditions)] if launcher else share_conditions(conditions, jobs)
     skip = set(skip)
+    if launcher:
+        queues = [[entry] for entry in sweep_plan(budget, conditions, skip)]
+    else:
+        queues = [sweep_plan(budget, share, skip) for share in share_conditions(conditions, jobs)]
     start = time.perf_counter()
     failed: list[str] = []
+    children: list[subprocess.Popen] = []
+    stopping = threading.Event()
+    guard = threading.Lock()
 
-    def run_share(i: int, share: list[str]) -> None:
+    def run_queue(i: int, queue: list[tuple[tuple[int, ...], list[str]]]) -> None:
         log_path = logs / f"sweep-{i}.log"
-        for seeds, left in sweep_plan(budget, share, skip):
-            arguments = sweep_arguments(budget, left, runs_dir, launcher, overrides, seeds)
-            with open(log_path, "a") as log:
-                log.write(f"$ gvgai-pcg train {' '.join(arguments)}\n")
-                log.flush()
-                command = [sys.executable, "-m", "gvgai_pcg.cli", "train", *arguments]
-                if subprocess.run(command, stdout=log, stderr=subprocess.STDOUT).returncode != 0:
-                    failed.append(str(log_path))
-                    return
+        try:
+            for seeds, left in queue:
+                arguments = sweep_arguments(budget, left, runs_dir, launcher, overrides, seeds)
+                with open(log_path, "a") as log:
+                    log.write(f"$ gvgai-pcg train {' '.join(arguments)}\n")
+                    log.flush()
+                    command = [sys.executable, "-m", "gvgai_pcg.cli", "train", *arguments]
+                    with guard:
+                        if stopping.is_set():
+                            return
+                        child = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT)
+                        children.append(child)
+                    if child.wait() != 0:
+                        failed.append(str(log_path))
+                        return
+        except Exception as error:  # noqa: BLE001 (reported with the failed multiruns)
+            failed.append(f"{log_path} ({error})")
 
-    threads = [threading.Thread(target=run_share, args=(i, share)) for i, share in enumerate(shares)]
-    for thread in threads:
-        thread.start()
-    for thread in threads:
-        thread.join()
+    threads = [threading.Thread(target=run_queue, args=item, daemon=True) for item in enumerate(queues)]
+    with _terminate_as_interrupt():
+        try:
+            for thread in threads:
+                thread.start()
+            for thread in threads:
+                thread.join()
+        except BaseException:
+            with guard:
+                stopping.set()
+                live = [child for child in children if child.poll() is None]
+            for child in live:
+                child.send_signal(signal.SIGTERM)  # train checkpoints and stops (SIGINT may be ignored)
+            for child in live:
+                child.wait()
+            raise
     if failed:
         raise RuntimeError(f"the sweep failed; see {', '.join(sorted(failed))}")
     return time.perf_counter() - start
 
 
-def run_names(budget: Budget, conditions: Sequence[str], overrides: Sequence[str] = ()) -> dict:
-    """``(condition, seed) -> run name`` as ``gvgai-pcg train`` composes it for the budget (Hydra's
-    own ``hydra...`` overrides, which cannot change a name, are left out)."""
+@contextlib.contextmanager
+def _terminate_as_interrupt() -> Iterator[None]:
+    """SIGTERM raises ``KeyboardInterrupt`` while inside (main thread only; elsewhere nothing)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def interrupt(signum: int, frame: object) -> None:
+        raise KeyboardInterrupt(f"signal {signum}")
+
+    previous = signal.signal(signal.SIGTERM, interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def planned_configs(budget: Budget, conditions: Sequence[str], overrides: Sequence[str] = ()) -> dict:
+    """``(condition, seed) -> {run name: resolved config}`` of the runs the sweep would train
+    (several where ``overrides`` sweep over more values); Hydra's own overrides are left out."""
     from hydra import compose, initialize_config_dir
 
-    from gvgai_pcg.config import config_dir
+    from gvgai_pcg.config import config_dir, sweep_jobs
 
-    shared = [*budget.overrides, *(o for o in overrides if not o.lstrip("+~").startswith("hydra"))]
-    names = {}
-    with initialize_config_dir(config_dir=str(config_dir()), version_base="1.3"):
+    ours = [o for o in overrides if not o.lstrip("+~").startswith("hydra")]
+    configs: dict[tuple[str, int], dict[str, dict]] = {}
+    with initialize_config_dir(config_dir=str(config_dir()), version_base="1.3", job_name="train"):
         for condition in conditions:
             for seed in budget.seeds:
-                cfg = compose("config", overrides=[f"condition={condition}", f"seed={seed}", *shared])
-                names[condition, seed] = str(cfg.run_name)
-    return names
+                arguments = sweep_arguments(budget, [condition], Path("."), None, ours, (seed,))[1:]
+                for job in sweep_jobs(arguments, multirun=True):
+                    cfg = OmegaConf.to_container(compose("config", overrides=job), resolve=True)
+                    configs.setdefault((condition, seed), {})[str(cfg["run_name"])] = cfg
+    return configs
 
 
-def published_finished(published: Path, frames: int, protocol) -> dict[str, Path]:
-    """``run name -> folder`` of the runs in ``published`` that were published at ``frames`` or
-    more, with ``protocol``'s records: what another machine finished and need not train again."""
-    from gvgai_pcg.evaluation.checkpoints import PUBLISHED
+def published_elsewhere(
+    budget: Budget, conditions: Sequence[str], overrides: Sequence[str], out: Path, published: Path, protocol
+) -> tuple[set[tuple[str, int]], list[Path]]:
+    """The ``(condition, seed)`` pairs not to train because ``published`` holds every run of
+    theirs finished (the budget's frames, ``protocol``'s records, the very config the sweep would
+    train, ``out_dir`` aside) and ``out`` has no finished copy; and those published runs."""
+    from gvgai_pcg.evaluation.checkpoints import PUBLISHED, published_run_info, read_run_config
     from gvgai_pcg.evaluation.evaluator import run_results_path
 
-    runs = Path(published) / "runs"
-    finished = {}
-    for run in sorted(runs.iterdir()) if runs.is_dir() else []:
-        model = run / PUBLISHED
-        if model.is_file() and run_results_path(run, protocol).is_file():
-            if int(json.loads(model.read_text())["frames"]) >= frames:
-                finished[run.name] = run
-    return finished
+    def finished_there(name: str, config: dict) -> Path | None:
+        run = Path(published) / "runs" / name
+        if not (run / PUBLISHED).is_file() or not run_results_path(run, protocol).is_file():
+            return None
+        if published_run_info(run).frames < budget.frames:
+            return None
+        same = _without_out_dir(read_run_config(run) or {}) == _without_out_dir(config)
+        return run.resolve() if same else None
+
+    runs_there = Path(published) / "runs"
+    if not runs_there.is_dir() or not any(runs_there.iterdir()):
+        return set(), []
+    skip, runs = set(), []
+    for pair, planned in planned_configs(budget, conditions, overrides).items():
+        found = [finished_there(name, config) for name, config in planned.items()]
+        if all(found) and not any(_finished(out / "runs" / name, budget.frames) for name in planned):
+            skip.add(pair)
+            runs += found
+    return skip, runs
 
 
-def publish(out: Path, dest: Path, protocol=None) -> Path:
+def _without_out_dir(config: dict) -> dict:
+    return {key: value for key, value in config.items() if key != "out_dir"}
+
+
+def _finished(run: Path, frames: int) -> bool:
+    """Whether ``run`` is a run directory that has trained ``frames`` or more."""
+    from gvgai_pcg.evaluation.checkpoints import is_run_dir
+    from gvgai_pcg.report.build import usable_run
+
+    return is_run_dir(run) and (info := usable_run(run)) is not None and info.frames >= frames
+
+
+def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = None) -> Path:
     """Copy what rebuilds the report into ``dest``: each run's config, log, evaluation results and
     a ``published.json`` naming its model (the model itself only below 1 MB), the random agent's
     results, and the report. ``gvgai-pcg report --no-evaluate DEST/runs --cache-dir DEST/random``
     then rebuilds the tables and curves from ``dest`` alone. With ``protocol``, only runs with its
     records are published, and the model named is the one they were made from, so a run that
-    trained on after its evaluation is published as evaluated."""
-    from gvgai_pcg.evaluation.checkpoints import PUBLISHED, find_runs, run_info
+    trained on after its evaluation is published as evaluated. ``runs`` (default: all under
+    ``out/runs``) are the runs to publish: those of the report; a published run is never replaced
+    by a copy that has trained fewer frames."""
+    from gvgai_pcg.evaluation.checkpoints import PUBLISHED, find_runs, published_run_info, run_info
     from gvgai_pcg.evaluation.evaluator import read_records, run_results_path
 
     dest.mkdir(parents=True, exist_ok=True)
-    for run in find_runs([out / "runs"]) if (out / "runs").is_dir() else []:
+    if runs is None:
+        runs = [out / "runs"] if (out / "runs").is_dir() else []
+    for run in find_runs(list(runs)) if runs else []:
         records_path = run_results_path(run, protocol) if protocol is not None else None
         if records_path is not None and not records_path.is_file():
             continue  # not evaluated yet: nothing of it is in the report
         info = run_info(run)
         target = dest / "runs" / run.name
+        if (target / PUBLISHED).is_file() and published_run_info(target).frames > info.frames:
+            continue  # the published run has trained longer
         (target / "eval").mkdir(parents=True, exist_ok=True)
         for name in ("config.yaml", "log.csv", "sessions.csv", "curve.png"):
             if (run / name).is_file():
@@ -255,39 +337,31 @@ def reproduce(
 
     out = Path(out).resolve()
     protocol = Protocol(**budget.protocol)
-    elsewhere: dict[tuple[str, int], Path] = {}
+    skip: set[tuple[str, int]] = set()
+    elsewhere: list[Path] = []
     if publish_to is not None:
-        finished = published_finished(Path(publish_to), budget.frames, protocol)
-        names = run_names(budget, conditions, overrides) if finished else {}
-        elsewhere = {
-            pair: finished[name].resolve()
-            for pair, name in names.items()
-            if name in finished and not (out / "runs" / name).exists()
-        }
-        if (Path(publish_to) / "random").is_dir():
-            shutil.copytree(
-                Path(publish_to) / "random", out / "random", dirs_exist_ok=True, copy_function=_keep
-            )
-    seconds = run_sweep(budget, conditions, out, jobs, launcher, overrides, elsewhere) if train else 0.0
+        skip, elsewhere = published_elsewhere(budget, conditions, overrides, out, Path(publish_to), protocol)
+        random = Path(publish_to) / "random"
+        if random.is_dir():  # the random agent's records travel too
+            shutil.copytree(random, out / "random", dirs_exist_ok=True, copy_function=_keep)
+    seconds = run_sweep(budget, conditions, out, jobs, launcher, overrides, skip) if train else 0.0
     report_dir = out / "report"
     report_dir.mkdir(parents=True, exist_ok=True)
-    runs = [*_trained_here(out / "runs", budget.frames if finished_only else 0), *elsewhere.values()]
-    build_report(runs, report_dir, protocol, cache_dir=out / "random", progress=progress)
-    write_claims(runs, out / "random", protocol, report_dir / "claims.md", budget.frames)
-    published = publish(out, Path(publish_to), protocol) if publish_to is not None else None
+    here = _trained_here(out / "runs", budget.frames if finished_only else 0, {p.name for p in elsewhere})
+    build_report([*here, *elsewhere], report_dir, protocol, cache_dir=out / "random", progress=progress)
+    write_claims([*here, *elsewhere], out / "random", protocol, report_dir / "claims.md", budget.frames)
+    published = publish(out, Path(publish_to), protocol, here) if publish_to is not None else None
     return Outcome(out, out / "runs", report_dir, published, seconds)
 
 
-def _trained_here(runs_dir: Path, frames: int) -> list[Path]:
-    """The runs under ``runs_dir`` that have trained ``frames`` or more."""
+def _trained_here(runs_dir: Path, frames: int, leave_out: set[str]) -> list[Path]:
+    """The runs under ``runs_dir`` that have trained ``frames`` or more, but those named in
+    ``leave_out`` (their published copies are reported instead)."""
     from gvgai_pcg.evaluation.checkpoints import find_runs
-    from gvgai_pcg.report.build import usable_run
 
     if not runs_dir.is_dir():
         return []
-    if frames <= 0:
-        return [runs_dir]
-    return [run for run in find_runs([runs_dir]) if (info := usable_run(run)) and info.frames >= frames]
+    return [run for run in find_runs([runs_dir]) if run.name not in leave_out and _finished(run, frames)]
 
 
 def _keep(source: str, target: str) -> str:

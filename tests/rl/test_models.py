@@ -41,6 +41,13 @@ def test_the_compact_torso_runs_channels_last_with_the_same_numbers_and_state():
     assert make_actor_critic("nature", "pixels", (3, 90, 130), 6, 512).torso[0][0].weight.is_contiguous()
     plain = make_actor_critic("compact", "tiles", (11, 11, 28), 5, 256)
     plain.load_state_dict(net.state_dict())  # checkpoints move between layouts unchanged
+    contiguous = {key: value.contiguous() for key, value in plain.state_dict().items()}
+    again = make_actor_critic("compact", "tiles", (11, 11, 28), 5, 256)
+    again.load_state_dict(contiguous)  # a checkpoint written before the layout changed
+    assert again.torso[0][0].weight.is_contiguous(memory_format=torch.channels_last)
+    assert all(
+        torch.equal(a, b) for a, b in zip(again.state_dict().values(), contiguous.values(), strict=True)
+    )
     plain.memory_format = torch.contiguous_format
     plain.to(memory_format=torch.contiguous_format)
     assert plain.torso[0][0].weight.is_contiguous()

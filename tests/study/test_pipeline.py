@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import csv
+import shutil
+import signal
 import subprocess
 import sys
+import time
 from dataclasses import replace
 from pathlib import Path
 
@@ -13,12 +16,20 @@ from hydra import compose, initialize_config_dir
 
 from gvgai_pcg.config import config_dir
 from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
+from gvgai_pcg.evaluation.protocol import Protocol
 from gvgai_pcg.rl.provenance import code_commit, session_commits
 from gvgai_pcg.study import BUDGETS, STUDY_CONDITIONS, reproduce
 from gvgai_pcg.study.conditions import EXTRA_CONDITIONS, known_conditions
 from gvgai_pcg.study.page import write_results_page
-from gvgai_pcg.study.pipeline import run_sweep, share_conditions, sweep_arguments, sweep_plan
+from gvgai_pcg.study.pipeline import (
+    published_elsewhere,
+    run_sweep,
+    share_conditions,
+    sweep_arguments,
+    sweep_plan,
+)
 
+PROTOCOL = Protocol(**BUDGETS["smoke"].protocol)
 REGIMEN_NAMES = {"lv0": "lv", "lv4": "lv", "lv0-3": "lv0-3", "pcg0.5": "pcg", "pcg1": "pcg", "ppcg": "ppcg"}
 
 
@@ -87,6 +98,48 @@ def test_a_fresh_machine_trains_only_what_the_published_folder_lacks(tmp_path):
         "zelda-lv0-tiles-compact-seed0",
         "zelda-lv0-tiles-compact-seed1",
     ]
+    # a published run of another config (same name) is trained again, not taken
+    other = published_elsewhere(
+        two_seeds, ["zelda-lv0"], ["algo.lr=0.001"], tmp_path / "x", published, PROTOCOL
+    )
+    assert other == (set(), [])
+    # an unfinished copy here does not hide, nor overwrite, the finished published run
+    cut = tmp_path / "cut"
+    run_sweep(one_seed, ["zelda-lv0"], cut, overrides=[f"total_frames={one_seed.frames // 2}"])
+    skip, runs = published_elsewhere(two_seeds, ["zelda-lv0"], [], cut, published, PROTOCOL)
+    assert skip == {("zelda-lv0", 0), ("zelda-lv0", 1)} and len(runs) == 2
+    reproduce(two_seeds, ["zelda-lv0"], cut, train=False, publish_to=published, progress=False)
+    assert run_info(published / "runs" / "zelda-lv0-tiles-compact-seed0").frames == one_seed.frames
+
+
+def test_a_failed_multirun_fails_the_sweep_and_names_its_log(tmp_path):
+    with pytest.raises(RuntimeError, match="sweep-0.log"):
+        run_sweep(BUDGETS["smoke"], ["zelda-lv0"], tmp_path, overrides=["algo.no_such_key=1"])
+
+
+def test_sigterm_to_the_sweep_stops_its_training_runs_at_a_checkpoint(tmp_path):
+    script = (
+        "import sys; from pathlib import Path; from gvgai_pcg.study import BUDGETS;"
+        "from gvgai_pcg.study.pipeline import run_sweep;"
+        "run_sweep(BUDGETS['smoke'], ['zelda-lv0', 'zelda-lv4'], Path(sys.argv[1]), jobs=2,"
+        " overrides=['total_frames=10000000'])"
+    )
+    sweep = subprocess.Popen([sys.executable, "-c", script, str(tmp_path)], stderr=subprocess.PIPE, text=True)
+    runs = [tmp_path / "runs" / f"zelda-{c}-tiles-compact-seed0" for c in ("lv0", "lv4")]
+    checkpoints = [run / "checkpoints" for run in runs]
+    try:
+        deadline = time.monotonic() + 120
+        while not all((c / "last.pt").exists() for c in checkpoints) and time.monotonic() < deadline:
+            time.sleep(0.2)
+        assert sweep.poll() is None, sweep.stderr.read()
+        sweep.send_signal(signal.SIGTERM)
+        _, errors = sweep.communicate(timeout=120)
+    finally:
+        if sweep.poll() is None:
+            sweep.kill()
+    assert sweep.returncode != 0 and "KeyboardInterrupt" in errors
+    for i in (0, 1):  # each job's training run was told to stop, and did, at a checkpoint
+        assert "stopped by SIGTERM" in (tmp_path / "logs" / f"sweep-{i}.log").read_text()
 
 
 def test_a_report_of_finished_runs_only_evaluates_no_run_still_training(tmp_path):
@@ -107,6 +160,7 @@ def test_a_published_run_rebuilds_the_report_without_its_model(tmp_path):
     assert not (run / "model.pt").exists() or (run / "model.pt").stat().st_size < 1_000_000
     assert run_info(run).frames == budget.frames
     assert_committable(published, Path("results") / budget.name)
+    shutil.copy2(out / "runs" / run.name / "model.pt", run / "model.pt")  # as publish does below 1 MB
     rebuilt = tmp_path / "rebuilt"
     protocol = ["--test-levels", "2", "--human-episodes", "1", "--max-steps", "100"]
     command = [sys.executable, "-m", "gvgai_pcg.cli", "report", "--no-evaluate", str(published / "runs")]
@@ -150,6 +204,7 @@ def assert_committable(published: Path, where: Path) -> None:
         capture_output=True,
         text=True,
     )
+    assert found.returncode in (0, 1), found.stderr  # 1: nothing ignored; else git failed
     assert found.stdout.split() == [], f"git ignores published files: {found.stdout.split()[:5]}"
 
 
