@@ -33,7 +33,7 @@ from omegaconf import DictConfig
 from gvgai_pcg.rl.a2c import train
 from gvgai_pcg.rl.a2c_loss import A2CLoss
 from gvgai_pcg.rl.environment import EnvFactory, make_difficulty
-from gvgai_pcg.rl.models import as_tensordict_module, make_actor_critic
+from gvgai_pcg.rl.models import CHANNELS_LAST_TORSOS, as_tensordict_module, make_actor_critic
 from gvgai_pcg.rl.rollout import ActingRollouts, sample_actions
 
 WINDOWS = 5
@@ -249,8 +249,9 @@ def benchmark(cfg: DictConfig) -> dict[str, float]:
     numbers["cpu_ratio"] = numbers["end_to_end_cpu_fps"] / numbers["limit_cpu_fps"]
     numbers["reused_ratio"] = numbers["end_to_end_fps"] / numbers["reused_limit_fps"]
     numbers["reused_cpu_ratio"] = numbers["end_to_end_cpu_fps"] / numbers["reused_limit_cpu_fps"]
-    layouts = layout_costs(cfg)
-    numbers["layout_cpu_speedup"] = layouts["contiguous"].cpu / layouts["own"].cpu
+    if cfg.model.name in CHANNELS_LAST_TORSOS:  # a net kept contiguous has nothing to compare
+        layouts = layout_costs(cfg)
+        numbers["layout_cpu_speedup"] = layouts["contiguous"].cpu / layouts["own"].cpu
     if int(cfg.collector.workers) == 1:
         for name, cost in batch_breakdown(cfg).items():
             numbers[f"{name}_ms"] = cost.wall * 1e3
