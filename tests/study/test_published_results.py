@@ -23,5 +23,5 @@ def test_the_published_runs_rebuild_the_published_table(published, tmp_path):
     assert any(row[2] == "trained" for row in rebuilt[1:]), "no trained run in the table"
 
 
-def test_results_hold_a_published_budget():
-    assert [path.name for path in PUBLISHED] == ["small"]
+def test_results_hold_the_small_budget():
+    assert "small" in [path.name for path in PUBLISHED]
