@@ -74,7 +74,8 @@ class GameSpec:
             and the block of its frozen test-set seeds. ``None`` for a game outside the study.
         bench_target: the tiles steps/s at B = 4096 on 2 CPU cores that the benchmark holds the
             game to (what issues 2-5 asked of each game); ``None``: no target.
-        frame_cost: the relative cost of a training frame, to share a sweep between jobs.
+        frame_cost: the relative cost of a training frame, to share a sweep between jobs (the
+            small sweep's run hours per game, Zelda = 1: docs/results.md, "Status").
     """
 
     name: str

@@ -51,7 +51,7 @@ class Outcome:
 
 def frame_cost(condition: str) -> float:
     """The relative cost of a frame of ``condition``'s training (its game's ``GameSpec.frame_cost``,
-    measured frames/s of the default training, docs/benchmarks.md; 1 for an unknown game): only
+    run hours of the small sweep, docs/results.md; 1 for an unknown game): only
     used to share the conditions fairly between parallel jobs."""
     spec = find_game_spec(condition.split("-")[0])
     return 1.0 if spec is None else spec.frame_cost

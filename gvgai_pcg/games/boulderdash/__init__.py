@@ -35,5 +35,5 @@ SPEC = GameSpec(
     human_levels=5,
     study_index=3,
     bench_target=150_000,
-    frame_cost=2.3,
+    frame_cost=1.5,
 )

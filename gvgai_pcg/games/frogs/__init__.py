@@ -27,5 +27,5 @@ SPEC = GameSpec(
     human_levels=5,
     study_index=2,
     bench_target=150_000,
-    frame_cost=2.0,
+    frame_cost=1.8,
 )

@@ -27,5 +27,5 @@ SPEC = GameSpec(
     human_levels=5,
     study_index=1,
     bench_target=250_000,
-    frame_cost=1.3,
+    frame_cost=0.85,
 )
