@@ -25,16 +25,20 @@ def _runs_table(published: Path, target_frames: int) -> str:
         "| trained at |",
         "|---|---:|---|---:|---:|---|",
     ]
+    total = 0.0
     for run in sorted((published / "runs").iterdir()):
         if not (run / "published.json").is_file():
             continue
         frames = json.loads((run / "published.json").read_text())["frames"]
         rows = read_log(run / "log.csv") if (run / "log.csv").is_file() else []
         hours = rows[-1]["time"] / 3600 if rows else 0.0
+        total += hours
         score = f"{rows[-1]['mean_score']:.2f}" if rows else "-"
         done = "yes" if frames >= target_frames else "no (resumes)"
         commits = ", ".join(f"`{commit}`" for commit in session_commits(run)) or "-"
         lines.append(f"| {run.name} | {frames:,} | {done} | {hours:.2f} | {score} | {commits} |")
+    count = len(lines) - 2
+    lines += ["", f"Training time of these {count} runs: {total:.2f} run-hours (their wall times summed)."]
     return "\n".join(lines)
 
 

@@ -181,6 +181,7 @@ def test_a_published_run_rebuilds_the_report_without_its_model(tmp_path):
     assert "| zelda-lv0-tiles-compact-seed0 | 1,600 | yes |" in text and "commit `abc1234`" in text
     trained_at = session_commits(published / "runs" / "zelda-lv0-tiles-compact-seed0")
     assert trained_at == [code_commit()] and f"| `{trained_at[0]}` |" in text
+    assert "Training time of these 1 runs: " in text
     assert (
         "](images/results/curves-zelda.png)" in text and (tmp_path / "images" / "curves-zelda.png").is_file()
     )
