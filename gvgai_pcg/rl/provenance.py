@@ -19,16 +19,18 @@ SESSIONS_NAME = "sessions.csv"
 FIELDS = ("started", "commit", "frames", "machine", "torch", "threads")
 
 
-def code_commit(where: Path | None = None) -> str:
+def code_commit() -> str:
     """The short commit of the checkout holding this package, with ``+dirty`` when its tracked
-    code or configs differ from it; ``unknown`` outside a git checkout."""
-    where = where or Path(__file__).parent
+    code or configs differ from it; ``unknown`` outside a git checkout (an install in a
+    ``.venv`` inside one included)."""
+    where = Path(__file__).parent
 
     def git(*arguments: str) -> str:
         found = subprocess.run(["git", *arguments], cwd=where, capture_output=True, text=True, check=True)
         return found.stdout.strip()
 
     try:
+        git("ls-files", "--error-unmatch", Path(__file__).name)  # this file is the checkout's own
         commit = git("rev-parse", "--short", "HEAD")
         dirty = git("status", "--porcelain", "--untracked-files=no", "--", ":/gvgai_pcg", ":/conf")
     except (OSError, subprocess.CalledProcessError):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import importlib.util
 import os
 import signal
 import subprocess
@@ -152,3 +153,22 @@ def test_a_finished_run_started_again_trains_no_further(make_config, tmp_path):
         again = train(cfg, tmp_path / "run")
     assert again.frames == first.frames == 320
     assert not [w for w in caught if "divisible" in str(w.message)]  # no empty collector set up oddly
+
+
+def test_code_commit_is_unknown_for_a_copy_git_does_not_track(tmp_path):
+    import shutil
+
+    import gvgai_pcg.rl.provenance as provenance
+
+    inside = Path(provenance.__file__).resolve().parents[2] / ".venv-copy-for-test"
+    if not (inside.parent / ".git").exists():
+        pytest.skip("not a git checkout")
+    try:  # a copy of the package inside the checkout but not tracked (an install in .venv)
+        shutil.copytree(Path(provenance.__file__).parent, inside / "rl")
+        spec = importlib.util.spec_from_file_location("copied_provenance", inside / "rl" / "provenance.py")
+        copied = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(copied)
+        assert copied.code_commit() == "unknown"
+    finally:
+        shutil.rmtree(inside, ignore_errors=True)
+    assert provenance.code_commit() not in ("", "unknown")
