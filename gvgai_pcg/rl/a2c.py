@@ -76,7 +76,9 @@ def train(
     config = OmegaConf.to_container(cfg, resolve=True)
     files = {"config.yaml": OmegaConf.to_yaml(cfg, resolve=True), **(files or {})}
     with open_run(run_dir, config, files, stop) as session:
-        record_session(run_dir, int(session.saved["frames"]) if session.saved else 0)
+        start = int(session.saved["frames"]) if session.saved else 0
+        if start < int(cfg.total_frames):  # a finished run started again trains nothing: no row
+            record_session(run_dir, start)
         return _train(cfg, run_dir, config, session)
 
 

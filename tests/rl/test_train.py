@@ -152,6 +152,8 @@ def test_a_finished_run_started_again_trains_no_further(make_config, tmp_path):
         warnings.simplefilter("always")
         again = train(cfg, tmp_path / "run")
     assert again.frames == first.frames == 320
+    with open(tmp_path / "run" / "sessions.csv", newline="") as file:
+        assert [row["frames"] for row in csv.DictReader(file)] == ["0"]  # the second sat for nothing
     assert not [w for w in caught if "divisible" in str(w.message)]  # no empty collector set up oddly
 
 
