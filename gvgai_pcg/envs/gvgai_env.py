@@ -18,6 +18,7 @@ from tensordict import TensorDict, TensorDictBase
 from torchrl.data import Binary, Bounded, Categorical, Composite, Unbounded
 
 from gvgai_pcg.engine.buffers import BufferPool
+from gvgai_pcg.engine.compiled import engine_tick
 from gvgai_pcg.engine.rows import copy_tensor_rows_
 from gvgai_pcg.envs.level_bank import CompiledLevelBank
 from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
@@ -82,6 +83,7 @@ class GVGAIEnv(RowResetEnv):
             raise ValueError(f"max_steps must be at least 1, got {max_steps}")
         super().__init__(device=device, batch_size=torch.Size([num_envs]))
         self.game = get_game(game)
+        self._game_tick = engine_tick(self.game)  # compiled where the game allows
         self.level_source = as_level_source(game, levels)
         self.obs_kind, self.max_steps, self.num_envs = obs, max_steps, num_envs
         fmt = self.game.level_format
@@ -216,7 +218,7 @@ class GVGAIEnv(RowResetEnv):
         if not partial:
             self._state = fresh
         else:
-            self._state = merge_states(self._state, fresh, index.to(self.device))
+            self._state = merge_states(self._state, fresh, index.to(self.device), round_up=self.game.compiles)
         self._steps[index.to(self.device)] = 0
         self._level_seeds[index] = torch.tensor([lv.seed if lv.seed is not None else -1 for lv in levels])
         return observed
@@ -259,7 +261,7 @@ class GVGAIEnv(RowResetEnv):
 
     def _tick(self, state: TensorDict, action: torch.Tensor) -> torch.Tensor:
         """One tick of ``state``, then its observation (the work of one shard)."""
-        self.game.tick(state, action)
+        self._game_tick(state, action)
         return self._render(state)
 
     def _reset_tick(self, state: TensorDict, nil: torch.Tensor) -> torch.Tensor:

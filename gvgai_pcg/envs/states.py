@@ -17,19 +17,29 @@ from gvgai_pcg.engine.rows import copy_tensor_rows_
 from gvgai_pcg.games.base import entity_capacities, grow_slots, pad_entity_tables
 
 
-def merge_states(state: TensorDict, fresh: TensorDict, index: torch.Tensor) -> TensorDict:
+def merge_states(
+    state: TensorDict, fresh: TensorDict, index: torch.Tensor, round_up: bool = False
+) -> TensorDict:
     """``state`` with envs ``index`` replaced by ``fresh`` (a partial reset). An entity table of
-    ``state`` is grown where ``fresh`` has more slots; where it has fewer, the fresh rows get empty
-    slots (zeros, as padding would give them) leaf by leaf, which costs a fraction of padding the
-    fresh tables as TensorDicts."""
+    ``state`` is grown where ``fresh`` has more slots (with ``round_up``, to a power of two: a
+    compiled tick recompiles for every table width it meets, gvgai_pcg.engine.compiled); where it
+    has fewer, the fresh rows get empty slots (zeros, as padding would give them) leaf by leaf,
+    which costs a fraction of padding the fresh tables as TensorDicts."""
     ours, theirs = entity_capacities(state), entity_capacities(fresh)
-    state = pad_entity_tables(state, {key: theirs[key] for key in ours if theirs[key] > ours[key]})
+    width = slot_bucket if round_up else int
+    grown = {key: width(theirs[key]) for key in ours if theirs[key] > ours[key]}
+    state = pad_entity_tables(state, grown)
     for key, value in fresh.items(True, True):
         target = state.get(key)
         if isinstance(key, tuple) and key[0] in ours and value.shape[1] < target.shape[1]:
             value = grow_slots(value, target.shape[1] - value.shape[1])
         copy_tensor_rows_(target, index, value)
     return state
+
+
+def slot_bucket(slots: int) -> int:
+    """The smallest power of two that holds ``slots`` entity slots."""
+    return 1 << max(0, slots - 1).bit_length()
 
 
 def concatenate_states(states: Sequence[TensorDict]) -> TensorDict:

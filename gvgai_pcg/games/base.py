@@ -94,6 +94,9 @@ class Game(ABC):
     # Observation channels of ``tiles``, one per sprite type that matters (decoration left out).
     tile_types: ClassVar[tuple[str, ...]]
     art: ClassVar[dict[str, SpriteArt]]
+    # Whether ``tick`` traces as one graph (no data-dependent shapes or host syncs), so that the
+    # engine runs it compiled (gvgai_pcg.engine.compiled).
+    compiles: ClassVar[bool] = False
 
     @property
     def level_format(self) -> LevelFormat:

@@ -95,6 +95,8 @@ def any_last(mask: torch.Tensor) -> torch.Tensor:
     than PyTorch's bool ``any`` on the CPU."""
     if mask.shape[-1] == 0:
         return torch.zeros(mask.shape[:-1], dtype=torch.bool, device=mask.device)
+    if torch.compiler.is_compiling():
+        return mask.any(-1)
     return mask.view(torch.uint8).amax(-1).view(torch.bool)
 
 

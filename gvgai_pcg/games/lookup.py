@@ -27,4 +27,6 @@ def pick(table: torch.Tensor, codes: torch.Tensor) -> torch.Tensor:
 
 def lookup(values: tuple, codes: torch.Tensor, dtype: torch.dtype = torch.int64) -> torch.Tensor:
     """``values[codes]`` elementwise, as a tensor of ``dtype`` on ``codes``' device (codes: any shape)."""
+    if torch.compiler.is_compiling():  # a constant of the graph; the cache serves eager ticks
+        return pick(torch.tensor(values, dtype=dtype, device=codes.device), codes)
     return pick(constant_table(values, dtype, codes.device), codes)

@@ -59,7 +59,7 @@ def step_back_in_order(
     back = torch.zeros_like(first)
     for _ in range(k):
         new_back = first & any_last(hits(back))
-        if torch.equal(new_back, back):
+        if not torch.compiler.is_compiling() and torch.equal(new_back, back):
             break
         back = new_back
     return torch.where(back, lastx, x), torch.where(back, lasty, y)

@@ -25,3 +25,19 @@ def test_merging_fresh_states_with_fewer_slots_equals_merging_padded_ones():
     copy_rows(expected, pad_entity_tables(fresh.clone(), sizes), torch.tensor([1, 0]))
     merged = merge_states(state.clone(), fresh, torch.tensor([1, 0]))
     assert (merged == expected).all()
+
+
+def test_a_compiled_game_grows_its_tables_to_a_power_of_two():
+    # a compiled tick recompiles per table width: rounding up keeps the widths few
+    game = get_game("zelda")
+    small = game.compile([generate_level("zelda", 0.0, 0)], torch.tensor([1]), torch.device("cpu"))
+    large = game.compile([generate_level("zelda", 1.0, 1)], torch.tensor([2]), torch.device("cpu"))
+    slots = entity_capacities(large)["monsters"]
+    assert slots > entity_capacities(small)["monsters"] and slots & (slots - 1)  # not a power of two
+    exact = merge_states(small.clone(), large, torch.tensor([0]))
+    rounded = merge_states(small.clone(), large, torch.tensor([0]), round_up=True)
+    assert entity_capacities(exact)["monsters"] == slots
+    width = entity_capacities(rounded)["monsters"]
+    assert width & (width - 1) == 0 and slots < width < 2 * slots
+    assert torch.equal(rounded.get(("monsters", "x"))[:, :slots], exact.get(("monsters", "x")))
+    assert not rounded.get(("monsters", "alive"))[:, slots:].any()

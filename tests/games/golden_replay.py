@@ -12,6 +12,7 @@ from pathlib import Path
 
 import torch
 
+from gvgai_pcg.engine.compiled import engine_tick
 from gvgai_pcg.games import get_game
 from gvgai_pcg.levels import Level, human_level
 
@@ -34,10 +35,11 @@ def replay(path: Path, batched: bool = False) -> list[tuple[dict, dict]]:
         levels, seeds, index = [human_level(game.name, 0), level, human_level(game.name, 1)], [1, 12345, 2], 1
     state = game.compile(levels, torch.tensor(seeds), torch.device("cpu"))
     actions = ["NIL", *trace["actions"]]
+    tick = engine_tick(game)  # compiled where the engine compiles the game
     pairs = []
     for expected in trace["ticks"]:
         action = game.actions.index(actions[expected["tick"]])
-        game.tick(state, torch.full((len(levels),), action))
+        tick(state, torch.full((len(levels),), action))
         actual = game.snapshot(state, index)
         expected = {key: expected[key] for key in ("tick", "score", "status", "avatar", "sprites")}
         pairs.append((expected, actual))

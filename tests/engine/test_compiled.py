@@ -1,0 +1,89 @@
+"""The compiled tick computes what the eager tick computes, and the engine runs it by default.
+
+The golden traces replay through the engine's tick as well (tests/games/golden_replay.py), so a
+compiled game matches the Java engine batched, where it runs compiled.
+"""
+
+import warnings
+
+import pytest
+import torch
+
+from gvgai_pcg.engine.compiled import COMPILE_VARIABLE, CompiledTick, engine_tick
+from gvgai_pcg.envs import GVGAIEnv
+from gvgai_pcg.games import get_game, registered_games
+from gvgai_pcg.generators import get_generator
+from gvgai_pcg.levels import human_levels
+from tests.games.toy_game import LEVEL_TEXT, Walk
+
+COMPILED_GAMES = [name for name in registered_games() if get_game(name).compiles]
+
+
+def test_zelda_compiles():
+    assert "zelda" in COMPILED_GAMES
+
+
+@pytest.mark.parametrize("game_name", COMPILED_GAMES)
+def test_compiled_tick_equals_eager_tick(game_name):
+    # a mixed batch: human levels and generated ones of every difficulty, of several sizes
+    game = get_game(game_name)
+    generate = get_generator(game_name)
+    levels = human_levels(game_name) + [generate(d / 4, seed) for seed in range(3) for d in range(5)]
+    seeds = torch.arange(len(levels)) * 7919
+    eager = game.compile(levels, seeds, torch.device("cpu"))
+    compiled = game.compile(levels, seeds, torch.device("cpu"))
+    tick = engine_tick(game)
+    assert isinstance(tick, CompiledTick)
+    generator = torch.Generator().manual_seed(0)
+    for step in range(150):
+        action = torch.randint(0, game.num_actions, (len(levels),), generator=generator)
+        game.tick(eager, action)
+        tick(compiled, action)
+        for key in eager.keys(True, True):
+            assert torch.equal(eager.get(key), compiled.get(key)), f"{key} differs at tick {step}"
+    assert tick.failed is None
+
+
+def test_the_env_runs_the_compiled_tick_by_default():
+    env = GVGAIEnv("zelda", num_envs=4, levels="human", seed=0)
+    assert env._game_tick is engine_tick(env.game)
+    assert isinstance(env._game_tick, CompiledTick)
+
+
+def test_compiling_can_be_turned_off(monkeypatch):
+    monkeypatch.setenv(COMPILE_VARIABLE, "0")
+    game = get_game("zelda")
+    assert engine_tick(game) == game.tick
+
+
+class WalkWithHostSync(Walk):
+    """Claims to compile but reads a value on the host in its tick, which a full graph refuses."""
+
+    compiles = True
+
+    def tick(self, state, action):
+        if bool(state.get("won").any()):
+            state.get("score").add_(0)
+        super().tick(state, action)
+
+
+def test_a_tick_that_does_not_compile_runs_eagerly_after_a_warning():
+    from gvgai_pcg.levels import Level
+
+    game = WalkWithHostSync()
+    game.name = "toy"
+    level = Level("toy", tuple(LEVEL_TEXT.splitlines()))
+    compiled_state = game.compile([level, level], torch.tensor([1, 2]), torch.device("cpu"))
+    eager_state = game.compile([level, level], torch.tensor([1, 2]), torch.device("cpu"))
+    tick = CompiledTick(game)
+    action = torch.tensor([2, 3])  # RIGHT, DOWN
+    with pytest.warns(RuntimeWarning, match="compiling toy's tick failed"):
+        tick(compiled_state, action)
+    game.tick(eager_state, action)
+    assert tick.failed
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # said once
+        tick(compiled_state, action)
+    game.tick(eager_state, action)
+    for key in eager_state.keys(True, True):
+        assert torch.equal(eager_state.get(key), compiled_state.get(key))
