@@ -1,0 +1,84 @@
+"""What compiling a game's tick buys: env steps/s with the compiled and the eager tick.
+
+``python -m gvgai_pcg.engine.speedup [GAME] [B ...]`` steps one ``GVGAIEnv`` (tiles, human levels,
+random actions, resets included) and swaps its tick between rounds, so both ticks see the same
+machine load; a ratio from one run is what counts on a shared machine. Defaults: Zelda at
+B = 1, 12, 64, 1024 and 4096.
+"""
+
+from __future__ import annotations
+
+import statistics
+import sys
+import time
+from dataclasses import dataclass
+
+import torch
+
+from gvgai_pcg.envs import GVGAIEnv
+
+ROUNDS = 3
+STEPS_PER_ROUND = 40_000  # env steps per round and tick (at least 20 batch steps)
+
+
+@dataclass(frozen=True)
+class Speedup:
+    game: str
+    batch: int
+    compiled: float  # env steps/s, median of the rounds
+    eager: float
+    first_steps_s: float  # the first five steps, compiling included
+
+    @property
+    def ratio(self) -> float:
+        return self.compiled / self.eager
+
+
+def measure_speedup(
+    game: str, batch: int, rounds: int = ROUNDS, steps_per_round: int = STEPS_PER_ROUND
+) -> Speedup:
+    """Env steps/s of ``game`` at ``batch`` envs with its compiled tick and with its eager one."""
+    env = GVGAIEnv(game, num_envs=batch, levels="human", obs="tiles", seed=0)
+    ticks = {"compiled": env._game_tick, "eager": env.game.tick}
+    generator = torch.Generator().manual_seed(0)
+    td = env.reset()
+
+    def run(steps: int) -> None:
+        nonlocal td
+        for _ in range(steps):
+            td.set("action", torch.randint(0, env.game.num_actions, (batch,), generator=generator))
+            _, td = env.step_and_maybe_reset(td)
+
+    begin = time.perf_counter()
+    run(5)
+    first = time.perf_counter() - begin
+    calls = max(20, steps_per_round // batch)
+    rates: dict[str, list[float]] = {name: [] for name in ticks}
+    for _ in range(rounds):
+        for name, tick in ticks.items():
+            env._game_tick = tick
+            run(3)
+            begin = time.perf_counter()
+            run(calls)
+            rates[name].append(batch * calls / (time.perf_counter() - begin))
+    compiled, eager = (statistics.median(rates[name]) for name in ticks)
+    return Speedup(game, batch, compiled, eager, first)
+
+
+def main(argv: list[str]) -> int:
+    game = argv[0] if argv else "zelda"
+    batches = [int(b) for b in argv[1:]] or [1, 12, 64, 1024, 4096]
+    torch.set_num_threads(1)
+    print(f"{game}: env steps/s (tiles, human levels, random actions), compiled / eager tick")
+    for batch in batches:
+        s = measure_speedup(game, batch)
+        print(
+            f"B = {batch:>5}: compiled {s.compiled:>10,.0f}  eager {s.eager:>10,.0f}  "
+            f"speed-up {s.ratio:.2f}  (first five steps {s.first_steps_s:.1f} s)",
+            flush=True,
+        )
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
