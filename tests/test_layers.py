@@ -75,6 +75,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
             "gvgai_pcg.study",
             "gvgai_pcg.benchmark",
             "gvgai_pcg.bench_peers",
+            "gvgai_pcg.bench_compiled",
             "gvgai_pcg.play",
         ),
     ),

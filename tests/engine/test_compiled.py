@@ -90,7 +90,7 @@ def test_a_tick_that_does_not_compile_runs_eagerly_after_a_warning():
 
 
 def test_the_speedup_script_times_both_ticks():
-    from gvgai_pcg.engine.speedup import measure_speedup
+    from gvgai_pcg.bench_compiled import measure_speedup
 
     result = measure_speedup("zelda", batch=3, rounds=1, steps_per_round=30)
     assert result.compiled > 0 and result.eager > 0 and result.ratio == result.compiled / result.eager

@@ -1,6 +1,6 @@
 """What compiling a game's tick buys: env steps/s with the compiled and the eager tick.
 
-``python -m gvgai_pcg.engine.speedup [GAME] [B ...]`` steps one ``GVGAIEnv`` (tiles, human levels,
+``python -m gvgai_pcg.bench_compiled [GAME] [B ...]`` steps one ``GVGAIEnv`` (tiles, human levels,
 random actions, resets included) and swaps its tick between rounds, so both ticks see the same
 machine load; a ratio from one run is what counts on a shared machine. Defaults: Zelda at
 B = 1, 12, 64, 1024 and 4096.
