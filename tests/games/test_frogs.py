@@ -254,7 +254,7 @@ def test_an_undersized_log_table_fails_loudly(spawn_only_at, monkeypatch):
 
 @pytest.mark.parametrize(("spawner", "fires"), [("2", {0}), ("4", {0, 5})])
 def test_spawned_and_level_logs_are_removed_in_the_tick_they_reach_x_minus_1(spawn_only_at, spawner, fires):
-    # Removal is scheduled (spawner rings, level logs by column): check it against the positions.
+    # Removal finds the logs at x = −1 (the cleanup): check it against the positions they must have.
     spawn_only_at(fires)
     s = play(["gwwwwwwwww", "000000000" + spawner, "++++A+++++", "wwwwwwwwww"], ["NIL"] * 100)
     for tick, snapshot in enumerate(s):

@@ -23,10 +23,11 @@ from gvgai_pcg.games.frogs.logs import (
 
 def test_log_speed_is_fixed_at_one_pixel_per_tick_because_moving_logs_keep_their_key():
     # Invariant 1: the key adds the tick, so only a log that loses 1 px per tick keeps it. Ring
-    # sizes and the kill schedule count a log's life as its distance + 2 ticks for the same reason.
+    # sizes count a log's life as its distance + 2 ticks, and the cleanup finds a leaving log at
+    # x = −1, for the same reason.
     assert LOG_SPEED == 1, (
-        "frogs_logs.LOG_SPEED is not a parameter: log_key, spawner_ring_size, spawn_schedule and "
-        "dying_log_slots all assume logs move exactly 1 px per tick"
+        "frogs_logs.LOG_SPEED is not a parameter: log_key, spawner_ring_size, log_layout and the "
+        "cleanup at x = -1 all assume logs move exactly 1 px per tick"
     )
     x, y = torch.arange(-1, 300), torch.full((301,), 30)
     start = log_key(x, y, 7)
@@ -68,13 +69,9 @@ def test_spawn_schedule_equals_integer_arithmetic_at_every_tick():
         now = torch.full((batch,), tick, dtype=torch.int64)
         schedule = spawn_schedule(spawners, now, frogs.SPAWN_COOLDOWN)
         q, r = tick // cooldown, tick % cooldown
-        life = x + 2
-        modulus = ring.clamp_min(1)
         assert torch.equal(schedule["spawn"], r == 0), tick
         assert torch.equal(schedule["fresh"], r == 1), tick
-        assert torch.equal(schedule["kill"], (r == life % cooldown) & (tick >= life)), tick
-        assert torch.equal(schedule["slot"], base + q % modulus), tick
-        assert torch.equal(schedule["kill_slot"], base + (q - life // cooldown) % modulus), tick
+        assert torch.equal(schedule["slot"], base + q % ring.clamp_min(1)), tick
 
 
 @pytest.mark.parametrize("seed", range(40))
@@ -102,9 +99,6 @@ def test_level_logs_borrow_only_ring_slots_first_written_after_they_are_gone(see
             assert xs[k] + 2 <= j * cooldowns[spawner], f"log at x = {xs[k]} in ring slot {j}"
         else:
             assert slot < (layout.bases[0] if rings else layout.size)
-    assert list(layout.by_column[: len(placed)]) == [
-        layout.slots[k] for k in sorted(placed, key=lambda k: xs[k])
-    ]
 
 
 def test_log_keys_are_near_exactly_when_sprites_on_rows_overlap():

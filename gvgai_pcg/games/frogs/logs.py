@@ -6,17 +6,17 @@ Logs live in one entity table. Each spawner owns a ring of slots sized from its 
 cooldown; level logs borrow ring slots that are first written after they are gone, or get slots
 of their own before the rings; a last "dump" slot absorbs the writes of spawners that do not
 fire. Slot order is therefore not creation order (no rule depends on it). Since every log moves
-1 px per tick, the other log events (first update, spawn, removal at x = −1) happen at ticks
-known in advance and are written into the few slots they concern (:func:`spawn_schedule`,
-:func:`dying_log_slots`), and the frog finds the logs near it by a key that a moving log keeps
-(:func:`log_key`).
+1 px per tick, a log's first update and its spawn happen at ticks known in advance and are
+written into the few slots they concern (:func:`spawn_schedule`), its removal is where its x is
+−1, and the frog finds the logs near it by a key that a moving log keeps (:func:`log_key`).
 
 What this relies on and keeps true (tests/games/test_frogs_logs.py checks each):
 
 1. Logs move :data:`LOG_SPEED` = 1 px per tick to the left, from their second update on (RULES.md
    §6.2). This is not a parameter: the key of a moving log stays the same only because x falls
-   by 1 exactly as the tick grows by 1, and a log's lifetime in ticks (ring sizes, the kill tick
-   of the schedule, the removal tick of level logs) is its distance in px plus 2.
+   by 1 exactly as the tick grows by 1, a log's lifetime in ticks (ring sizes, the ring slots
+   level logs borrow) is its distance in px plus 2, and a log is at x = −1 in one tick only, the
+   tick it is removed in (the cleanup finds it there).
 2. A log spawned in tick t sits at its spawner's x in ticks t and t + 1, reaches x = −1 (EOS
    kill) in tick t + x + 2 and is removed at the end of that tick. A spawner fires only at
    multiples of its cooldown, so with :func:`spawner_ring_size` slots its ring slot
@@ -39,8 +39,8 @@ from typing import NamedTuple
 import torch
 from tensordict import TensorDict
 
-from gvgai_pcg.games.geometry import CELL, cell_of
-from gvgai_pcg.games.lookup import constant_table, lookup
+from gvgai_pcg.games.geometry import CELL
+from gvgai_pcg.games.lookup import lookup
 
 LOG_SPEED = 1  # px per tick, to the left: fixed, see invariant 1 of the module docstring
 LOG_ROW_KEY = 1 << 20  # rows of log keys are 10 * 2^20 apart (see log_key)
@@ -65,7 +65,6 @@ class LogLayout(NamedTuple):
     """Where one level's logs live in the log table (see :func:`log_layout`)."""
 
     slots: tuple[int, ...]  # the slot of each level log (of the level's placed logs, in order)
-    by_column: tuple[int, ...]  # the level logs' slots ordered by column (their removal order)
     bases: tuple[int, ...]  # the first slot of each spawner's ring
     size: int  # slots used, the dump slot not counted
 
@@ -98,18 +97,13 @@ def log_layout(xs: tuple[int, ...], rings: tuple[int, ...], cooldowns: tuple[int
         slots[log] = n
     for log, (spawner, j) in borrowed.items():
         slots[log] = bases[spawner] + j
-    placed = sorted((k for k, x in enumerate(xs) if x >= 0), key=lambda k: xs[k])
-    by_column = [slots[k] for k in placed] + [0] * (len(xs) - len(placed))
-    return LogLayout(tuple(slots), tuple(by_column), tuple(bases), len(own) + sum(rings))
+    return LogLayout(tuple(slots), tuple(bases), len(own) + sum(rings))
 
 
-def log_tables(
-    spawners: TensorDict, placed: TensorDict, cooldowns: tuple[int, ...], width: int
-) -> tuple[TensorDict, TensorDict, torch.Tensor]:
-    """The log table of a batch (``[B, L]``: x, y, row, key, alive, positions int32), its level
-    logs' slots in removal order (``[B, P]``) and where each column starts in that order
-    (``[B, width + 1]``), from the spawners (``[B, S]``, given ``ring`` and ``base`` here) and the
-    logs placed by the levels (``[B, P]``), on the CPU."""
+def log_tables(spawners: TensorDict, placed: TensorDict, cooldowns: tuple[int, ...]) -> TensorDict:
+    """The log table of a batch (``[B, L]``: x, y, row, key, alive, positions int32) from the
+    spawners (``[B, S]``, given ``ring`` and ``base`` here) and the logs placed by the levels
+    (``[B, P]``), on the CPU."""
     batch = spawners.batch_size[0]
     cooldown = lookup(cooldowns, spawners.get("kind"))
     ring = spawner_ring_size(spawners.get("x"), cooldown) * spawners.get("alive")
@@ -134,14 +128,9 @@ def log_tables(
     y = torch.zeros(batch, capacity, dtype=torch.int32).scatter_(1, slot, placed.get("y").to(torch.int32))
     key = torch.where(alive, log_key(x, y, 0), 0)
     # ``row`` (y // 10, a lane never changes) spares the tiles renderer working it out from y.
-    logs = TensorDict(
+    return TensorDict(
         {"x": x, "y": y, "row": y // CELL, "key": key, "alive": alive}, batch_size=[batch, capacity]
     )
-    order = torch.tensor([layout.by_column for layout in layouts], dtype=torch.int64).view(batch, count)
-    level_logs = TensorDict({"slot": order}, batch_size=[batch, count])
-    columns = (placed.get("x") // CELL).masked_fill(~placed.get("alive"), width)
-    column_starts = (columns.unsqueeze(-1) < torch.arange(width + 1)).sum(1)
-    return logs, level_logs, column_starts
 
 
 def _floor_mod(a: torch.Tensor, n: torch.Tensor) -> torch.Tensor:
@@ -152,56 +141,38 @@ def _floor_mod(a: torch.Tensor, n: torch.Tensor) -> torch.Tensor:
 def spawn_schedule(
     spawners: TensorDict, tick: torch.Tensor, cooldowns: tuple[int, ...]
 ) -> dict[str, torch.Tensor]:
-    """Which spawners (``[B, S]``, of cooldown ``cooldowns[kind]``) are at a spawn tick, at the
-    tick after one, or at the tick in which a log they spawned reaches x = −1, and the ring slots
-    these concern (all ``[B, S]``).
+    """Which spawners (``[B, S]``, of cooldown ``cooldowns[kind]``) are at a spawn tick or at the
+    tick after one, and the ring slot these concern (all ``[B, S]``).
 
     With q = tick // cooldown and r = tick % cooldown: a spawn tick has r = 0 and uses ring slot
-    q % ring; the tick after it has r = 1 and the same slot; the log spawned at t0 = tick − x − 2
-    (r = (x + 2) % cooldown) lives in slot (q − (x + 2) // cooldown) % ring.
+    q % ring; the tick after it has r = 1 and the same slot.
     """
-    kind, sx = spawners.get("kind"), spawners.get("x")
-    cooldown = lookup(cooldowns, kind, torch.float64)
+    cooldown = lookup(cooldowns, spawners.get("kind"), torch.float64)
     ring = spawners.get("ring").clamp_min(1).to(torch.float64)
     now = tick.to(torch.float64).unsqueeze(-1)
     q = (now / cooldown).floor_()
     r = now - q * cooldown
-    life = sx.to(torch.float64) + 2
-    turns = (life / cooldown).floor_()
-    base = spawners.get("base")
     return {
         "spawn": r == 0,
         "fresh": r == 1,
-        "kill": (r == life - turns * cooldown) & (now >= life),
-        "slot": base + _floor_mod(q, ring).to(torch.int64),
-        "kill_slot": base + _floor_mod(q - turns, ring).to(torch.int64),
+        "slot": spawners.get("base") + _floor_mod(q, ring).to(torch.int64),
     }
 
 
-def dying_log_slots(
-    state: TensorDict, tick: torch.Tensor, schedule: dict[str, torch.Tensor]
-) -> tuple[torch.Tensor, torch.Tensor]:
-    """The (env, slot) of every log that reaches x = −1 in ``tick`` (both ``[N]``): a spawned one
-    in its spawner's ``kill`` tick, the level logs of column c (x0 = 10c) in tick x0 + 1. Few envs
-    lose a log in any tick, so the dying logs are found among those alone."""
-    spawners = state.get("spawners")
-    envs, slots = (spawners.get("alive") & schedule["kill"]).nonzero(as_tuple=True)
-    envs, slots = [envs], [schedule["kill_slot"][envs, slots]]
-    level = state.get("level_logs").get("slot")
-    if level.shape[1]:
-        height, width = state.get("wall").shape[1:]
-        x0 = tick - 1
-        column = cell_of(x0)
-        at_column = ((column * CELL == x0) & (column >= 0) & (column < width)).nonzero().squeeze(1)
-        column = column[at_column].unsqueeze(-1)
-        starts = state.get("log_columns")[at_column]
-        first, end = torch.gather(starts, 1, column), torch.gather(starts, 1, column + 1)
-        # A column holds at most one log per row.
-        rank = first + constant_table(tuple(range(height)), torch.int64, first.device)
-        env, nth = (rank < end).nonzero(as_tuple=True)
-        envs.append(at_column[env])
-        slots.append(level[at_column[env], rank[env, nth]])
-    return torch.cat(envs), torch.cat(slots)
+def write_slots_(
+    column: torch.Tensor, slot: torch.Tensor, values: torch.Tensor, accumulate: bool = False
+) -> torch.Tensor:
+    """``column[b, slot[b, k]] = values[b, k]`` (``+=`` with ``accumulate``) in place, for a log
+    table's ``column`` (``[B, L]``) and ``slot, values`` ``[B, K]``; slots repeated in an env get
+    equal values (or are added). Eager by ``scatter_``, the cheapest to dispatch; compiled by
+    ``index_put_``, which inductor writes into the table itself, where a ``scatter_`` costs it two
+    copies of the whole table (torch 2.13: it does not reinplace ``scatter``)."""
+    if torch.compiler.is_compiling():
+        rows = torch.arange(column.shape[0], device=column.device).unsqueeze(-1)
+        return column.index_put_((rows, slot), values, accumulate=accumulate)
+    if accumulate:
+        return column.scatter_add_(1, slot, values)
+    return column.scatter_(1, slot, values)
 
 
 def wrap_around_(x: torch.Tensor, last: torch.Tensor, velocity: int) -> torch.Tensor:

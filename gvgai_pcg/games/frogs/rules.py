@@ -15,7 +15,9 @@ Termination: no goal → WIN, then no frog → LOSE.
 Logs live in one entity table whose slots are laid out, scheduled and keyed by
 :mod:`gvgai_pcg.games.frogs.logs` (the machinery and the invariants it keeps); slot order is not
 creation order, and no rule depends on it (see ``_apply_rules``, rule 2b). The tick touches the
-whole log table only to move all x at once and to find the logs near the frog.
+whole log table only to move all x at once, to find the logs near the frog and to remove those at
+x = −1. Every step has fixed shapes and no host sync, so the tick compiles as one graph
+(``compiles``, gvgai_pcg.engine.compiled).
 """
 
 from __future__ import annotations
@@ -42,11 +44,11 @@ from gvgai_pcg.games.base import (
 )
 from gvgai_pcg.games.frogs.logs import (
     LOG_SPEED,
-    dying_log_slots,
     log_key,
     log_tables,
     spawn_schedule,
     wrap_around_,
+    write_slots_,
 )
 from gvgai_pcg.games.geometry import CELL, gather_cells, off_screen, row_cells
 from gvgai_pcg.games.lookup import lookup
@@ -81,6 +83,7 @@ SLOT_ROW_STRIDE = 1 << 16  # rng slot of a spawner: y * stride + x, independent 
 @register_game("frogs")
 class Frogs(Game):
     actions = MOVE_ACTIONS
+    compiles = True
     tile_types = ("wall", "water", "forestDense", "forestSparse", "goal", "log", *TRUCK_TYPES, "avatar")
     art = {
         "grass": SpriteArt((40, 110, 40)),
@@ -100,13 +103,12 @@ class Frogs(Game):
 
     def compile(self, levels: Sequence[Level], seeds: torch.Tensor, device: torch.device) -> TensorDict:
         """Positions are int32 (half the memory traffic of int64 in the tick and the renderer)."""
-        width = max(level.width for level in levels)
         batch = len(levels)
         cpu = torch.device("cpu")
 
         spawners = char_entities(levels, SPAWNER_CHARS, cpu)
         placed = char_entities(levels, dict.fromkeys(LOG_CHARS, 0), cpu)
-        logs, level_logs, log_columns = log_tables(spawners, placed, SPAWN_COOLDOWN, width)
+        logs = log_tables(spawners, placed, SPAWN_COOLDOWN)
         spawners.set("row", (spawners.get("y") // CELL).to(torch.int32))
 
         ax, ay = avatar_cell(levels, "AB")
@@ -138,8 +140,6 @@ class Frogs(Game):
             "forestSparse": char_grid(levels, SPARSE_CHARS, device),
             "avatar": TensorDict(avatar, batch_size=[batch]),
             "logs": logs,
-            "level_logs": level_logs,
-            "log_columns": log_columns,
             **trucks,
             "spawners": spawners,
         }
@@ -162,7 +162,7 @@ class Frogs(Game):
         x, y = self._apply_eos(x, y, lastx, lasty, screen_h, screen_w)
         unmoved = fresh | spawned
         self._apply_rules(state, tick, alive, pressed, schedule, unmoved, x, y, lastx, lasty)
-        self._cleanup_logs(state, tick, schedule)
+        self._cleanup_logs(state)
         self._check_termination(state)
 
     def reset_tick(self, state: TensorDict) -> None:
@@ -207,7 +207,7 @@ class Frogs(Game):
         first update): these are moved back and their key advanced. Returns which spawners' ring
         slot holds such a log (``[B, S]``).
 
-        Dead slots move too (their x is never read); their key stays 0.
+        Dead slots move too (their x means nothing); their key stays 0.
         """
         logs, spawners = state.get("logs"), state.get("spawners")
         running = (tick >= 1).to(torch.int32).unsqueeze(-1)
@@ -215,8 +215,8 @@ class Frogs(Game):
         slot = schedule["slot"]
         fresh = spawners.get("alive") & schedule["fresh"] & torch.gather(logs.get("alive"), 1, slot)
         back = fresh.to(torch.int32) * LOG_SPEED
-        logs.get("x").scatter_add_(1, slot, back)
-        logs.get("key").scatter_add_(1, slot, back)
+        write_slots_(logs.get("x"), slot, back, accumulate=True)
+        write_slots_(logs.get("key"), slot, back, accumulate=True)
         return fresh
 
     @staticmethod
@@ -225,39 +225,36 @@ class Frogs(Game):
         probability prob, written to the spawner's ring slot (never occupied, checked). Returns
         which spawners spawned (``[B, S]``).
 
-        Only the spawners at a spawn tick draw, and only those that fire write a log: in a tick,
-        a tenth of a batch's spawners or fewer, so both are done on those alone. A draw is a pure
-        function of the seed, tick and spawner, so the others' draws would change nothing.
+        Every spawner draws (a draw is a pure function of the seed, tick and spawner, so those not
+        at a spawn tick draw in vain and change nothing) and every spawner writes: one that does
+        not fire writes the dump slot (the last, never a log) with what it holds. Fixed shapes and
+        no host sync, so that the tick compiles as one graph; eager, this is fewer ops than
+        picking out the few spawners that fire (at B <= 64 a tick costs its ops, not its work).
         """
         spawners, logs = state.get("spawners"), state.get("logs")
-        count = spawners.batch_size[1]
-        due = (spawners.get("alive") & schedule["spawn"]).view(-1).nonzero().squeeze(1)  # [B * S] flat
-        env = due.div(count, rounding_mode="floor")
-
-        def of_due(values: torch.Tensor) -> torch.Tensor:
-            return values.reshape(-1).index_select(0, due)
-
-        sx, sy = of_due(spawners.get("x")), of_due(spawners.get("y"))
-        slot_id = (sy * SLOT_ROW_STRIDE + sx).unsqueeze(-1)  # [K, 1]: one draw per due spawner
-        draw = rng.uniform(state.get("seed")[env], tick[env], slot_id, STREAM_LOG_SPAWN).squeeze(-1)
-        fires = draw < lookup(SPAWN_PROB, of_due(spawners.get("kind")), torch.float64)
-        fired, env = due[fires], env[fires]
-        slot = schedule["slot"].reshape(-1).index_select(0, fired)
+        sx, sy = spawners.get("x"), spawners.get("y")
+        draw = rng.uniform(state.get("seed"), tick, sy * SLOT_ROW_STRIDE + sx, STREAM_LOG_SPAWN)
+        fires = spawners.get("alive") & schedule["spawn"]
+        fires &= draw < lookup(SPAWN_PROB, spawners.get("kind"), torch.float64)
+        slot = torch.where(fires, schedule["slot"], logs.batch_size[1] - 1)
         alive = logs.get("alive")
-        assert_async(
-            ~alive[env, slot].any(),
+        assert_async(  # the dump slot never holds a log
+            ~alive.gather(1, slot).any(),
             "frogs: a spawned log found its ring slot occupied; the log table is smaller than the "
             "bound of frogs.logs.spawner_ring_size",
         )
-        x32, y32 = sx[fires].to(torch.int32), sy[fires].to(torch.int32)
-        where = (env, slot)
-        logs.get("x").index_put_(where, x32)
-        logs.get("y").index_put_(where, y32)
-        logs.get("row").index_put_(where, spawners.get("row").reshape(-1).index_select(0, fired))
-        logs.get("key").index_put_(where, log_key(x32, y32, tick[env]))
-        alive.index_put_(where, torch.ones_like(fired, dtype=torch.bool))
-        spawn = torch.zeros(spawners.batch_size.numel(), dtype=torch.bool, device=alive.device)
-        return spawn.index_fill_(0, fired, True).view(spawners.batch_size)
+        x32, y32 = sx.to(torch.int32), sy.to(torch.int32)
+        spawned = {
+            "x": x32,
+            "y": y32,
+            "row": spawners.get("row"),
+            "key": log_key(x32, y32, tick.unsqueeze(-1)),
+            "alive": fires,
+        }
+        for name, value in spawned.items():
+            column = logs.get(name)
+            write_slots_(column, slot, torch.where(fires, value, column[:, -1:]))
+        return fires
 
     # --- step 4b: EOS rules E1 (frog stepBack), E2 (log kill, at cleanup), E3 (truck wrap, above) ---
     @staticmethod
@@ -311,11 +308,12 @@ class Frogs(Game):
         # overlapping log moved iff any overlapping log moved; a frog that moved itself is not pulled.
         # The logs that have not moved this tick are those spawned in this tick or the previous one
         # (each in its spawner's current ring slot), and in tick 0 all of them.
-        distance = (logs.get("key") - log_key(x, y, tick).unsqueeze(-1)).abs_()
-        slot = torch.where(unmoved, schedule["slot"], logs.batch_size[1] - 1)
-        on_unmoved = ((torch.gather(distance, 1, slot) < CELL) & unmoved).any(-1)
-        distance.scatter_(1, slot, torch.full_like(slot, CELL, dtype=distance.dtype))
-        on_moved = distance.amin(-1) < CELL
+        # The unmoved logs' slots are distinct (one per spawner), so the frog is on a moved log iff
+        # it is on more logs than unmoved ones (counts: no copy of the table to mask them out).
+        near = (logs.get("key") - log_key(x, y, tick).unsqueeze(-1)).abs_() < CELL
+        near_unmoved = torch.gather(near, 1, schedule["slot"]) & unmoved
+        on_unmoved = near_unmoved.any(-1)
+        on_moved = near.sum(-1, dtype=torch.int32) > near_unmoved.sum(-1, dtype=torch.int32)
         shielded = alive & (on_moved | on_unmoved)
         pulled = alive & ~pressed & on_moved & (tick >= 1)
         x = torch.where(pulled, px[:, 1], x)
@@ -347,13 +345,13 @@ class Frogs(Game):
 
     # --- step 5: cleanup (logs killed by EOS at x = −1 are removed) ---
     @staticmethod
-    def _cleanup_logs(state: TensorDict, tick: torch.Tensor, schedule: dict) -> None:
-        """Every log dies at a tick known in advance (``logs.dying_log_slots``): its slot gets
-        ``alive`` false and key 0."""
+    def _cleanup_logs(state: TensorDict) -> None:
+        """E2: a log dies when it reaches x = −1 (a log is spawned at x >= 0 and loses 1 px a
+        tick, so it is at x = −1 once, in the tick it leaves); its slot gets ``alive`` false and
+        key 0. Dead slots (x moves on, alive already false, key already 0) are left as they are."""
         logs = state.get("logs")
-        where = dying_log_slots(state, tick, schedule)
-        logs.get("alive").index_put_(where, torch.zeros_like(where[0], dtype=torch.bool))
-        logs.get("key").index_put_(where, torch.zeros_like(where[0], dtype=torch.int32))
+        alive = logs.get("alive").logical_and_(logs.get("x") >= 0)
+        logs.get("key").mul_(alive)
 
     # --- step 6: termination, in declaration order ---
     @staticmethod
