@@ -11,12 +11,16 @@ Shapes are dynamic, so one compilation serves every batch size and level size; a
 entity-table width can still recompile (the ordered stepBack loops over its slots), which is why
 a running state grows its tables to a power of two (``gvgai_pcg.envs.states``). Compiling needs a
 C++ compiler on the CPU (Triton on CUDA); where it fails the engine warns once and runs the
-eager tick, which computes the same. ``GVGAI_PCG_COMPILE=0`` turns compiling off.
+eager tick, which computes the same. ``GVGAI_PCG_COMPILE=0`` turns compiling off. What a tick
+takes from the host (``Game.host_arguments``: whole-batch choices, one graph each, and tables) is
+read before the graph runs; a choice whose graph inductor gets wrong (``Game.eager_when``) ticks
+eagerly.
 """
 
 from __future__ import annotations
 
 import os
+import threading
 import warnings
 from collections.abc import Callable
 
@@ -46,6 +50,24 @@ def compiling_enabled() -> bool:
     return os.environ.get(COMPILE_VARIABLE, "1").strip().lower() not in ("0", "false", "no", "off")
 
 
+_THREAD = threading.local()
+
+
+def _configure_this_thread() -> None:
+    """Compiler settings for the ticks compiled in this thread (torch 2.13 keeps these settings per
+    thread, and a sharded env ticks in a pool's threads)."""
+    # Only ever raised: every entity-table width and shard offset a run meets compiles once.
+    limit = torch._dynamo.config.recompile_limit
+    torch._dynamo.config.recompile_limit = max(limit, RECOMPILE_LIMIT)
+    # Duck shaping gives sizes that are equal when first traced one symbol. Inductor (torch 2.13)
+    # then miscompiled Boulderdash's tick for a batch of 4 envs with 4 monster slots each: the
+    # monsters moved differently from the eager tick (tests/engine/test_compiled.py). Every size
+    # gets its own symbol instead, which only drops an assumption (and the recompiles it caused
+    # when two tables tied at first trace later differed).
+    torch.fx.experimental._config.use_duck_shape = False
+    _THREAD.configured = True
+
+
 class CompiledTick:
     """``game.tick`` compiled on first use; falls back to the eager tick, once and for good, if
     compiling fails (no C++ compiler, an unsupported op), after saying so."""
@@ -56,14 +78,16 @@ class CompiledTick:
             type(game).tick, fullgraph=True, dynamic=True, options=INDUCTOR_OPTIONS
         )
         self.failed: str | None = None
-        # only ever raised; patching it per call would cost more than a small tick
-        limit = torch._dynamo.config.recompile_limit
-        torch._dynamo.config.recompile_limit = max(limit, RECOMPILE_LIMIT)
 
     def __call__(self, state: TensorDict, action: torch.Tensor) -> None:
         if self.failed is None and state.batch_size[0] >= MIN_COMPILED_BATCH:
+            if not getattr(_THREAD, "configured", False):
+                _configure_this_thread()
+            arguments = self.game.host_arguments(state)
+            if any(arguments[name] for name in self.game.eager_when):
+                return self.game.tick(state, action, **arguments)
             try:
-                return self._compiled(self.game, state, action)
+                return self._compiled(self.game, state, action, **arguments)
             except COMPILE_ERRORS as error:  # raised while compiling, before the tick ran
                 self.failed = f"{type(error).__name__}: {str(error).strip().splitlines()[0][:300]}"
                 warnings.warn(

@@ -56,7 +56,8 @@ class GVGAIEnv(RowResetEnv):
         shards: on a CPU shared with other work, a step (and a reset's reset tick) can tick and
             render this many slices of the batch on as many threads, each with one torch thread
             (see ``gvgai_pcg.envs.shards``); the default, 1, uses torch's own intra-op threads,
-            the faster choice on a quiet machine. The results do not depend on it.
+            the faster choice on a quiet machine. The results do not depend on it. A sharded
+            env ticks eagerly (gvgai_pcg.engine.compiled).
     """
 
     batch_locked = True
@@ -83,7 +84,10 @@ class GVGAIEnv(RowResetEnv):
             raise ValueError(f"max_steps must be at least 1, got {max_steps}")
         super().__init__(device=device, batch_size=torch.Size([num_envs]))
         self.game = get_game(game)
-        self._game_tick = engine_tick(self.game)  # compiled where the game allows
+        # Compiled where the game allows, on whole states only: on a shard's views of the state,
+        # inductor (torch 2.13) miscompiled Boulderdash's tick (its monsters' moves came out
+        # differently from run to run), so a sharded env ticks eagerly.
+        self._game_tick = engine_tick(self.game) if shards == 1 else self.game.tick
         self.level_source = as_level_source(game, levels)
         self.obs_kind, self.max_steps, self.num_envs = obs, max_steps, num_envs
         fmt = self.game.level_format

@@ -97,6 +97,9 @@ class Game(ABC):
     # Whether ``tick`` traces as one graph (no data-dependent shapes or host syncs), so that the
     # engine runs it compiled (gvgai_pcg.engine.compiled).
     compiles: ClassVar[bool] = False
+    # Bool host arguments (see ``host_arguments``) whose graph the compiler gets wrong: a tick
+    # where one is true runs eagerly. Each says why where it is set; a test holds it to eager.
+    eager_when: ClassVar[tuple[str, ...]] = ()
 
     @property
     def level_format(self) -> LevelFormat:
@@ -114,7 +117,17 @@ class Game(ABC):
 
     @abstractmethod
     def tick(self, state: TensorDict, action: torch.Tensor) -> None:
-        """Advance every env of ``state`` by one game cycle with ``action`` (``[B]`` int), in place."""
+        """Advance every env of ``state`` by one game cycle with ``action`` (``[B]`` int), in place.
+
+        A tick may take keyword arguments from :meth:`host_arguments`; called without them, it
+        works them out itself."""
+
+    def host_arguments(self, state: TensorDict) -> dict[str, object]:
+        """What the next tick takes from outside a compiled graph, as keyword arguments: choices
+        for the whole batch (bools, read on the host; a graph gets each as a constant, one graph
+        per combination met), and tables made once outside the graph (tensors, graph inputs; a
+        graph with dynamic shapes would rebuild them every call)."""
+        return {}
 
     def reset_tick(self, state: TensorDict) -> None:
         """The reset tick (RULES.md §1.8: tick 0, with NIL) of freshly compiled envs, in place.

@@ -73,7 +73,13 @@ def overlaps_any(
     for the sprites not selected.
 
     This is how rules see sprites off the screen, where no cell holds them. They are few, so they
-    are found first (one ``nonzero``) and only they are compared with their env's table."""
+    are found first (one ``nonzero``) and only they are compared with their env's table. A compiled
+    tick cannot take a data-dependent shape, and compares every sprite in one fused loop instead."""
+    if torch.compiler.is_compiling():
+        batch = which.shape[0]
+        sx, sy = x.reshape(batch, -1, 1), y.reshape(batch, -1, 1)
+        near = overlaps(sx, sy, tx.unsqueeze(1), ty.unsqueeze(1)) & present.unsqueeze(1)
+        return (which.reshape(batch, -1) & near.any(-1)).view(which.shape)
     hit = torch.zeros_like(which)
     flat = hit.view(which.shape[0], -1)
     env, slot = which.reshape(flat.shape).nonzero(as_tuple=True)
@@ -151,8 +157,11 @@ def screen_cell(
     that screen, the only place where the cell holds what they overlap. ``last_x, last_y`` are each
     env's last on-screen position, ``10 * (own width - 1)`` and ``10 * (own height - 1)``,
     broadcast against x, y (at most 1010 px)."""
-    zero = _zero(x.dtype, x.device)
-    x_in, y_in = torch.clamp(x, zero, last_x), torch.clamp(y, zero, last_y)
+    if torch.compiler.is_compiling():  # the cached zero below is an eager-only saving
+        x_in, y_in = x.clamp(min=0).minimum(last_x), y.clamp(min=0).minimum(last_y)
+    else:
+        zero = _zero(x.dtype, x.device)
+        x_in, y_in = torch.clamp(x, zero, last_x), torch.clamp(y, zero, last_y)
     on = (x_in == x) & (y_in == y)
     return small_cell_of(y_in) * width + small_cell_of(x_in), on
 
