@@ -50,9 +50,10 @@ def move_displacement(
 ) -> tuple[torch.Tensor, torch.Tensor]:
     """The (x, y) displacement, as ``dtype``, of a move of ``distance`` px in the direction of
     actions of :data:`MOVE_ACTIONS` (any shape; NIL stays): one look-up per axis."""
+    steps = _move_steps.__wrapped__ if torch.compiler.is_compiling() else _move_steps  # no cache in a graph
     return (
-        lookup(_move_steps(DIRECTION_DX, distance), action, dtype),
-        lookup(_move_steps(DIRECTION_DY, distance), action, dtype),
+        lookup(steps(DIRECTION_DX, distance), action, dtype),
+        lookup(steps(DIRECTION_DY, distance), action, dtype),
     )
 
 
