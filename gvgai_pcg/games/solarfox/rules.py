@@ -109,7 +109,8 @@ def _ship_tables(height: int, width: int, device: str) -> dict[str, torch.Tensor
       first; the other entries repeat the first, so a scatter of values that depend only on the
       cell writes exactly the overlapped cells (if the ship overlaps none, all are one arbitrary
       cell, where the callers write back its old value);
-    * ``counted`` ``[P, 4]``: which entries of ``under`` are those distinct overlapped cells.
+    * ``counted`` ``[P, 4]``: which entries of ``under`` are those distinct overlapped cells;
+    * ``covered`` ``[P, K]``: which cells of ``window`` the ship overlaps (for a compiled tick).
     """
     xs = torch.arange(-2 * CELL, CELL * width + CELL + 1)
     ys = torch.arange(-2 * CELL, CELL * height + CELL + 1)
@@ -120,8 +121,23 @@ def _ship_tables(height: int, width: int, device: str) -> dict[str, torch.Tensor
     first = torch.sort((~covered).to(torch.uint8), dim=-1, stable=True).indices[:, :4]
     counted = covered.gather(1, first)
     under = torch.where(counted, window.gather(1, first), window.gather(1, first[:, :1]))
-    tables = {"window": window, "under": under, "counted": counted}
-    return {key: value.to(device) for key, value in tables.items()}
+    tables = {"window": window, "under": under, "counted": counted, "covered": covered}
+    # Whole tensors, not views: a compiled tick guards on the base of a view it takes.
+    return {key: value.to(device).clone() for key, value in tables.items()}
+
+
+def _write_cells_(flat: torch.Tensor, cells: torch.Tensor, values: torch.Tensor) -> None:
+    """``flat[b, cells[b, k]] = values[b, k]`` in place (``flat`` ``[B, N]``, ``cells, values``
+    ``[B, K]``; a cell repeated in an env gets equal values). Eager by ``scatter_``, the cheapest
+    to dispatch; compiled by ``index_put_``, which inductor writes into the grid itself, where a
+    ``scatter_`` costs it two copies of the whole grid (torch 2.13 does not reinplace ``scatter``).
+    The rows come from ``cells``: taken from ``flat``, inductor (torch 2.13) failed an assertion
+    on the two batch sizes (symbols of their own, see gvgai_pcg.engine.compiled)."""
+    if torch.compiler.is_compiling():
+        rows = torch.arange(cells.shape[0], device=cells.device).unsqueeze(-1)
+        flat.index_put_((rows, cells), values)
+    else:
+        flat.scatter_(1, cells, values)
 
 
 def _window_rows(x: torch.Tensor, y: torch.Tensor, height: int, width: int) -> torch.Tensor:
@@ -133,6 +149,7 @@ def _window_rows(x: torch.Tensor, y: torch.Tensor, height: int, width: int) -> t
 
 @register_game("solarfox")
 class Solarfox(Game):
+    compiles = True
     actions = MOVE_ACTIONS
     tile_types = (
         "wall",
@@ -171,7 +188,7 @@ class Solarfox(Game):
             {
                 "col": (enemies.get("x") // CELL).to(torch.int32),
                 "row": (enemies.get("y") // CELL).to(torch.int32),
-                "dx": lookup(ENEMY_START_DX, kind, torch.int32),
+                "dx": lookup(ENEMY_START_DX, kind, torch.int32).clone(),  # not a view (see _ship_tables)
             }
         )
         del enemies["x"], enemies["y"]
@@ -181,7 +198,7 @@ class Solarfox(Game):
             "x": torch.zeros(batch, slots, dtype=torch.int32),
             "y": torch.zeros(batch, slots, dtype=torch.int32),
             # The owner's shot direction: -1 for the upshots of btm, +1 for the downshots of top.
-            "dy": lookup(SHOT_DY, kind.cpu(), torch.int32).repeat_interleave(SHOTS_PER_ENEMY, dim=1),
+            "dy": lookup(SHOT_DY, kind.cpu(), torch.int32).repeat_interleave(SHOTS_PER_ENEMY, dim=1).clone(),
             "alive": torch.zeros(batch, slots, dtype=torch.bool),
             "fresh": torch.zeros(batch, slots, dtype=torch.bool),  # created this tick: no move next update
         }
@@ -217,14 +234,23 @@ class Solarfox(Game):
         }
         return TensorDict(state, batch_size=[batch], device=device)
 
-    def tick(self, state: TensorDict, action: torch.Tensor) -> None:
+    def host_arguments(self, state: TensorDict) -> dict[str, object]:
+        """The ship's cell look-ups for this batch's grid size (:func:`_ship_tables`, cached): inputs
+        of a compiled tick, which with dynamic shapes would rebuild them in every call."""
+        wall = state.get("wall")
+        return dict(_ship_tables(wall.shape[1], wall.shape[2], str(wall.device)))
+
+    def tick(self, state: TensorDict, action: torch.Tensor, **tables: torch.Tensor) -> None:
+        """RULES.md §1.3; ``tables`` are :meth:`host_arguments` (worked out here when not given)."""
+        if not tables:
+            tables = self.host_arguments(state)
         tick = state.get("tick") + 1
         state.set("tick", tick)
         self._update_avatar(state, action, tick)
         self._update_shots(state)
         self._update_enemies(state, tick)
         # powerblibturning (Flicker) needs no update: its age is tick - turning_born.
-        self._apply_rules(state, tick)
+        self._apply_rules(state, tick, tables)
         self._cleanup(state)
         self._check_termination(state)
 
@@ -260,7 +286,7 @@ class Solarfox(Game):
         enemies.set("col", enemies.get("col") + enemies.get("dx") * move)
 
     # --- step 4: collision rules in declaration order ---
-    def _apply_rules(self, state: TensorDict, tick: torch.Tensor) -> None:
+    def _apply_rules(self, state: TensorDict, tick: torch.Tensor, tables: dict[str, torch.Tensor]) -> None:
         """Rules 1-9 touch only cells near the ship, so they gather those cells from the grids and
         scatter them back: the (up to 2x2) cells the ship overlaps, and for 6a/6b, in the envs where
         a powerblibturning may live, the window of :meth:`_pair_turnings`."""
@@ -271,7 +297,6 @@ class Solarfox(Game):
         batch, height, width = wall.shape
         keys = ("blib", "powerblib", "res", "turning_born", "turning")
         flat = {key: state.get(key).view(batch, -1) for key in keys}
-        tables = _ship_tables(height, width, str(ax.device))
         position = _window_rows(ax, ay, height, width)
         cells = tables["under"].index_select(0, position)
         # The cells the ship overlaps, each once (a ship disabled in an earlier tick collides with
@@ -285,34 +310,45 @@ class Solarfox(Game):
         enemy_hit = e_alive & overlaps(ship_x, ship_y, CELL * col, CELL * row)
         shot_hit = shots.get("alive") & overlaps(ship_x, ship_y, shots.get("x"), shots.get("y"))
         lethal = count_last(lethal) + alive * (count_last(enemy_hit) + count_last(shot_hit))
-        # 5 blib × avatar: collect, +1 each (the ship still collects in the tick it dies).
-        blib = torch.gather(flat["blib"], 1, cells)
-        taken = count_last(hits & blib)
-        flat["blib"].scatter_(1, cells, blib & ~under)
-        # 6a, 6b, 8 (and the turnings' expiry), only where a turning created in the last 10 ticks
-        # may still pair with its powerblib.
-        gained = taken
-        live = (state.get("turning_last") >= tick - TURNING_LIFE).nonzero().squeeze(-1)
-        if len(live) > 0:
-            at, spawned = self._pair_turnings(
-                flat, tables["window"].index_select(0, position[live]), tick[live], live
+        if torch.compiler.is_compiling():  # every env's window, masked: no data-dependent shapes
+            window = tables["window"].index_select(0, position)
+            over = tables["covered"].index_select(0, position) & alive.unsqueeze(-1)
+            live = state.get("turning_last") >= tick - TURNING_LIFE
+            taken, gained, made = self._window_rules_dense(flat, window, over, tick, live)
+        else:
+            # 5 blib × avatar: collect, +1 each (the ship still collects in the tick it dies).
+            blib = torch.gather(flat["blib"], 1, cells)
+            taken = count_last(hits & blib)
+            _write_cells_(flat["blib"], cells, blib & ~under)
+            # 6a, 6b, 8 (and the turnings' expiry), only where a turning created in the last 10 ticks
+            # may still pair with its powerblib.
+            gained = taken
+            live = (state.get("turning_last") >= tick - TURNING_LIFE).nonzero().squeeze(-1)
+            if len(live) > 0:
+                at, spawned = self._pair_turnings(
+                    flat, tables["window"].index_select(0, position[live]), tick[live], live
+                )
+                gained = gained.index_add(0, at, spawned.to(gained.dtype))
+            # 7 powerblibturning × avatar: kill the turnings the ship overlaps. 9 powerblib × avatar: a
+            # new turning on every powerblib the ship overlaps (after rule 8's kills).
+            powerblib = under & torch.gather(flat["powerblib"], 1, cells)
+            born = torch.gather(flat["turning_born"], 1, cells)
+            born = torch.where(
+                powerblib, tick.to(born.dtype).unsqueeze(-1), torch.where(under, NO_TURNING, born)
             )
-            gained = gained.index_add(0, at, spawned.to(gained.dtype))
-        # 7 powerblibturning × avatar: kill the turnings the ship overlaps. 9 powerblib × avatar: a
-        # new turning on every powerblib the ship overlaps (after rule 8's kills).
-        powerblib = under & torch.gather(flat["powerblib"], 1, cells)
-        born = torch.gather(flat["turning_born"], 1, cells)
-        born = torch.where(powerblib, tick.to(born.dtype).unsqueeze(-1), torch.where(under, NO_TURNING, born))
-        flat["turning_born"].scatter_(1, cells, born)
-        flat["turning"].scatter_(1, cells, powerblib | (~under & torch.gather(flat["turning"], 1, cells)))
+            _write_cells_(flat["turning_born"], cells, born)
+            _write_cells_(
+                flat["turning"],
+                cells,
+                powerblib | (~under & torch.gather(flat["turning"], 1, cells)),
+            )
+            made = any_last(powerblib)
         # A blib of 6a replaces its powerblib (8), so only rule 5 changes the pickups left.
         state.update(
             {
                 "score": state.get("score") + DEATH_SCORE * lethal + gained,
                 "pickups": state.get("pickups") - taken,
-                "turning_last": torch.where(
-                    any_last(powerblib), tick.to(torch.int32), state.get("turning_last")
-                ),
+                "turning_last": torch.where(made, tick.to(torch.int32), state.get("turning_last")),
             }
         )
         avatar.set("alive", alive & (lethal == 0))
@@ -360,11 +396,64 @@ class Solarfox(Game):
         return envs[row], spawned
 
     @staticmethod
+    def _window_rules_dense(
+        flat: dict[str, torch.Tensor],
+        window: torch.Tensor,
+        over: torch.Tensor,
+        tick: torch.Tensor,
+        live: torch.Tensor,
+    ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+        """Rules 5-9 as the eager tick runs them (:meth:`_apply_rules`, :meth:`_pair_turnings`),
+        for a compiled tick: in every env's window ``[B, K]`` (``over``: the cells of it that the
+        live ship overlaps; ``live`` ``[B]``: envs where a turning may live), masked instead of
+        selected, so that the graph has no data-dependent shapes, and each grid written once (a
+        second write costs inductor a copy of the grid). Returns the blibs taken (rule 5), the
+        score gained (5 and 8) and whether a turning was created (9), each ``[B]``."""
+        now = tick.to(torch.int32).unsqueeze(-1)
+        # 5 blib × avatar: collect, +1 each.
+        blib = torch.gather(flat["blib"], 1, window)
+        taken = count_last(over & blib)
+        # 6a, 6b, 8 where a turning created in the last 10 ticks pairs with its powerblib.
+        born = torch.gather(flat["turning_born"], 1, window)
+        pick = live.unsqueeze(-1) & (born >= now - TURNING_LIFE)
+        powerblib, res = torch.gather(flat["powerblib"], 1, window), torch.gather(flat["res"], 1, window)
+        spawned = pick & powerblib & (res >= BLIB_AT_RES)
+        grown = res + (powerblib & (res < RES_LIMIT)).to(res.dtype)
+        _write_cells_(flat["res"], window, torch.where(pick, grown, res))
+        powerblib = powerblib & ~spawned
+        _write_cells_(flat["powerblib"], window, powerblib)
+        _write_cells_(flat["blib"], window, (blib & ~over) | spawned)
+        turning = torch.where(
+            pick, born >= now - (TURNING_LIFE - 1), torch.gather(flat["turning"], 1, window)
+        )
+        # 7 powerblibturning × avatar: kill the turnings the ship overlaps. 9 powerblib × avatar: a
+        # new turning on every powerblib it overlaps (after rule 8's kills).
+        made = over & powerblib
+        _write_cells_(
+            flat["turning_born"], window, torch.where(made, now, torch.where(over, NO_TURNING, born))
+        )
+        _write_cells_(flat["turning"], window, made | (~over & turning))
+        return taken, taken + count_last(spawned), any_last(made)
+
+    @staticmethod
     def _spawn_shots(shots: TensorDict, fire: torch.Tensor, enemies: TensorDict) -> None:
         """A firing enemy (``fire`` ``[B, E]``) puts a shot into the first free slot of its own block.
         Few enemies fire in a tick, so only their blocks of the shot table are touched."""
         batch, count = fire.shape
         alive = shots.get("alive")
+        if torch.compiler.is_compiling():  # every block, masked: no data-dependent shapes
+            # The first free slot of each block (none: SHOTS_PER_ENEMY), a reduction inductor fuses.
+            slots = torch.arange(SHOTS_PER_ENEMY, device=alive.device)
+            free = ~alive.view(batch, count, SHOTS_PER_ENEMY)
+            first = torch.where(free, slots, SHOTS_PER_ENEMY).amin(-1, keepdim=True)
+            fresh = ((slots == first) & fire.unsqueeze(-1)).view(batch, -1)
+            for key, at in (("x", "col"), ("y", "row")):
+                table = shots.get(key)
+                position = (CELL * enemies.get(at)).to(table.dtype).repeat_interleave(SHOTS_PER_ENEMY, -1)
+                table.copy_(torch.where(fresh, position, table))
+            alive.logical_or_(fresh)
+            shots.set("fresh", fresh)
+            return
         fresh = torch.zeros_like(alive)
         env, enemy = fire.nonzero(as_tuple=True)
         if len(env) > 0:
