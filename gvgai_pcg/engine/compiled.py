@@ -80,7 +80,8 @@ class CompiledTick:
         self.failed: str | None = None
 
     def __call__(self, state: TensorDict, action: torch.Tensor) -> None:
-        if self.failed is None and state.batch_size[0] >= MIN_COMPILED_BATCH:
+        batch, largest = state.batch_size[0], self.game.max_compiled_batch
+        if self.failed is None and MIN_COMPILED_BATCH <= batch and (largest is None or batch <= largest):
             if not getattr(_THREAD, "configured", False):
                 _configure_this_thread()
             arguments = self.game.host_arguments(state)

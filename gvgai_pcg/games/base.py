@@ -100,6 +100,8 @@ class Game(ABC):
     # Bool host arguments (see ``host_arguments``) whose graph the compiler gets wrong: a tick
     # where one is true runs eagerly. Each says why where it is set; a test holds it to eager.
     eager_when: ClassVar[tuple[str, ...]] = ()
+    # The largest batch whose tick runs compiled, where a compiled tick stops paying above it.
+    max_compiled_batch: ClassVar[int | None] = None
 
     @property
     def level_format(self) -> LevelFormat:

@@ -142,3 +142,14 @@ def test_a_batch_as_wide_as_an_entity_table_ticks_as_eagerly(game_name):
         tick(compiled, action)
         for key in eager.keys(True, True):
             assert torch.equal(eager.get(key), compiled.get(key)), f"{key} differs at tick {step}"
+
+
+def test_a_batch_above_the_games_compiled_limit_ticks_eagerly(monkeypatch):
+    game = get_game("solarfox")
+    assert game.max_compiled_batch == 2048
+    tick = CompiledTick(game)
+    monkeypatch.setattr(tick, "_compiled", lambda *args, **kwargs: pytest.fail("ticked compiled"))
+    levels = [human_levels("solarfox")[i % 5] for i in range(2049)]
+    state = game.compile(levels, torch.arange(2049), torch.device("cpu"))
+    tick(state, torch.zeros(2049, dtype=torch.int64))
+    assert state.get("tick").eq(0).all()

@@ -177,6 +177,9 @@ class Boulderdash(Game):
     # a kernel fails an index check (aot_eager computes it right). Such a batch, rare (every human
     # and generated level is walled in), ticks eagerly.
     eager_when = ("leaving",)
+    # Above this its compiled tick stops paying: the env stepped 1.03-1.06x as fast at B = 1,024
+    # and 0.84x at 4,096 on 2 threads (1.09x and 1.14x on one; docs/benchmarks.md, 2026-11-26).
+    max_compiled_batch = 1024
     tile_types = ("wall", "sword", "dirt", "exitdoor", "diamond", "boulder", "crab", "butterfly", "avatar")
     art = {
         "background": SpriteArt((20, 20, 20)),
