@@ -25,7 +25,7 @@ from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
 from gvgai_pcg.envs.ready_episodes import ReadyEpisodes
 from gvgai_pcg.envs.reset_rows import RowResetEnv
 from gvgai_pcg.envs.shards import ShardedStepper
-from gvgai_pcg.envs.states import merge_states
+from gvgai_pcg.envs.states import bucket_entity_tables, merge_states
 from gvgai_pcg.games import get_game
 from gvgai_pcg.games.base import pad_level
 from gvgai_pcg.games.geometry import CELL
@@ -220,7 +220,7 @@ class GVGAIEnv(RowResetEnv):
         for i, level in zip(index.tolist(), levels, strict=True):
             self._levels[i] = level
         if not partial:
-            self._state = fresh
+            self._state = bucket_entity_tables(fresh) if self.game.compiles else fresh
         else:
             self._state = merge_states(self._state, fresh, index.to(self.device), round_up=self.game.compiles)
         self._steps[index.to(self.device)] = 0

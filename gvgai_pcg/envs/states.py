@@ -38,8 +38,16 @@ def merge_states(
 
 
 def slot_bucket(slots: int) -> int:
-    """The smallest power of two that holds ``slots`` entity slots."""
-    return 1 << max(0, slots - 1).bit_length()
+    """The smallest power of two that holds ``slots`` entity slots, at least 2: a compiled tick
+    specialises tables of 0 and 1 slots (each its own compilation, seconds each)."""
+    return max(2, 1 << max(0, slots - 1).bit_length())
+
+
+def bucket_entity_tables(state: TensorDict) -> TensorDict:
+    """``state`` with every entity table grown to its :func:`slot_bucket` (empty slots), so that a
+    compiled tick meets few table widths."""
+    sizes = entity_capacities(state)
+    return pad_entity_tables(state, {key: slot_bucket(size) for key, size in sizes.items()})
 
 
 def concatenate_states(states: Sequence[TensorDict]) -> TensorDict:

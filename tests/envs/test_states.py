@@ -41,3 +41,18 @@ def test_a_compiled_game_grows_its_tables_to_a_power_of_two():
     assert width & (width - 1) == 0 and slots < width < 2 * slots
     assert torch.equal(rounded.get(("monsters", "x"))[:, :slots], exact.get(("monsters", "x")))
     assert not rounded.get(("monsters", "alive"))[:, slots:].any()
+
+
+def test_a_compiled_games_first_state_has_tables_of_at_least_two_slots_in_powers_of_two():
+    # tables of 0 and 1 slots (Frogs levels without trucks of a kind) each compiled anew: ten
+    # recompiles in the first 20,000 frames of PPCG Frogs, seconds each
+    from gvgai_pcg.envs import GVGAIEnv
+    from gvgai_pcg.envs.level_sources import GeneratedLevels
+
+    env = GVGAIEnv("frogs", num_envs=3, levels=GeneratedLevels("frogs"), seed=0)
+    env.reset()
+    fresh = env.game.compile(env._levels, torch.zeros(3, dtype=torch.int64), torch.device("cpu"))
+    assert min(entity_capacities(fresh).values()) < 2
+    for key, width in entity_capacities(env.state).items():
+        assert width >= 2 and width & (width - 1) == 0, key
+        assert width >= entity_capacities(fresh)[key]
