@@ -235,3 +235,21 @@ def clear_cells_(grid: torch.Tensor, index: torch.Tensor, mask: torch.Tensor) ->
     distinct cells of :func:`grid_hits` are). A few gathers, not a pass over the grid."""
     flat = grid.view(grid.shape[0], -1)
     flat.scatter_(1, index, flat.gather(1, index) & ~mask)
+
+
+def write_rows_(
+    table: torch.Tensor, index: torch.Tensor, values: torch.Tensor, accumulate: bool = False
+) -> torch.Tensor:
+    """``table[b, index[b, k]] = values[b, k]`` (``+=`` with ``accumulate``) in place, for
+    ``table [B, N]`` and ``index, values [B, K]``; an index repeated in an env gets equal values
+    (or is added). Eager by ``scatter_``, the cheapest to dispatch; compiled by ``index_put_``,
+    which inductor writes into the table itself, where a ``scatter_`` costs it two copies of the
+    whole table (torch 2.13 does not reinplace ``scatter``). The rows come from ``index``: taken
+    from ``table``, inductor failed an assertion on the two batch sizes (symbols of their own,
+    gvgai_pcg.engine.compiled)."""
+    if torch.compiler.is_compiling():
+        rows = torch.arange(index.shape[0], device=index.device).unsqueeze(-1)
+        return table.index_put_((rows, index), values, accumulate=accumulate)
+    if accumulate:
+        return table.scatter_add_(1, index, values)
+    return table.scatter_(1, index, values)

@@ -4,7 +4,8 @@ every game.
 A rule that needs a constant per sprite kind or per action writes ``lookup(VALUES, codes)`` with
 ``VALUES`` the plain Python tuple it declares next to its other constants. The tensor behind it is
 made once per (values, dtype, device) and read with ``index_select``, which is several times
-cheaper than advanced indexing (``table[codes]``) on the CPU; no table is built inside a tick.
+cheaper than advanced indexing (``table[codes]``) on the CPU; no eager tick builds a table (a
+compiled one holds it as a constant of its graph).
 """
 
 from __future__ import annotations

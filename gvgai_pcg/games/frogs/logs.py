@@ -159,22 +159,6 @@ def spawn_schedule(
     }
 
 
-def write_slots_(
-    column: torch.Tensor, slot: torch.Tensor, values: torch.Tensor, accumulate: bool = False
-) -> torch.Tensor:
-    """``column[b, slot[b, k]] = values[b, k]`` (``+=`` with ``accumulate``) in place, for a log
-    table's ``column`` (``[B, L]``) and ``slot, values`` ``[B, K]``; slots repeated in an env get
-    equal values (or are added). Eager by ``scatter_``, the cheapest to dispatch; compiled by
-    ``index_put_``, which inductor writes into the table itself, where a ``scatter_`` costs it two
-    copies of the whole table (torch 2.13: it does not reinplace ``scatter``)."""
-    if torch.compiler.is_compiling():
-        rows = torch.arange(column.shape[0], device=column.device).unsqueeze(-1)
-        return column.index_put_((rows, slot), values, accumulate=accumulate)
-    if accumulate:
-        return column.scatter_add_(1, slot, values)
-    return column.scatter_(1, slot, values)
-
-
 def wrap_around_(x: torch.Tensor, last: torch.Tensor, velocity: int) -> torch.Tensor:
     """Wrap trucks that just moved ``velocity`` px (int32 ``x`` ``[B, K]``, in place) around each
     env's screen (``last`` ``[B, 1]``: the last x at which a truck is fully on it): one moving

@@ -48,9 +48,8 @@ from gvgai_pcg.games.frogs.logs import (
     log_tables,
     spawn_schedule,
     wrap_around_,
-    write_slots_,
 )
-from gvgai_pcg.games.geometry import CELL, gather_cells, off_screen, row_cells
+from gvgai_pcg.games.geometry import CELL, gather_cells, off_screen, row_cells, write_rows_
 from gvgai_pcg.games.lookup import lookup
 from gvgai_pcg.games.registry import register_game
 from gvgai_pcg.levels import Level
@@ -215,8 +214,8 @@ class Frogs(Game):
         slot = schedule["slot"]
         fresh = spawners.get("alive") & schedule["fresh"] & torch.gather(logs.get("alive"), 1, slot)
         back = fresh.to(torch.int32) * LOG_SPEED
-        write_slots_(logs.get("x"), slot, back, accumulate=True)
-        write_slots_(logs.get("key"), slot, back, accumulate=True)
+        write_rows_(logs.get("x"), slot, back, accumulate=True)
+        write_rows_(logs.get("key"), slot, back, accumulate=True)
         return fresh
 
     @staticmethod
@@ -253,7 +252,7 @@ class Frogs(Game):
         }
         for name, value in spawned.items():
             column = logs.get(name)
-            write_slots_(column, slot, torch.where(fires, value, column[:, -1:]))
+            write_rows_(column, slot, torch.where(fires, value, column[:, -1:]))
         return fires
 
     # --- step 4b: EOS rules E1 (frog stepBack), E2 (log kill, at cleanup), E3 (truck wrap, above) ---

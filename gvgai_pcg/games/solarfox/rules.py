@@ -60,6 +60,7 @@ from gvgai_pcg.games.geometry import (
     direction_dy,
     flat_cell,
     overlaps,
+    write_rows_,
 )
 from gvgai_pcg.games.lookup import lookup
 from gvgai_pcg.games.registry import register_game
@@ -124,20 +125,6 @@ def _ship_tables(height: int, width: int, device: str) -> dict[str, torch.Tensor
     tables = {"window": window, "under": under, "counted": counted, "covered": covered}
     # Whole tensors, not views: a compiled tick guards on the base of a view it takes.
     return {key: value.to(device).clone() for key, value in tables.items()}
-
-
-def _write_cells_(flat: torch.Tensor, cells: torch.Tensor, values: torch.Tensor) -> None:
-    """``flat[b, cells[b, k]] = values[b, k]`` in place (``flat`` ``[B, N]``, ``cells, values``
-    ``[B, K]``; a cell repeated in an env gets equal values). Eager by ``scatter_``, the cheapest
-    to dispatch; compiled by ``index_put_``, which inductor writes into the grid itself, where a
-    ``scatter_`` costs it two copies of the whole grid (torch 2.13 does not reinplace ``scatter``).
-    The rows come from ``cells``: taken from ``flat``, inductor (torch 2.13) failed an assertion
-    on the two batch sizes (symbols of their own, see gvgai_pcg.engine.compiled)."""
-    if torch.compiler.is_compiling():
-        rows = torch.arange(cells.shape[0], device=cells.device).unsqueeze(-1)
-        flat.index_put_((rows, cells), values)
-    else:
-        flat.scatter_(1, cells, values)
 
 
 def _window_rows(x: torch.Tensor, y: torch.Tensor, height: int, width: int) -> torch.Tensor:
@@ -322,7 +309,7 @@ class Solarfox(Game):
             # 5 blib × avatar: collect, +1 each (the ship still collects in the tick it dies).
             blib = torch.gather(flat["blib"], 1, cells)
             taken = count_last(hits & blib)
-            _write_cells_(flat["blib"], cells, blib & ~under)
+            write_rows_(flat["blib"], cells, blib & ~under)
             # 6a, 6b, 8 (and the turnings' expiry), only where a turning created in the last 10 ticks
             # may still pair with its powerblib.
             gained = taken
@@ -339,8 +326,8 @@ class Solarfox(Game):
             born = torch.where(
                 powerblib, tick.to(born.dtype).unsqueeze(-1), torch.where(under, NO_TURNING, born)
             )
-            _write_cells_(flat["turning_born"], cells, born)
-            _write_cells_(
+            write_rows_(flat["turning_born"], cells, born)
+            write_rows_(
                 flat["turning"],
                 cells,
                 powerblib | (~under & torch.gather(flat["turning"], 1, cells)),
@@ -422,20 +409,18 @@ class Solarfox(Game):
         powerblib, res = torch.gather(flat["powerblib"], 1, window), torch.gather(flat["res"], 1, window)
         spawned = pick & powerblib & (res >= BLIB_AT_RES)
         grown = res + (powerblib & (res < RES_LIMIT)).to(res.dtype)
-        _write_cells_(flat["res"], window, torch.where(pick, grown, res))
+        write_rows_(flat["res"], window, torch.where(pick, grown, res))
         powerblib = powerblib & ~spawned
-        _write_cells_(flat["powerblib"], window, powerblib)
-        _write_cells_(flat["blib"], window, (blib & ~over) | spawned)
+        write_rows_(flat["powerblib"], window, powerblib)
+        write_rows_(flat["blib"], window, (blib & ~over) | spawned)
         turning = torch.where(
             pick, born >= now - (TURNING_LIFE - 1), torch.gather(flat["turning"], 1, window)
         )
         # 7 powerblibturning × avatar: kill the turnings the ship overlaps. 9 powerblib × avatar: a
         # new turning on every powerblib it overlaps (after rule 8's kills).
         made = over & powerblib
-        _write_cells_(
-            flat["turning_born"], window, torch.where(made, now, torch.where(over, NO_TURNING, born))
-        )
-        _write_cells_(flat["turning"], window, made | (~over & turning))
+        write_rows_(flat["turning_born"], window, torch.where(made, now, torch.where(over, NO_TURNING, born)))
+        write_rows_(flat["turning"], window, made | (~over & turning))
         return taken, taken + count_last(spawned), any_last(made)
 
     @staticmethod
