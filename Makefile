@@ -36,8 +36,10 @@ PAGE := $(if $(filter smoke,$(BUDGET)),,--page docs/results.md)
 reproduce: $(STAMP)
 	$(BIN)/gvgai-pcg reproduce --budget $(BUDGET) --jobs $(JOBS) --out reproduce/$(BUDGET) --publish results/$(BUDGET) $(PAGE)
 
+# DEVICE=cuda measures the GPU alone; left out, the CPU is measured, and CUDA too where there is one.
+DEVICE ?=
 bench: $(STAMP)
-	$(BIN)/gvgai-pcg bench --output docs/benchmarks.md
+	$(BIN)/gvgai-pcg bench --output docs/benchmarks.md $(if $(DEVICE),--device $(DEVICE))
 
 docs: $(STAMP)
 	$(BIN)/mkdocs build --strict

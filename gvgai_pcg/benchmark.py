@@ -74,6 +74,7 @@ class StepResult:
     warmup_s: float
     rate: Rate
     resets: int
+    peak_bytes: int | None = None  # the most GPU memory allocated while measuring (CUDA only)
 
     @property
     def steps_per_s(self) -> float:
@@ -84,6 +85,10 @@ def measure_env(
     game: str, batch: int, obs: str, device: str = "cpu", min_seconds: float = 2.0, max_steps: int = 300
 ) -> StepResult:
     """Steady-state env steps/s (one step = one env tick) with uniformly random actions."""
+    cuda = torch.device(device).type == "cuda"
+    if cuda:
+        torch.cuda.empty_cache()
+        torch.cuda.reset_peak_memory_stats()
     begin = time.perf_counter()
     env = GVGAIEnv(game, num_envs=batch, levels="human", obs=obs, device=device, seed=0)
     generator = torch.Generator(device=device).manual_seed(0)
@@ -103,7 +108,8 @@ def measure_env(
         return batch
 
     rate = windowed_rate(step, min_seconds, max_steps=max_steps)
-    return StepResult(game, obs, batch, warmup, rate, resets)
+    peak = torch.cuda.max_memory_allocated() if cuda else None
+    return StepResult(game, obs, batch, warmup, rate, resets, peak)
 
 
 def measure_engine(game: str, batch: int = 4096, shards: int = 1, min_seconds: float = 2.0) -> Rate:
@@ -200,12 +206,39 @@ def run_benchmarks(
             f"| {r.game} | {r.obs} | {r.batch} | {r.rate} | {_spread(r.rate)} "
             f"| {r.warmup_s:.2f} | {r.resets} |"
         )
+    if torch.device(device).type == "cuda":
+        lines += _memory_lines(results, torch.cuda.get_device_properties(0).total_memory)
     if torch.device(device).type == "cpu":
         engine = _engine_rates(games, min_seconds, progress)
         lines += _target_lines(results, engine)
         lines += _engine_lines(engine)
         lines += _generator_lines(games)
     return "\n".join(lines) + "\n"
+
+
+def _memory_lines(results: list[StepResult], total_bytes: int) -> list[str]:
+    """Peak GPU memory per env at each game's largest batch, and the batch that would fill the
+    card at that rate (an extrapolation, not a measurement)."""
+    lines = [
+        "",
+        "### GPU memory (peak allocated while stepping, at the largest batch measured)",
+        "",
+        f"The card has {total_bytes / 2**30:,.0f} GiB. 'Fills the card at' divides it by the bytes per env.",
+        "",
+        "| game | obs | B | peak (MiB) | bytes per env | fills the card at B of about |",
+        "|---|---|---:|---:|---:|---:|",
+    ]
+    largest: dict[tuple[str, str], StepResult] = {}
+    for r in results:
+        if r.peak_bytes is not None and r.batch >= largest.get((r.game, r.obs), r).batch:
+            largest[(r.game, r.obs)] = r
+    for (game, obs), r in largest.items():
+        per_env = r.peak_bytes / r.batch
+        lines.append(
+            f"| {game} | {obs} | {r.batch:,} | {r.peak_bytes / 2**20:,.0f} | {per_env:,.0f} "
+            f"| {total_bytes / per_env:,.0f} |"
+        )
+    return lines
 
 
 def _spread(rate: Rate) -> str:

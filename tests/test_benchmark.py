@@ -80,3 +80,16 @@ def make_small_config():
 
     with initialize_config_dir(config_dir=str(config_dir()), version_base="1.3"):
         return compose("config", overrides=["env.num_envs=4", "regimen=lv", "model.hidden=16"])
+
+
+def test_the_gpu_memory_table_takes_each_games_largest_batch():
+    results = [
+        benchmark.StepResult("zelda", "tiles", 64, 0.1, benchmark.Rate(1, 1, 1), 0, 64 * 2_000),
+        benchmark.StepResult("zelda", "tiles", 4096, 0.1, benchmark.Rate(1, 1, 1), 0, 4096 * 1_000),
+        benchmark.StepResult("frogs", "tiles", 1024, 0.1, benchmark.Rate(1, 1, 1), 0, 1024 * 4_000),
+    ]
+    rows = [line for line in benchmark._memory_lines(results, 2**30) if line.startswith("| ")][1:]
+    assert rows == [
+        "| zelda | tiles | 4,096 | 4 | 1,000 | 1,073,742 |",
+        "| frogs | tiles | 1,024 | 4 | 4,000 | 268,435 |",
+    ]

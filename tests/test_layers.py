@@ -23,7 +23,7 @@ The layers, lowest first. A module may import its own layer and the layers below
 8. ``rl``: models, A2C, the training loop, checkpoints, and ``config``, the training config's
    checks (they ask the models for their names; the training benchmark reads the config).
 9. ``evaluation``.
-10. ``apps``: ``report``, ``study``, ``benchmark``, ``play``.
+10. ``apps``: ``report``, ``study``, ``benchmark``, ``device_check``, ``play``.
 11. ``commands``: ``commands``, ``cli`` and the package root (which registers the Gymnasium ids).
 
 Importing ``a.b.c`` also runs ``a/b/__init__.py``, which has a layer of its own: it may sit
@@ -76,6 +76,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
             "gvgai_pcg.benchmark",
             "gvgai_pcg.bench_peers",
             "gvgai_pcg.bench_compiled",
+            "gvgai_pcg.device_check",
             "gvgai_pcg.play",
         ),
     ),

@@ -77,11 +77,25 @@ class CompiledTick:
         self._compiled = torch.compile(
             type(game).tick, fullgraph=True, dynamic=True, options=INDUCTOR_OPTIONS
         )
-        self.failed: str | None = None
+        # Why compiling failed, per device type: a device where it failed ticks eagerly from then
+        # on; the others still compile (a CUDA compiler error leaves the CPU tick compiled).
+        self.failures: dict[str, str] = {}
+        self.failure_details: dict[str, str] = {}  # the compiler's whole message, for a bug report
+
+    @property
+    def failed(self) -> str | None:
+        """Why compiling failed on some device (None where it never did)."""
+        return next(iter(self.failures.values()), None)
 
     def __call__(self, state: TensorDict, action: torch.Tensor) -> None:
         batch, largest = state.batch_size[0], self.game.max_compiled_batch
-        if self.failed is None and MIN_COMPILED_BATCH <= batch and (largest is None or batch <= largest):
+        device = action.device.type
+        if (
+            device in self.game.compiled_devices
+            and device not in self.failures
+            and MIN_COMPILED_BATCH <= batch
+            and (largest is None or batch <= largest)
+        ):
             if not getattr(_THREAD, "configured", False):
                 _configure_this_thread()
             arguments = self.game.host_arguments(state)
@@ -90,11 +104,12 @@ class CompiledTick:
             try:
                 return self._compiled(self.game, state, action, **arguments)
             except COMPILE_ERRORS as error:  # raised while compiling, before the tick ran
-                self.failed = f"{type(error).__name__}: {str(error).strip().splitlines()[0][:300]}"
+                message = f"{type(error).__name__}: {str(error).strip().splitlines()[0][:300]}"
+                self.failures[device], self.failure_details[device] = message, str(error)
                 warnings.warn(
-                    f"compiling {self.game.name}'s tick failed ({self.failed}); the engine runs it "
-                    f"eagerly, which computes the same, several times slower at small batches "
-                    f"(set {COMPILE_VARIABLE}=0 to skip the attempt)",
+                    f"compiling {self.game.name}'s tick for {device} failed ({message}); the engine "
+                    f"runs it eagerly there, which computes the same, several times slower at small "
+                    f"batches (set {COMPILE_VARIABLE}=0 to skip the attempt)",
                     RuntimeWarning,
                     stacklevel=2,
                 )

@@ -102,6 +102,9 @@ class Game(ABC):
     eager_when: ClassVar[tuple[str, ...]] = ()
     # The largest batch whose tick runs compiled, where a compiled tick stops paying above it.
     max_compiled_batch: ClassVar[int | None] = None
+    # The device types (``torch.device.type``) whose compiled tick is held to the eager one; on any
+    # other the tick runs eagerly. Each game that narrows it says why.
+    compiled_devices: ClassVar[tuple[str, ...]] = ("cpu", "cuda")
 
     @property
     def level_format(self) -> LevelFormat:

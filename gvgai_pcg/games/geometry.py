@@ -237,6 +237,32 @@ def clear_cells_(grid: torch.Tensor, index: torch.Tensor, mask: torch.Tensor) ->
     flat.scatter_(1, index, flat.gather(1, index) & ~mask)
 
 
+def add_at_(table: torch.Tensor, index: torch.Tensor, values: torch.Tensor) -> torch.Tensor:
+    """``table.scatter_add_(1, index, values)`` in place, byte tables included, on every device:
+    Triton has no atomic add on bytes, so off the CPU a byte table goes through
+    :func:`add_bytes_at_`."""
+    if table.dtype != torch.uint8 or table.device.type == "cpu":
+        return table.scatter_add_(1, index, values)
+    return add_bytes_at_(table, index, values)
+
+
+def add_bytes_at_(table: torch.Tensor, index: torch.Tensor, values: torch.Tensor) -> torch.Tensor:
+    """``scatter_add_`` into a byte ``table`` by way of int32 sums, which are then added to the
+    bytes, wrapping as a byte add does."""
+    sums = torch.zeros(table.shape, dtype=torch.int32, device=table.device)
+    return table.add_(sums.scatter_add_(1, index, values.to(torch.int32)).to(torch.uint8))
+
+
+def clear_listed_cells_(flat: torch.Tensor, index: torch.Tensor, clear: torch.Tensor) -> None:
+    """Unset ``flat[b, index[b, k]]`` wherever ``clear[b, k]``, in place (``flat`` a ``[B, H*W]``
+    bool grid, ``index`` and ``clear`` ``[B, n]``); a cell listed more than once goes if any of
+    its listings says so. The clearings are counted, then the cells counted zero are kept: a bool
+    ``scatter_reduce_(amin)`` would do it in one op on the CPU, but CUDA has no bool kernel for
+    it, and compiled for CUDA its uint8 view fails to lower (torch 2.11)."""
+    counts = torch.zeros(flat.shape, dtype=torch.int32, device=flat.device)
+    flat.logical_and_(counts.scatter_add_(1, index, clear.to(torch.int32)) == 0)
+
+
 def write_rows_(
     table: torch.Tensor, index: torch.Tensor, values: torch.Tensor, accumulate: bool = False
 ) -> torch.Tensor:

@@ -46,8 +46,13 @@ def hash_bits(seed: torch.Tensor, tick: torch.Tensor, slot: torch.Tensor | int, 
     ``seed`` and ``tick`` are ``[B]`` int64; ``slot`` broadcasts against ``[B, K]`` (an int, or
     ``torch.arange(K)``); the result has the broadcast shape (``[B]`` or ``[B, K]``).
     """
-    if isinstance(slot, torch.Tensor) and slot.dim() >= 1:
-        seed, tick = seed.unsqueeze(-1), tick.unsqueeze(-1)
+    if isinstance(slot, torch.Tensor):
+        if slot.dim() >= 1:
+            seed, tick = seed.unsqueeze(-1), tick.unsqueeze(-1)
+        # Adding a loaded zero makes the slots a value: compiled for CUDA, slots that come from an
+        # arange are index arithmetic, which Triton did in int32, and ``slot * _KEY_SLOT`` failed
+        # to compile (torch 2.11: "Scalar ... is out of range for type int32").
+        slot = slot + (seed & 0)
     key = mix64(seed) + tick * _KEY_TICK + slot * _KEY_SLOT + stream * _KEY_STREAM
     return mix64(mix64(key))
 

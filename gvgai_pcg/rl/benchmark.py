@@ -47,15 +47,24 @@ class Cost:
     cpu: float
 
 
+def synchronize() -> None:
+    """Wait for the GPU's queued work, so that a clock read after it counts that work (CUDA runs
+    asynchronously; nothing to wait for on the CPU)."""
+    if torch.cuda.is_available() and torch.cuda.is_initialized():
+        torch.cuda.synchronize()
+
+
 def time_calls(work: Callable[[], None], seconds: float, windows: int = WINDOWS) -> Cost:
     """Median wall and CPU seconds per call of ``work`` over ``windows`` windows."""
     work()  # warm-up
     walls, cpus = [], []
     for _ in range(windows):
+        synchronize()
         calls, start, cpu = 0, time.perf_counter(), time.process_time()
         while calls < 2 or time.perf_counter() - start < seconds / windows:
             work()
             calls += 1
+        synchronize()
         walls.append((time.perf_counter() - start) / calls)
         cpus.append((time.process_time() - cpu) / calls)
     return Cost(statistics.median(walls), statistics.median(cpus))
@@ -161,7 +170,8 @@ def network_costs(cfg: DictConfig, seconds: float = 6.0) -> dict[str, Cost]:
 
 
 class _Stopwatch:
-    """Adds up the wall and CPU time spent inside ``with`` blocks."""
+    """Adds up the wall and CPU time spent inside ``with`` blocks; on a GPU each block waits for
+    its queued work at its end, which keeps the parts apart but keeps them from overlapping."""
 
     def __init__(self) -> None:
         self.wall = self.cpu = 0.0
@@ -170,6 +180,7 @@ class _Stopwatch:
         self._start, self._cpu = time.perf_counter(), time.process_time()
 
     def __exit__(self, *exc) -> None:
+        synchronize()
         self.wall += time.perf_counter() - self._start
         self.cpu += time.process_time() - self._cpu
 

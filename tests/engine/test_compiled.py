@@ -95,10 +95,10 @@ def test_a_tick_that_does_not_compile_runs_eagerly_after_a_warning():
     eager_state = game.compile([level, level], torch.tensor([1, 2]), torch.device("cpu"))
     tick = CompiledTick(game)
     action = torch.tensor([2, 3])  # RIGHT, DOWN
-    with pytest.warns(RuntimeWarning, match="compiling toy's tick failed"):
+    with pytest.warns(RuntimeWarning, match="compiling toy's tick for cpu failed"):
         tick(compiled_state, action)
     game.tick(eager_state, action)
-    assert tick.failed
+    assert tick.failed and set(tick.failures) == {"cpu"}  # other devices would still compile
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # said once
         tick(compiled_state, action)
@@ -153,3 +153,23 @@ def test_a_batch_above_the_games_compiled_limit_ticks_eagerly(monkeypatch):
     state = game.compile(levels, torch.arange(2049), torch.device("cpu"))
     tick(state, torch.zeros(2049, dtype=torch.int64))
     assert state.get("tick").eq(0).all()
+
+
+def test_a_device_left_out_of_compiled_devices_ticks_eagerly():
+    game = WalkWithHostSync()  # its compiled tick would fail with a warning
+    game.name = "toy"
+    game.compiled_devices = ("cuda",)
+    level = Level("toy", tuple(LEVEL_TEXT.splitlines()))
+    state = game.compile([level, level], torch.tensor([1, 2]), torch.device("cpu"))
+    tick = CompiledTick(game)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no attempt to compile, so no warning
+        tick(state, torch.tensor([2, 3]))
+    assert tick.failed is None
+
+
+def test_frogs_ticks_eagerly_on_cuda():
+    # the compiled CUDA tick differed from the CPU's in an env of generated levels (see Frogs)
+    assert get_game("frogs").compiled_devices == ("cpu",)
+    others = [name for name in COMPILED_GAMES if name != "frogs"]
+    assert all(get_game(name).compiled_devices == ("cpu", "cuda") for name in others)

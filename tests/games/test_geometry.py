@@ -2,7 +2,14 @@
 
 import torch
 
-from gvgai_pcg.games.geometry import any_last, count_last, grid_hits
+from gvgai_pcg.games.geometry import (
+    add_at_,
+    add_bytes_at_,
+    any_last,
+    clear_listed_cells_,
+    count_last,
+    grid_hits,
+)
 
 
 def test_aligned_look_ups_equal_the_general_ones_for_cell_aligned_rectangles():
@@ -124,3 +131,23 @@ def test_flat_and_row_cells_agree_with_the_general_cell_look_up():
         gather_cells(grid, cells, valid),
         grid.view(6, -1).gather(1, cells.view(6, -1)).view(cells.shape) & valid,
     )
+
+
+def test_clear_listed_cells_clears_a_cell_if_any_listing_says_so():
+    flat = torch.tensor([[True, True, True, False], [True, True, True, True]])
+    index = torch.tensor([[0, 0, 1, 3], [2, 2, 2, 1]])
+    clear = torch.tensor([[False, True, False, True], [False, False, False, True]])
+    reference = flat.clone().scatter_reduce_(1, index, ~clear, reduce="amin")  # the CPU's one op
+    clear_listed_cells_(flat, index, clear)
+    assert torch.equal(flat, reference)
+    assert flat.tolist() == [[False, True, True, False], [True, False, True, True]]
+
+
+def test_byte_sums_wrap_as_the_byte_scatter_add_does():
+    generator = torch.Generator().manual_seed(0)
+    table = torch.randint(0, 256, (3, 7), dtype=torch.uint8, generator=generator)
+    index = torch.randint(0, 7, (3, 12), generator=generator)  # with repeats
+    values = torch.randint(0, 256, (3, 12), dtype=torch.uint8, generator=generator)  # 255 is -1
+    expected = table.clone().scatter_add_(1, index, values)
+    assert torch.equal(add_bytes_at_(table.clone(), index, values), expected)
+    assert torch.equal(add_at_(table.clone(), index, values), expected)

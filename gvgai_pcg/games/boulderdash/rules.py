@@ -67,7 +67,9 @@ from gvgai_pcg.games.geometry import (
     DIRECTION_NAMES,
     NONE,
     RIGHT,
+    add_at_,
     any_last,
+    clear_listed_cells_,
     count_last,
     direction_dx,
     direction_dy,
@@ -320,7 +322,7 @@ class Boulderdash(Game):
         padded = cells + width  # one empty row under the grid for boulders that fell out of it
         b_cells = boulder_cells(by, boulders.get("column"), height, width)
         covered = torch.zeros(batch, padded, dtype=torch.uint8, device=tick.device)
-        covered.scatter_add_(1, b_cells, boulders.get("weight").view(batch, -1))
+        add_at_(covered, b_cells, boulders.get("weight").view(batch, -1))
         # Off the screen (no wall is there): against the boulders' rectangles.
         a_index = a_cell.unsqueeze(-1)
         blocked = wall_f.gather(1, a_index) | (covered.gather(1, a_index) > 0)
@@ -388,10 +390,10 @@ class Boulderdash(Game):
         opens = alive & a_on & exit_here & (held >= EXIT_DIAMONDS)
 
         # Step 5, cleanup: killed sprites go now; the new diamonds stay (off the screen, as gems).
-        dirt_f.scatter_reduce_(1, dig_cells, ~dig, reduce="amin")
-        diamond_f.scatter_add_(1, dig_cells[:, :1], (-collected).to(torch.uint8).unsqueeze(-1))
+        clear_listed_cells_(dirt_f, dig_cells, dig)
+        add_at_(diamond_f, dig_cells[:, :1], (-collected).to(torch.uint8).unsqueeze(-1))
         e_cell, e_on = screen_cell(ex, ey, last_ex, last_ey, width)
-        diamond_f.scatter_add_(1, e_cell, (turns & e_on).to(torch.uint8))
+        add_at_(diamond_f, e_cell, (turns & e_on).to(torch.uint8))
         if leaving:
             made = turns & ~e_on
             gems.update(

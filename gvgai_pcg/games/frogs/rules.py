@@ -49,7 +49,14 @@ from gvgai_pcg.games.frogs.logs import (
     spawn_schedule,
     wrap_around_,
 )
-from gvgai_pcg.games.geometry import CELL, gather_cells, off_screen, row_cells, write_rows_
+from gvgai_pcg.games.geometry import (
+    CELL,
+    clear_listed_cells_,
+    gather_cells,
+    off_screen,
+    row_cells,
+    write_rows_,
+)
 from gvgai_pcg.games.lookup import lookup
 from gvgai_pcg.games.registry import register_game
 from gvgai_pcg.levels import Level
@@ -83,6 +90,11 @@ SLOT_ROW_STRIDE = 1 << 16  # rng slot of a spawner: y * stride + x, independent 
 class Frogs(Game):
     actions = MOVE_ACTIONS
     compiles = True
+    # Compiled for CUDA (torch 2.11, H200, 2026-11-26) the tick matched the CPU's for 80 ticks of a
+    # mixed batch, but in an env of generated levels, whose resets recompile it for new table
+    # widths, the tiles differed from the CPU's at step 29; the eager CUDA tick matched for all 80
+    # (``python -m gvgai_pcg.device_check``). So Frogs ticks eagerly on CUDA.
+    compiled_devices = ("cpu",)
     tile_types = ("wall", "water", "forestDense", "forestSparse", "goal", "log", *TRUCK_TYPES, "avatar")
     art = {
         "grass": SpriteArt((40, 110, 40)),
@@ -293,13 +305,11 @@ class Frogs(Game):
         px = torch.stack([x, x - LOG_SPEED, lastx], dim=-1)
         cells, valid = row_cells(px, torch.stack([y, y, lasty], dim=-1), *goal.shape[1:])
 
-        # 1 goal × avatar: kill every goal the frog overlaps, +1 each (in place: amin with 0).
+        # 1 goal × avatar: kill every goal the frog overlaps, +1 each (in place).
         hit = gather_cells(goal, cells[:, 0], valid[:, 0]) & alive.unsqueeze(-1)
         state.set("score", state.get("score") + hit.sum(-1))
         state.set("goals", state.get("goals") - hit.sum(-1))
-        goal.view(goal.shape[0], -1).view(torch.uint8).scatter_reduce_(
-            1, cells[:, 0], (~hit).view(torch.uint8), "amin"
-        )
+        clear_listed_cells_(goal.view(goal.shape[0], -1), cells[:, 0], hit)
 
         # 2a avatar × log: shield from water. A log killed by EOS this tick still counts.
         # 2b avatar × log: pullWithIt, once per tick, through the first overlapping log in creation
