@@ -116,6 +116,60 @@ class CompiledTick:
         self.game.tick(state, action)
 
 
+class CompiledRender:
+    """Whole-batch tiles of a small batch drawn by ``render_tiles_traced`` compiled. Eager, a
+    render costs its ~50 small ops (about 0.22-0.33 ms a batch whatever the game); compiled it is
+    a few loops, 2.4x as fast for Zelda at 12 envs and 2.2x at 64. Its scalar loops cost more per
+    byte than the eager copies, though, so it draws batches of at most ``MAX_BYTES`` tile bytes:
+    on one thread (2026-11-26, compiled / eager) Zelda 2.4x at 12.6k bytes, 2.2x at 67k and 1.7x
+    at 270k; Boulderdash 1.9x at 37k, 1.3x at 195k and 0.7x at 779k; Solarfox 1.4x at 70k and 0.9x
+    at 282k; Frogs 1.4x at 41k and 0.9x at 217k. The CPU only: it has not been checked on CUDA.
+    """
+
+    MAX_BYTES = 200_000
+    DEVICES = ("cpu",)
+
+    def __init__(self) -> None:
+        from gvgai_pcg.games.render import render_tiles_traced
+
+        self._compiled = torch.compile(
+            render_tiles_traced, fullgraph=True, dynamic=True, options=INDUCTOR_OPTIONS
+        )
+        self.failures: dict[str, str] = {}
+
+    def applies(self, game: Game, batch: int, device: torch.device) -> bool:
+        """Whether a batch of ``batch`` envs of ``game`` on ``device`` is drawn compiled."""
+        if not (
+            compiling_enabled()
+            and device.type in self.DEVICES
+            and (type(game), device.type) not in self.failures
+            and MIN_COMPILED_BATCH <= batch
+        ):
+            return False
+        grid = game.level_format
+        return batch * len(game.tile_types) * grid.height * grid.width <= self.MAX_BYTES
+
+    def __call__(self, game: Game, state: TensorDict) -> torch.Tensor | None:
+        """The tiles, or None where compiling failed (the caller draws them eagerly)."""
+        if not getattr(_THREAD, "configured", False):
+            _configure_this_thread()
+        try:
+            return self._compiled(game, state)
+        except COMPILE_ERRORS as error:
+            device = state.device.type if state.device is not None else "cpu"
+            message = f"{type(error).__name__}: {str(error).strip().splitlines()[0][:300]}"
+            self.failures[(type(game), device)] = message
+            warnings.warn(
+                f"compiling {game.name}'s tiles render for {device} failed ({message}); they are "
+                f"drawn eagerly there, which draws the same",
+                RuntimeWarning,
+                stacklevel=2,
+            )
+            return None
+
+
+COMPILED_RENDER = CompiledRender()
+
 _TICKS: dict[type, Tick] = {}
 
 

@@ -18,7 +18,7 @@ from tensordict import TensorDict, TensorDictBase
 from torchrl.data import Binary, Bounded, Categorical, Composite, Unbounded
 
 from gvgai_pcg.engine.buffers import BufferPool
-from gvgai_pcg.engine.compiled import engine_tick
+from gvgai_pcg.engine.compiled import COMPILED_RENDER, engine_tick
 from gvgai_pcg.engine.rows import copy_tensor_rows_
 from gvgai_pcg.envs.level_bank import CompiledLevelBank
 from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
@@ -88,6 +88,8 @@ class GVGAIEnv(RowResetEnv):
         # inductor (torch 2.13) miscompiled Boulderdash's tick (its monsters' moves came out
         # differently from run to run), so a sharded env ticks eagerly.
         self._game_tick = engine_tick(self.game) if shards == 1 else self.game.tick
+        # Small whole batches draw their tiles compiled (gvgai_pcg.engine.compiled.CompiledRender).
+        self._compiled_render = shards == 1 and COMPILED_RENDER.applies(self.game, num_envs, self.device)
         self.level_source = as_level_source(game, levels)
         self.obs_kind, self.max_steps, self.num_envs = obs, max_steps, num_envs
         fmt = self.game.level_format
@@ -281,8 +283,14 @@ class GVGAIEnv(RowResetEnv):
     def _render(self, state: TensorDict) -> torch.Tensor:
         if self.obs_kind == "pixels":
             return render_pixels(self.game, state)
+        whole = len(state) == self.num_envs
+        if whole and self._compiled_render:
+            tiles = COMPILED_RENDER(self.game, state)
+            if tiles is not None:
+                return tiles
+            self._compiled_render = False
         # Whole-batch tiles are drawn into recycled buffers (the size of a partial reset varies).
-        return render_tiles(self.game, state, self.buffers if len(state) == self.num_envs else None)
+        return render_tiles(self.game, state, self.buffers if whole else None)
 
     def _observation(
         self, state: TensorDict, observed: torch.Tensor, restarted: torch.Tensor | None

@@ -119,6 +119,38 @@ def render_tiles(game: Game, state: TensorDict, pool: BufferPool | None = None) 
     return tiles.view(batch, channels, height, width)
 
 
+def render_tiles_traced(game: Game, state: TensorDict) -> torch.Tensor:
+    """:func:`render_tiles` in the form a compiled graph takes well: the grid channels built by
+    one stack, every sprite marked by one max-scatter (an absent sprite writes a 0), no buffer pool
+    and no cached helper tensors. Compiled, the in-place writes into slices of one buffer that
+    ``render_tiles`` makes each became a copy of the whole buffer. Eagerly this form is slower."""
+    layers = game.layers(state)
+    grid = next(layer.cells for layer in layers if isinstance(layer, GridLayer))
+    batch, height, width = grid.shape
+    cells, channels = height * width, len(game.tile_types)
+    channel_of = {name: c for c, name in enumerate(game.tile_types)}
+    planes: list[torch.Tensor | None] = [None] * channels
+    for layer in layers:
+        if isinstance(layer, GridLayer) and layer.name in channel_of:
+            c, plane = channel_of[layer.name], layer.cells.reshape(batch, cells)
+            planes[c] = plane if planes[c] is None else planes[c] | plane
+    blank = torch.zeros(batch, cells, dtype=torch.uint8, device=grid.device)
+    tiles = torch.stack([blank if plane is None else plane.to(torch.uint8) for plane in planes], dim=1)
+    size = channels * cells
+    rows = torch.arange(batch, device=grid.device, dtype=torch.int64).unsqueeze(-1) * size
+    index, shown = [], []
+    for layer in layers:
+        if isinstance(layer, SpriteLayer) and layer.name in channel_of:
+            cell, visible = _sprite_cells([(channel_of[layer.name], layer)], rows, height, width)
+            index.append(cell.mul_(visible).view(-1))  # an absent sprite marks cell 0 with a 0,
+            shown.append(visible.view(-1))  # which the max leaves as it was
+    if not index:
+        return tiles.view(batch, channels, height, width)
+    marks, values = torch.cat(index), torch.cat(shown).to(torch.uint8)
+    flat = tiles.view(-1).scatter_reduce(0, marks, values, "amax")
+    return flat.view(batch, channels, height, width)
+
+
 SMALL_LAYER = 1 << 15  # envs x slots up to which sprite layers are marked together
 
 
@@ -140,6 +172,17 @@ def _sprite_index(
 ) -> torch.Tensor:
     """Flat int64 buffer index of every slot of the ``group`` (layers that all have lane rows or
     none have): the cell of its centre in its channel, or ``spare`` if absent or off the grid."""
+    cell, shown = _sprite_cells(group, rows - spare, height, width)
+    # spare + (cell - spare) * shown: a select by arithmetic, as torch.where (and masked_fill) on
+    # the CPU cost many times an add here.
+    return cell.mul_(shown).view(-1).long().add_(spare)
+
+
+def _sprite_cells(
+    group: list[tuple[int, SpriteLayer]], rows: torch.Tensor, height: int, width: int
+) -> tuple[torch.Tensor, torch.Tensor]:
+    """``rows`` plus the cell of each slot's centre in its channel, and whether it is shown
+    (present and on the grid), for the ``group`` (layers that all have lane rows or none have)."""
     layers = [layer for _, layer in group]
     lanes = layers[0].row is not None
     # Each layer's channel start, less the offset of 100 of centre_cell_of (in rows too unless given).
@@ -159,10 +202,7 @@ def _sprite_index(
     if row is None:
         row = centre_cell_of(y)
         shown &= row.clamp(100, height + 99) == row
-    # spare + (cell - spare) * shown: a select by arithmetic, as torch.where (and masked_fill) on
-    # the CPU cost many times an add here.
-    index = torch.add(first - spare, row, alpha=width).add_(column).mul_(shown)
-    return index.view(-1).long().add_(spare)
+    return torch.add(first, row, alpha=width).add_(column), shown
 
 
 @cache

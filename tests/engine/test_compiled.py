@@ -173,3 +173,63 @@ def test_frogs_ticks_eagerly_on_cuda():
     assert get_game("frogs").compiled_devices == ("cpu",)
     others = [name for name in COMPILED_GAMES if name != "frogs"]
     assert all(get_game(name).compiled_devices == ("cpu", "cuda") for name in others)
+
+
+@pytest.mark.parametrize("game_name", sorted(registered_games()))
+def test_the_traced_render_draws_what_the_render_draws(game_name):
+    from gvgai_pcg.games.render import render_tiles, render_tiles_traced
+
+    game = get_game(game_name)
+    generate = get_generator(game_name)
+    levels = human_levels(game_name) + [generate(d / 4, seed) for seed in range(2) for d in range(5)]
+    state = game.compile(levels, torch.arange(len(levels)) * 7919, torch.device("cpu"))
+    generator = torch.Generator().manual_seed(0)
+    for _ in range(40):
+        game.tick(state, torch.randint(0, game.num_actions, (len(levels),), generator=generator))
+        assert torch.equal(render_tiles_traced(game, state), render_tiles(game, state))
+
+
+@pytest.mark.parametrize("game_name", sorted(COMPILED_GAMES))
+def test_an_env_drawing_compiled_observes_what_an_eager_one_does(game_name):
+    from gvgai_pcg.envs.level_sources import GeneratedLevels
+
+    envs = [GVGAIEnv(game_name, 6, GeneratedLevels(game_name), seed=2, difficulty=0.5) for _ in range(2)]
+    assert envs[0]._compiled_render
+    envs[1]._compiled_render = False
+    tds = [env.reset() for env in envs]
+    generator = torch.Generator().manual_seed(0)
+    for _ in range(60):
+        action = torch.randint(0, envs[0].game.num_actions, (6,), generator=generator)
+        outs = []
+        for i, env in enumerate(envs):
+            tds[i].set("action", action)
+            out, tds[i] = env.step_and_maybe_reset(tds[i])
+            outs.append(out)
+        assert torch.equal(outs[0].get(("next", "tiles")), outs[1].get(("next", "tiles")))
+        assert torch.equal(tds[0].get("tiles"), tds[1].get("tiles"))
+
+
+def test_the_compiled_render_draws_only_small_batches_on_the_cpu(monkeypatch):
+    from gvgai_pcg.engine.compiled import COMPILED_RENDER
+
+    cpu = torch.device("cpu")
+    zelda, frogs = get_game("zelda"), get_game("frogs")
+    assert COMPILED_RENDER.applies(zelda, 64, cpu)  # 67,392 tile bytes
+    assert not COMPILED_RENDER.applies(zelda, 256, cpu)  # 269,568
+    assert COMPILED_RENDER.applies(frogs, 12, cpu) and not COMPILED_RENDER.applies(frogs, 64, cpu)
+    assert not COMPILED_RENDER.applies(zelda, 1, cpu)
+    assert not COMPILED_RENDER.applies(zelda, 64, torch.device("meta"))  # not checked off the CPU
+    assert not GVGAIEnv("zelda", 4, obs="tiles", shards=2)._compiled_render
+    monkeypatch.setenv(COMPILE_VARIABLE, "0")
+    assert not COMPILED_RENDER.applies(zelda, 64, cpu)
+
+
+def test_a_render_that_fails_to_compile_is_drawn_eagerly_for_its_game_alone(monkeypatch):
+    from gvgai_pcg.engine.compiled import COMPILED_RENDER
+
+    walk = Walk()
+    walk.name = "toy"
+    monkeypatch.setattr(COMPILED_RENDER, "failures", {(Walk, "cpu"): "InternalTorchDynamoError: ..."})
+    cpu = torch.device("cpu")
+    assert not COMPILED_RENDER.applies(walk, 4, cpu)
+    assert COMPILED_RENDER.applies(get_game("zelda"), 4, cpu)
