@@ -1,4 +1,5 @@
-"""The tick the engine runs: a game's tick compiled into a few fused kernels where it can be.
+"""The tick the engine runs: a game's tick compiled into a few fused kernels where it can be
+(and, for small batches, the tiles drawn the same way: ``CompiledRender``).
 
 At the batches training uses (12-64 envs) an eager tick costs its ~250 small ops, not its work:
 about 1-2 ms whatever the batch. ``torch.compile`` fuses a tick that traces as one graph
