@@ -52,10 +52,17 @@ class TableNet(nn.Module):
         return self.logits[idx], self.values[idx].unsqueeze(-1)
 
 
-def test_losses_match_a_hand_computation():
+class OtherModule(TensorDictModule):
+    """Not a plain TensorDictModule: the loss calls it through a tensordict."""
+
+
+@pytest.mark.parametrize("wrapper", [TensorDictModule, OtherModule])
+def test_losses_match_a_hand_computation(wrapper):
     # two observation ids: 0 (logits [0, ln 3] -> probs [1/4, 3/4]) and 1 (uniform over 2 actions)
     net = TableNet(torch.tensor([[0.0, math.log(3.0)], [0.0, 0.0]]), torch.tensor([1.0, 2.0]))
-    loss = A2CLoss(TensorDictModule(net, ["tiles"], ["logits", "state_value"]), gamma=0.5)
+    loss = A2CLoss(wrapper(net, ["tiles"], ["logits", "state_value"]), gamma=0.5)
+    assert (loss._net is net) == (wrapper is TensorDictModule)  # a plain one is called directly
+    assert all(not key.startswith("_net") for key in loss.state_dict())
     obs = torch.tensor([[0, 1]], dtype=torch.uint8).reshape(1, 2, 1, 1, 1)
     next_obs = torch.tensor([[1, 0]], dtype=torch.uint8).reshape(1, 2, 1, 1, 1)
     false = torch.zeros(1, 2, 1, dtype=torch.bool)
