@@ -82,12 +82,14 @@ def check_env(
     game_name: str, device: torch.device, steps: int = 300, num_envs: int = 32, obs: str = "tiles"
 ) -> Check:
     """A ``GVGAIEnv`` with generated levels (d = 0.5) on ``device`` against one on the CPU that
-    ticks eagerly."""
+    ticks and draws eagerly."""
     envs = [
         GVGAIEnv(game_name, num_envs, GeneratedLevels(game_name), obs=obs, device=d, seed=3, difficulty=0.5)
         for d in (CPU, device)
     ]
-    envs[0]._game_tick = envs[0].game.tick  # the reference ticks eagerly
+    envs[0]._game_tick = envs[0].game.tick  # the reference ticks and draws eagerly
+    envs[0]._compiled_render = False
+    what = f"env ({obs}), {num_envs} envs"
     tds = [env.reset() for env in envs]
     generator = torch.Generator().manual_seed(1)
     begin = time.perf_counter()
@@ -102,14 +104,9 @@ def check_env(
             a, b = stepped[0].get(key), stepped[1].get(key).to(CPU)
             if not torch.equal(a, b):
                 where = (a != b).nonzero()[0].tolist()
-                return Check(
-                    game_name,
-                    f"env ({obs})",
-                    step + 1,
-                    time.perf_counter() - begin,
-                    f"{key} at step {step} {where}",
-                )
-    return Check(game_name, f"env ({obs}), {num_envs} envs", steps, time.perf_counter() - begin, None)
+                difference = f"{key} at step {step} {where}"
+                return Check(game_name, what, step + 1, time.perf_counter() - begin, difference)
+    return Check(game_name, what, steps, time.perf_counter() - begin, None)
 
 
 def _first_difference(reference, state, when: str) -> str | None:

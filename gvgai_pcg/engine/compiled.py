@@ -69,9 +69,20 @@ def _configure_this_thread() -> None:
     _THREAD.configured = True
 
 
+def _configured_thread() -> None:
+    """Configure this thread's compiler settings once (see ``_configure_this_thread``)."""
+    if not getattr(_THREAD, "configured", False):
+        _configure_this_thread()
+
+
+def _failure_message(error: Exception) -> str:
+    """The one line a warning gives of a compiler error."""
+    return f"{type(error).__name__}: {str(error).strip().splitlines()[0][:300]}"
+
+
 class CompiledTick:
-    """``game.tick`` compiled on first use; falls back to the eager tick, once and for good, if
-    compiling fails (no C++ compiler, an unsupported op), after saying so."""
+    """``game.tick`` compiled on first use; on a device where compiling fails (no C++ compiler,
+    an unsupported op) it says so and falls back to the eager tick there for good."""
 
     def __init__(self, game: Game) -> None:
         self.game = game
@@ -97,15 +108,14 @@ class CompiledTick:
             and MIN_COMPILED_BATCH <= batch
             and (largest is None or batch <= largest)
         ):
-            if not getattr(_THREAD, "configured", False):
-                _configure_this_thread()
+            _configured_thread()
             arguments = self.game.host_arguments(state)
             if any(arguments[name] for name in self.game.eager_when):
                 return self.game.tick(state, action, **arguments)
             try:
                 return self._compiled(self.game, state, action, **arguments)
             except COMPILE_ERRORS as error:  # raised while compiling, before the tick ran
-                message = f"{type(error).__name__}: {str(error).strip().splitlines()[0][:300]}"
+                message = _failure_message(error)
                 self.failures[device], self.failure_details[device] = message, str(error)
                 warnings.warn(
                     f"compiling {self.game.name}'s tick for {device} failed ({message}); the engine "
@@ -136,7 +146,8 @@ class CompiledRender:
         self._compiled = torch.compile(
             render_tiles_traced, fullgraph=True, dynamic=True, options=INDUCTOR_OPTIONS
         )
-        self.failures: dict[str, str] = {}
+        # Why compiling failed, per game class and device type, each then drawn eagerly.
+        self.failures: dict[tuple[type, str], str] = {}
 
     def applies(self, game: Game, batch: int, device: torch.device) -> bool:
         """Whether a batch of ``batch`` envs of ``game`` on ``device`` is drawn compiled."""
@@ -152,13 +163,12 @@ class CompiledRender:
 
     def __call__(self, game: Game, state: TensorDict) -> torch.Tensor | None:
         """The tiles, or None where compiling failed (the caller draws them eagerly)."""
-        if not getattr(_THREAD, "configured", False):
-            _configure_this_thread()
+        _configured_thread()
         try:
             return self._compiled(game, state)
         except COMPILE_ERRORS as error:
             device = state.device.type if state.device is not None else "cpu"
-            message = f"{type(error).__name__}: {str(error).strip().splitlines()[0][:300]}"
+            message = _failure_message(error)
             self.failures[(type(game), device)] = message
             warnings.warn(
                 f"compiling {game.name}'s tiles render for {device} failed ({message}); they are "
