@@ -17,8 +17,9 @@ import torch
 from tensordict import TensorDict, TensorDictBase
 from torchrl.data import Binary, Bounded, Categorical, Composite, Unbounded
 
+from gvgai_pcg._private_apis import unchecked_tensordict
 from gvgai_pcg.engine.buffers import BufferPool
-from gvgai_pcg.engine.compiled import COMPILED_RENDER, engine_tick
+from gvgai_pcg.engine.compiled import COMPILED_RENDER, CompiledTick, engine_tick
 from gvgai_pcg.engine.rows import copy_tensor_rows_
 from gvgai_pcg.envs.level_bank import CompiledLevelBank
 from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
@@ -38,6 +39,8 @@ COMPILED_LEVEL_CACHE = 64  # distinct levels whose compiled initial state an env
 # Partial resets of up to this many envs take prepared episodes (see ReadyEpisodes). A larger one
 # runs its own reset tick: that batch is already large, and a prepared row costs an extra copy.
 PREPARED_RESETS_MAX = 256
+# Prepared episodes keep their first observations where all of them take at most this much.
+READY_OBSERVATIONS_MAX_BYTES = 32 << 20
 
 
 class GVGAIEnv(RowResetEnv):
@@ -89,7 +92,9 @@ class GVGAIEnv(RowResetEnv):
         # differently from run to run), so a sharded env ticks eagerly.
         self._game_tick = engine_tick(self.game) if shards == 1 else self.game.tick
         # Small whole batches draw their tiles compiled (gvgai_pcg.engine.compiled.CompiledRender).
-        self._compiled_render = shards == 1 and COMPILED_RENDER.applies(self.game, num_envs, self.device)
+        self._compiled_render = (
+            shards == 1 and obs == "tiles" and COMPILED_RENDER.applies(self.game, num_envs, self.device)
+        )
         self.level_source = as_level_source(game, levels)
         self.obs_kind, self.max_steps, self.num_envs = obs, max_steps, num_envs
         fmt = self.game.level_format
@@ -111,8 +116,11 @@ class GVGAIEnv(RowResetEnv):
         self._stepper = ShardedStepper(shards, min_shard=1)
         self.buffers = BufferPool(keep=8)  # large whole-batch outputs, reused once released
         # Sources whose next levels are known in advance get their partial resets prepared in bulk.
-        self._ready = ReadyEpisodes(num_envs) if getattr(self.level_source, "prepare_ahead", False) else None
         self._make_specs()
+        self._ready = None
+        if getattr(self.level_source, "prepare_ahead", False):
+            observation_bytes = self.observation_spec[obs].shape.numel()  # uint8
+            self._ready = ReadyEpisodes(num_envs, observation_bytes <= READY_OBSERVATIONS_MAX_BYTES)
 
     # --- specs ---
     def _make_specs(self) -> None:
@@ -212,10 +220,11 @@ class GVGAIEnv(RowResetEnv):
         if partial and self._ready is not None and len(index) <= PREPARED_RESETS_MAX:
             missing = self._ready.missing(self._episodes)
             if torch.isin(index, missing).any():  # prepare every missing episode in one batch
-                states, levels, _ = self._prepare(missing, observe=False)
-                self._ready.store(missing, states, levels, self._episodes[missing])
-            fresh, levels = self._ready.take(index)
-            observed = self._render(fresh)
+                states, levels, observed = self._prepare(missing, observe=self._ready.keeps_observations)
+                self._ready.store(missing, states, levels, self._episodes[missing], observed)
+            fresh, levels, observed = self._ready.take(index)
+            if observed is None:
+                observed = self._render(fresh)
         else:
             fresh, levels, observed = self._prepare(index, observe=True)
         self._episodes[index] += 1
@@ -267,6 +276,14 @@ class GVGAIEnv(RowResetEnv):
 
     def _tick(self, state: TensorDict, action: torch.Tensor) -> torch.Tensor:
         """One tick of ``state``, then its observation (the work of one shard)."""
+        if (
+            self._compiled_render
+            and len(state) == self.num_envs
+            and isinstance(self._game_tick, CompiledTick)
+        ):
+            tiles = self._game_tick.tick_and_draw(state, action)
+            if tiles is not None:
+                return tiles
         self._game_tick(state, action)
         return self._render(state)
 
@@ -299,24 +316,28 @@ class GVGAIEnv(RowResetEnv):
         ``restarted`` (``[B]`` bool) is true have just been reset: none of them is done (a Frogs
         level without goals is won at its reset tick, but its episode only ends at the next step).
         """
-        terminated = state.get("won") | state.get("lost")
+        won = state.get("won")
+        terminated = won | state.get("lost")
         truncated = self._steps >= self.max_steps
         if restarted is not None:
-            terminated = terminated & ~restarted
-            truncated = truncated & ~restarted
+            running = ~restarted
+            terminated = terminated & running
+            truncated = truncated & running
         truncated = truncated & ~terminated
         self._observed = observed  # a partial reset keeps it for the envs it does not restart
         values = {
             self.obs_kind: observed,
             "score": state.get("score").to(torch.float32).unsqueeze(-1),
-            "won": state.get("won").unsqueeze(-1).clone(),
+            "won": won.unsqueeze(-1).clone(),
             "difficulty": self._difficulty.unsqueeze(-1).clone(),
             "level_seed": self._level_seeds.to(self.device, copy=True).unsqueeze(-1),
             "terminated": terminated.unsqueeze(-1),
             "truncated": truncated.unsqueeze(-1),
             "done": (terminated | truncated).unsqueeze(-1),
         }
-        return TensorDict(values, batch_size=[self.num_envs], device=self.device)
+        # Every entry is [num_envs, ...] on self.device, just made: the checks would cost a third
+        # of this method.
+        return unchecked_tensordict(values, self.batch_size, self.device)
 
     def _set_seed(self, seed: int | None) -> int | None:
         if seed is not None:

@@ -107,6 +107,22 @@ def test_a_tick_that_does_not_compile_runs_eagerly_after_a_warning():
         assert torch.equal(eager_state.get(key), compiled_state.get(key))
 
 
+def test_a_tick_and_draw_that_does_not_compile_leaves_the_state_to_the_separate_calls():
+    game = WalkWithHostSync()
+    game.name = "toy"
+    level = Level("toy", tuple(LEVEL_TEXT.splitlines()))
+    state = game.compile([level, level], torch.tensor([1, 2]), torch.device("cpu"))
+    before = state.clone()
+    tick = CompiledTick(game)
+    with pytest.warns(RuntimeWarning, match="compiling toy's tick and tiles render for cpu failed"):
+        assert tick.tick_and_draw(state, torch.tensor([2, 3])) is None
+    assert set(tick.fused_failures) == {"cpu"} and not tick.failures  # the tick alone may still compile
+    assert all(torch.equal(before.get(key), state.get(key)) for key in state.keys(True, True))  # not ticked
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # said once, and not tried again
+        assert tick.tick_and_draw(state, torch.tensor([2, 3])) is None
+
+
 def test_the_speedup_script_times_both_ticks():
     from gvgai_pcg.bench_compiled import measure_speedup
 
@@ -190,12 +206,17 @@ def test_the_traced_render_draws_what_the_render_draws(game_name):
 
 
 @pytest.mark.parametrize("game_name", sorted(COMPILED_GAMES))
-def test_an_env_drawing_compiled_observes_what_an_eager_one_does(game_name):
+def test_an_env_drawing_compiled_observes_what_an_eager_one_does(game_name, monkeypatch):
     from gvgai_pcg.envs.level_sources import GeneratedLevels
 
     envs = [GVGAIEnv(game_name, 6, GeneratedLevels(game_name), seed=2, difficulty=0.5) for _ in range(2)]
     assert envs[0]._compiled_render
-    envs[1]._compiled_render = False
+    envs[1]._compiled_render, envs[1]._game_tick = False, envs[1].game.tick  # all eager
+    fused = []  # steps that ticked and drew in one compiled call
+    tick_and_draw = envs[0]._game_tick.tick_and_draw
+    monkeypatch.setattr(
+        envs[0]._game_tick, "tick_and_draw", lambda *args: fused.append(tick_and_draw(*args)) or fused[-1]
+    )
     tds = [env.reset() for env in envs]
     generator = torch.Generator().manual_seed(0)
     for _ in range(60):
@@ -207,6 +228,10 @@ def test_an_env_drawing_compiled_observes_what_an_eager_one_does(game_name):
             outs.append(out)
         assert torch.equal(outs[0].get(("next", "tiles")), outs[1].get(("next", "tiles")))
         assert torch.equal(tds[0].get("tiles"), tds[1].get("tiles"))
+        for key in envs[0].state.keys(True, True):
+            assert torch.equal(envs[0].state.get(key), envs[1].state.get(key)), key
+    assert len(fused) == 60 and all(tiles is not None for tiles in fused[:4])  # the fused call ran
+    assert not envs[0]._game_tick.fused_failures
 
 
 def test_the_compiled_render_draws_only_small_batches_on_the_cpu(monkeypatch):

@@ -27,28 +27,38 @@ def rollout(env: GVGAIEnv, steps: int, seed: int = 0) -> list[dict]:
     return outputs
 
 
-def count_prepared(env: GVGAIEnv, observed: list[bool] | None = None) -> list[int]:
+def count_prepared(env: GVGAIEnv, ahead: list[bool] | None = None) -> list[int]:
     """Record the batch size of every call that prepares episodes (compiles and reset-ticks), and
-    into ``observed`` whether it rendered them (a reset's own envs) or not (prepared ahead)."""
+    into ``ahead`` whether they were prepared ahead (stored) or were a reset's own envs."""
     sizes = []
     prepare = env._prepare
+    if ahead is not None and env._ready is not None:
+        store = env._ready.store
+
+        def stored(*args):
+            ahead[-1] = True
+            return store(*args)
+
+        env._ready.store = stored
 
     def counted(index, observe):
         sizes.append(len(index))
-        if observed is not None:
-            observed.append(observe)
+        if ahead is not None:
+            ahead.append(False)
         return prepare(index, observe)
 
     env._prepare = counted
     return sizes
 
 
-@pytest.mark.parametrize("game", ["frogs", "zelda"])
-def test_prepared_episodes_give_the_same_trajectories(game):
+@pytest.mark.parametrize(("game", "keeps_observations"), [("frogs", True), ("zelda", True), ("zelda", False)])
+def test_prepared_episodes_give_the_same_trajectories(game, keeps_observations, monkeypatch):
+    if not keeps_observations:
+        monkeypatch.setattr(gvgai_env, "READY_OBSERVATIONS_MAX_BYTES", 0)
     ahead = GVGAIEnv(game, num_envs=24, levels="human", seed=5, max_steps=60)
     plain = GVGAIEnv(game, num_envs=24, levels="human", seed=5, max_steps=60)
     plain._ready = None  # every reset compiles and ticks its own envs
-    assert ahead._ready is not None
+    assert ahead._ready is not None and ahead._ready.keeps_observations == keeps_observations
     ahead_sizes, plain_sizes = count_prepared(ahead), count_prepared(plain)
     for got, want in zip(rollout(ahead, 150), rollout(plain, 150), strict=True):
         assert (got["next"] == want["next"]).all() and (got["root"] == want["root"]).all()
@@ -63,13 +73,28 @@ def test_large_resets_tick_their_own_envs_and_both_kinds_mix(monkeypatch):
     mixed = GVGAIEnv("frogs", num_envs=16, levels="human", seed=7, max_steps=40)
     plain = GVGAIEnv("frogs", num_envs=16, levels="human", seed=7, max_steps=40)
     plain._ready = None
-    observed = []
-    sizes = count_prepared(mixed, observed)
+    ahead = []
+    sizes = count_prepared(mixed, ahead)
     for got, want in zip(rollout(mixed, 120), rollout(plain, 120), strict=True):
         assert (got["root"] == want["root"]).all() and got["levels"] == want["levels"]
-    own = [size for size, rendered in zip(sizes[1:], observed[1:], strict=True) if rendered]
+    own = [size for size, stored in zip(sizes[1:], ahead[1:], strict=True) if not stored]
     assert own and min(own) > 2  # the resets of 3+ envs ticked their own envs...
-    assert not all(observed[1:])  # ...and smaller ones took episodes prepared ahead
+    assert any(ahead[1:])  # ...and smaller ones took episodes prepared ahead
+
+
+def test_the_kept_observations_are_only_the_stores_own():
+    from gvgai_pcg.envs.ready_episodes import ReadyEpisodes
+
+    env = GVGAIEnv("zelda", num_envs=4, levels="human", seed=0)
+    states, levels, observed = env._prepare(torch.arange(4), observe=True)
+    ready = ReadyEpisodes(4, keeps_observations=True)
+    ready.store(torch.arange(4), states, levels, torch.ones(4, dtype=torch.int64), observed)
+    kept = observed.clone()
+    observed.zero_()  # the caller's tensor is not the store's
+    _, _, first = ready.take(torch.tensor([1, 3]))
+    assert torch.equal(first, kept[[1, 3]])
+    with pytest.raises(ValueError, match="keeps observations"):
+        ready.store(torch.tensor([1]), states[:1], levels[:1], torch.ones(1, dtype=torch.int64))
 
 
 def test_a_new_seed_drops_the_prepared_episodes():
