@@ -86,3 +86,12 @@ def select_rows(state: TensorDict, index: torch.Tensor) -> TensorDict:
     # Built unchecked: every entry was just cut from a valid state (the checks cost a third more).
     batch_size = torch.Size([len(index), *state.batch_size[1:]])
     return unchecked_tensordict(values, batch_size, state.device)
+
+
+def first_rows(state: TensorDict, count: int) -> TensorDict:
+    """``state[:count]`` as views, entry by entry (TensorDict's own slicing costs several times
+    more per entry)."""
+    values = {}
+    for key, value in state.items():
+        values[key] = first_rows(value, count) if isinstance(value, TensorDict) else value[:count]
+    return unchecked_tensordict(values, torch.Size([count, *state.batch_size[1:]]), state.device)

@@ -19,16 +19,16 @@ from torchrl.data import Binary, Bounded, Categorical, Composite, Unbounded
 
 from gvgai_pcg._private_apis import unchecked_tensordict
 from gvgai_pcg.engine.buffers import BufferPool
-from gvgai_pcg.engine.compiled import COMPILED_RENDER, CompiledTick, engine_tick
-from gvgai_pcg.engine.rows import copy_tensor_rows_
+from gvgai_pcg.engine.compiled import COMPILED_RENDER, MIN_COMPILED_BATCH, CompiledTick, engine_tick
+from gvgai_pcg.engine.rows import copy_tensor_rows_, first_rows, select_rows
 from gvgai_pcg.envs.level_bank import CompiledLevelBank
 from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
 from gvgai_pcg.envs.ready_episodes import ReadyEpisodes
 from gvgai_pcg.envs.reset_rows import RowResetEnv
 from gvgai_pcg.envs.shards import ShardedStepper
-from gvgai_pcg.envs.states import bucket_entity_tables, merge_states
+from gvgai_pcg.envs.states import bucket_entity_tables, merge_states, slot_bucket
 from gvgai_pcg.games import get_game
-from gvgai_pcg.games.base import pad_level
+from gvgai_pcg.games.base import entity_capacities, pad_entity_tables, pad_level
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.games.render import ascii_frame, render_pixels, render_tiles
 from gvgai_pcg.games.rng import derive_seeds, mix64
@@ -121,6 +121,12 @@ class GVGAIEnv(RowResetEnv):
         if getattr(self.level_source, "prepare_ahead", False):
             observation_bytes = self.observation_spec[obs].shape.numel()  # uint8
             self._ready = ReadyEpisodes(num_envs, observation_bytes <= READY_OBSERVATIONS_MAX_BYTES)
+
+    @property
+    def _compiled_resets(self) -> bool:
+        """Whether resets tick through the compiled tick (see ``_compiled_reset_tick``): where the
+        steps do; a single env would compile for its resets alone."""
+        return isinstance(self._game_tick, CompiledTick) and self.num_envs >= MIN_COMPILED_BATCH
 
     # --- specs ---
     def _make_specs(self) -> None:
@@ -217,23 +223,24 @@ class GVGAIEnv(RowResetEnv):
         """Start a new episode in envs ``index`` (CPU, sorted); returns their observations after
         the reset tick."""
         partial = self._state is not None and len(index) < self.num_envs
+        rows = index.to(self.device)
         if partial and self._ready is not None and len(index) <= PREPARED_RESETS_MAX:
             missing = self._ready.missing(self._episodes)
             if torch.isin(index, missing).any():  # prepare every missing episode in one batch
                 states, levels, observed = self._prepare(missing, observe=self._ready.keeps_observations)
                 self._ready.store(missing, states, levels, self._episodes[missing], observed)
-            fresh, levels, observed = self._ready.take(index)
+            self._state, levels, observed = self._ready.take_into(self._state, index, self.game.compiles)
             if observed is None:
-                observed = self._render(fresh)
+                observed = self._render(select_rows(self._state, rows))
         else:
             fresh, levels, observed = self._prepare(index, observe=True)
+            if not partial:
+                self._state = bucket_entity_tables(fresh) if self.game.compiles else fresh
+            else:
+                self._state = merge_states(self._state, fresh, rows, round_up=self.game.compiles)
         self._episodes[index] += 1
         for i, level in zip(index.tolist(), levels, strict=True):
             self._levels[i] = level
-        if not partial:
-            self._state = bucket_entity_tables(fresh) if self.game.compiles else fresh
-        else:
-            self._state = merge_states(self._state, fresh, index.to(self.device), round_up=self.game.compiles)
         self._steps[index.to(self.device)] = 0
         self._level_seeds[index] = torch.tensor([lv.seed if lv.seed is not None else -1 for lv in levels])
         return observed
@@ -248,9 +255,52 @@ class GVGAIEnv(RowResetEnv):
         difficulties = self._difficulty[index.to(self.device)].cpu()
         levels = self.level_source.next_levels(index, episode_seeds, difficulties)
         fresh = self._compile(levels, episode_seeds)
+        if self._compiled_resets:
+            fresh, observed = self._compiled_reset_tick(fresh, observe)
+            return fresh, levels, observed
         nil = torch.zeros(len(index), dtype=torch.int64, device=self.device)
         observed = self._stepper(self._reset_tick if observe else self._reset_tick_only, fresh, nil)
         return fresh, levels, observed if observe else None
+
+    def _compiled_reset_tick(
+        self, fresh: TensorDict, observe: bool
+    ) -> tuple[TensorDict, torch.Tensor | None]:
+        """The reset tick of ``fresh`` envs run by the engine's compiled tick (and, for tiles, drawn
+        in the same call), which equals the game's reset tick (RULES.md §1.8, tested per game);
+        ``fresh`` and, if ``observe``, their observations.
+
+        Eagerly a partial reset's tick costs a whole tick's few hundred small ops, however few its
+        envs: it was most of a step's time in Solarfox's training. So that the compiled graphs
+        already made serve it, its entity tables are grown to the running state's widths (or
+        their own power of two, if larger; empty slots change nothing), and a single env is
+        ticked twice over (the compiler would specialise a batch of one, see
+        ``gvgai_pcg.engine.compiled.MIN_COMPILED_BATCH``; every env is independent of the
+        others)."""
+        count = len(fresh)
+        running = entity_capacities(self._state) if self._state is not None else {}
+        widths = {
+            key: max(slot_bucket(size), running.get(key, 0)) for key, size in entity_capacities(fresh).items()
+        }
+        batch = pad_entity_tables(fresh, widths)
+        if count < MIN_COMPILED_BATCH:
+            batch = select_rows(batch, torch.zeros(MIN_COMPILED_BATCH, dtype=torch.int64, device=self.device))
+        observed = None
+        if (
+            observe
+            and self.obs_kind == "tiles"
+            and COMPILED_RENDER.applies(self.game, len(batch), self.device)
+        ):
+            observed = self._game_tick.tick_and_draw(
+                batch, torch.zeros(len(batch), dtype=torch.int64, device=self.device)
+            )
+        if observed is None:
+            self._game_tick(batch, torch.zeros(len(batch), dtype=torch.int64, device=self.device))
+            if observe:
+                observed = self._render(batch)
+        if count < MIN_COMPILED_BATCH:
+            batch = first_rows(batch, count)
+            observed = observed[:count] if observed is not None else None
+        return batch, observed
 
     def _compile(self, levels: list[Level], episode_seeds: torch.Tensor) -> TensorDict:
         """The initial states of ``levels``. Levels that recur (human levels, a fixed list) come

@@ -69,13 +69,29 @@ class ReadyEpisodes:
     def take(self, index: torch.Tensor) -> tuple[TensorDict, list[Level], torch.Tensor | None]:
         """The prepared episodes of envs ``index`` (all ready), which are then used up, and their
         observations (None where they are not kept)."""
+        rows = self._use(index)
+        states = select_rows(self.state, rows)
+        return states, [self.levels[i] for i in index.tolist()], self._observations(rows)
+
+    def take_into(
+        self, state: TensorDict, index: torch.Tensor, round_up: bool = False
+    ) -> tuple[TensorDict, list[Level], torch.Tensor | None]:
+        """``take`` straight into the running ``state``: its envs ``index`` replaced by their
+        prepared episodes (``merge_states``, whose ``round_up`` this passes on), their levels and
+        observations. Half the row copies of taking and then merging."""
+        rows = self._use(index)
+        merged = merge_states(state, self.state, rows, round_up=round_up, fresh_rows=rows)
+        return merged, [self.levels[i] for i in index.tolist()], self._observations(rows)
+
+    def _use(self, index: torch.Tensor) -> torch.Tensor:
+        """Mark the episodes of envs ``index`` used; their rows (on the state's device)."""
         if self.state is None or (self.episode[index] < 0).any():
             raise RuntimeError("an episode was taken before it was prepared")
-        rows = index.to(self.state.device)
-        states = select_rows(self.state, rows)
-        observations = self.observations.index_select(0, rows) if self.keeps_observations else None
         self.episode[index] = -1
-        return states, [self.levels[i] for i in index.tolist()], observations
+        return index.to(self.state.device)
+
+    def _observations(self, rows: torch.Tensor) -> torch.Tensor | None:
+        return self.observations.index_select(0, rows) if self.keeps_observations else None
 
     def clear(self) -> None:
         """Forget every prepared episode (the env seeds changed)."""

@@ -18,19 +18,27 @@ from gvgai_pcg.games.base import entity_capacities, grow_slots, pad_entity_table
 
 
 def merge_states(
-    state: TensorDict, fresh: TensorDict, index: torch.Tensor, round_up: bool = False
+    state: TensorDict,
+    fresh: TensorDict,
+    index: torch.Tensor,
+    round_up: bool = False,
+    fresh_rows: torch.Tensor | None = None,
 ) -> TensorDict:
-    """``state`` with envs ``index`` replaced by ``fresh`` (a partial reset). An entity table of
-    ``state`` is grown where ``fresh`` has more slots (with ``round_up``, to a power of two: a
-    compiled tick recompiles for every table width it meets, gvgai_pcg.engine.compiled); where it
-    has fewer, the fresh rows get empty slots (zeros, as padding would give them) leaf by leaf,
-    which costs a fraction of padding the fresh tables as TensorDicts."""
+    """``state`` with envs ``index`` replaced by ``fresh`` (a partial reset), or by rows
+    ``fresh_rows`` of ``fresh`` if given (taken entry by entry, with no state of their own built
+    first). An entity table of ``state`` is grown where ``fresh`` has more slots (with
+    ``round_up``, to a power of two: a compiled tick recompiles for every table width it meets,
+    gvgai_pcg.engine.compiled); where it has fewer, the fresh rows get empty slots (zeros, as
+    padding would give them) leaf by leaf, which costs a fraction of padding the fresh tables as
+    TensorDicts."""
     ours, theirs = entity_capacities(state), entity_capacities(fresh)
     width = slot_bucket if round_up else int
     grown = {key: width(theirs[key]) for key in ours if theirs[key] > ours[key]}
     state = pad_entity_tables(state, grown)
     for key, value in fresh.items(True, True):
         target = state.get(key)
+        if fresh_rows is not None:
+            value = value.index_select(0, fresh_rows)
         if isinstance(key, tuple) and key[0] in ours and value.shape[1] < target.shape[1]:
             value = grow_slots(value, target.shape[1] - value.shape[1])
         copy_tensor_rows_(target, index, value)

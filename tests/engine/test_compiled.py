@@ -209,9 +209,15 @@ def test_the_traced_render_draws_what_the_render_draws(game_name):
 def test_an_env_drawing_compiled_observes_what_an_eager_one_does(game_name, monkeypatch):
     from gvgai_pcg.envs.level_sources import GeneratedLevels
 
-    envs = [GVGAIEnv(game_name, 6, GeneratedLevels(game_name), seed=2, difficulty=0.5) for _ in range(2)]
+    envs = [
+        GVGAIEnv(game_name, 6, GeneratedLevels(game_name), seed=2, difficulty=0.5, max_steps=25)
+        for _ in range(2)
+    ]
     assert envs[0]._compiled_render
+    assert envs[0]._compiled_resets
     envs[1]._compiled_render, envs[1]._game_tick = False, envs[1].game.tick  # all eager
+    assert not envs[1]._compiled_resets
+    resets = 0
     fused = []  # steps that ticked and drew in one compiled call
     tick_and_draw = envs[0]._game_tick.tick_and_draw
     monkeypatch.setattr(
@@ -226,11 +232,14 @@ def test_an_env_drawing_compiled_observes_what_an_eager_one_does(game_name, monk
             tds[i].set("action", action)
             out, tds[i] = env.step_and_maybe_reset(tds[i])
             outs.append(out)
+        resets += bool(outs[0].get(("next", "done")).any())  # a reset call
         assert torch.equal(outs[0].get(("next", "tiles")), outs[1].get(("next", "tiles")))
         assert torch.equal(tds[0].get("tiles"), tds[1].get("tiles"))
         for key in envs[0].state.keys(True, True):
             assert torch.equal(envs[0].state.get(key), envs[1].state.get(key)), key
-    assert len(fused) == 60 and all(tiles is not None for tiles in fused[:4])  # the fused call ran
+    # the fused call ran for every step and every reset (compiled resets tick through it too)
+    assert len(fused) == 1 + 60 + resets and all(tiles is not None for tiles in fused[:4])
+    assert resets >= 2, resets
     assert not envs[0]._game_tick.fused_failures
 
 

@@ -119,3 +119,33 @@ def test_bad_arguments_are_refused_with_the_choices():
         GVGAIEnv("zelda", obs="rgb")
     with pytest.raises(ValueError, match="env plays 'zelda'"):
         GVGAIEnv("zelda", levels=human_level("frogs", 0))
+
+
+@pytest.mark.parametrize(("game", "obs"), [("solarfox", "tiles"), ("zelda", "pixels")])
+def test_a_reset_of_one_env_ticked_compiled_equals_an_eager_reset(game, obs):
+    """Partial resets tick through the compiled tick, a single env twice over; an eager env
+    starts the same episodes."""
+    from gvgai_pcg.envs.level_sources import GeneratedLevels
+
+    compiled, eager = (
+        GVGAIEnv(game, 4, GeneratedLevels(game), obs=obs, seed=3, difficulty=0.7) for _ in range(2)
+    )
+    assert compiled._compiled_resets
+    eager._compiled_render, eager._game_tick = False, eager.game.tick
+    assert not eager._compiled_resets
+    for mask in (
+        [True] * 4,
+        [False, False, True, False],
+        [True, False, False, True],
+        [False, True, False, False],
+    ):
+        reset = TensorDict({"_reset": torch.tensor(mask).unsqueeze(-1)}, batch_size=[4])
+        outs = [env.reset(reset.clone() if not all(mask) else None) for env in (compiled, eager)]
+        assert torch.equal(outs[0].get(obs), outs[1].get(obs))
+        for i in range(4):
+            assert compiled.game.snapshot(compiled.state, i) == eager.game.snapshot(eager.state, i)
+        action = torch.tensor([1, 2, 3, 4]) % compiled.game.num_actions
+        stepped = [
+            env.step(out.set("action", action)) for env, out in zip((compiled, eager), outs, strict=True)
+        ]
+        assert torch.equal(stepped[0].get(("next", obs)), stepped[1].get(("next", obs)))
