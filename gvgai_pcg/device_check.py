@@ -88,7 +88,7 @@ def check_env(
         for d in (CPU, device)
     ]
     envs[0]._game_tick = envs[0].game.tick  # the reference ticks and draws eagerly
-    envs[0]._compiled_render = False
+    envs[0]._compiled_render = envs[0]._tick_and_draw = False
     what = f"env ({obs}), {num_envs} envs"
     tds = [env.reset() for env in envs]
     generator = torch.Generator().manual_seed(1)

@@ -95,6 +95,12 @@ class GVGAIEnv(RowResetEnv):
         self._compiled_render = (
             shards == 1 and obs == "tiles" and COMPILED_RENDER.applies(self.game, num_envs, self.device)
         )
+        # Somewhat larger ones tick and draw in one compiled call (CompiledTick.tick_and_draw).
+        self._tick_and_draw = (
+            shards == 1
+            and obs == "tiles"
+            and COMPILED_RENDER.applies(self.game, num_envs, self.device, COMPILED_RENDER.FUSED_MAX_BYTES)
+        )
         self.level_source = as_level_source(game, levels)
         self.obs_kind, self.max_steps, self.num_envs = obs, max_steps, num_envs
         fmt = self.game.level_format
@@ -288,7 +294,7 @@ class GVGAIEnv(RowResetEnv):
         if (
             observe
             and self.obs_kind == "tiles"
-            and COMPILED_RENDER.applies(self.game, len(batch), self.device)
+            and COMPILED_RENDER.applies(self.game, len(batch), self.device, COMPILED_RENDER.FUSED_MAX_BYTES)
         ):
             observed = self._game_tick.tick_and_draw(
                 batch, torch.zeros(len(batch), dtype=torch.int64, device=self.device)
@@ -326,11 +332,7 @@ class GVGAIEnv(RowResetEnv):
 
     def _tick(self, state: TensorDict, action: torch.Tensor) -> torch.Tensor:
         """One tick of ``state``, then its observation (the work of one shard)."""
-        if (
-            self._compiled_render
-            and len(state) == self.num_envs
-            and isinstance(self._game_tick, CompiledTick)
-        ):
+        if self._tick_and_draw and len(state) == self.num_envs and isinstance(self._game_tick, CompiledTick):
             tiles = self._game_tick.tick_and_draw(state, action)
             if tiles is not None:
                 return tiles

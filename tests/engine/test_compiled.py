@@ -215,7 +215,8 @@ def test_an_env_drawing_compiled_observes_what_an_eager_one_does(game_name, monk
     ]
     assert envs[0]._compiled_render
     assert envs[0]._compiled_resets
-    envs[1]._compiled_render, envs[1]._game_tick = False, envs[1].game.tick  # all eager
+    envs[1]._compiled_render = envs[1]._tick_and_draw = False
+    envs[1]._game_tick = envs[1].game.tick  # all eager
     assert not envs[1]._compiled_resets
     resets = 0
     fused = []  # steps that ticked and drew in one compiled call
@@ -254,6 +255,11 @@ def test_the_compiled_render_draws_only_small_batches_on_the_cpu(monkeypatch):
     assert not COMPILED_RENDER.applies(zelda, 1, cpu)
     assert not COMPILED_RENDER.applies(zelda, 64, torch.device("meta"))  # not checked off the CPU
     assert not GVGAIEnv("zelda", 4, obs="tiles", shards=2)._compiled_render
+    fused = COMPILED_RENDER.FUSED_MAX_BYTES  # drawn in the tick's call, which pays for more bytes
+    assert COMPILED_RENDER.applies(frogs, 64, cpu, fused) and not COMPILED_RENDER.applies(frogs, 128, cpu, fused)
+    frogs_env = GVGAIEnv("frogs", 64, obs="tiles")
+    assert frogs_env._tick_and_draw and not frogs_env._compiled_render
+    assert not GVGAIEnv("frogs", 64, obs="pixels")._tick_and_draw
     monkeypatch.setenv(COMPILE_VARIABLE, "0")
     assert not COMPILED_RENDER.applies(zelda, 64, cpu)
 

@@ -131,7 +131,8 @@ def test_a_reset_of_one_env_ticked_compiled_equals_an_eager_reset(game, obs):
         GVGAIEnv(game, 4, GeneratedLevels(game), obs=obs, seed=3, difficulty=0.7) for _ in range(2)
     )
     assert compiled._compiled_resets
-    eager._compiled_render, eager._game_tick = False, eager.game.tick
+    eager._compiled_render = eager._tick_and_draw = False
+    eager._game_tick = eager.game.tick
     assert not eager._compiled_resets
     for mask in (
         [True] * 4,

@@ -78,7 +78,8 @@ def test_outputs_kept_by_the_caller_are_never_overwritten(game):
     # them whatever their size. Every output still held must keep its values.
     env = GVGAIEnv(game, num_envs=32, levels="human", seed=3)
     env.buffers.min_bytes = 0
-    env._compiled_render = False  # a compiled render returns new tensors; this is about the pool
+    # a compiled render returns new tensors; this is about the pool
+    env._compiled_render = env._tick_and_draw = False
     generator, td = torch.Generator().manual_seed(1), env.reset()
     kept, snapshots = [td], [td.clone()]
     for _ in range(30):
@@ -93,12 +94,12 @@ def test_outputs_kept_by_the_caller_are_never_overwritten(game):
 
 
 def test_released_observations_are_recycled():
-    env = GVGAIEnv("frogs", num_envs=64, levels="human", seed=3)  # 217 KB of tiles: pooled, not compiled
-    assert not env._compiled_render
+    env = GVGAIEnv("frogs", num_envs=128, levels="human", seed=3)  # 434 KB of tiles: pooled, not compiled
+    assert not env._compiled_render and not env._tick_and_draw
     generator, td = torch.Generator().manual_seed(1), env.reset()
     addresses = set()
     for _ in range(30):
-        td.set("action", torch.randint(0, 5, (64,), generator=generator))
+        td.set("action", torch.randint(0, 5, (128,), generator=generator))
         stepped, td = env.step_and_maybe_reset(td)
         addresses.add(stepped.get(("next", "tiles")).untyped_storage().data_ptr())
         addresses.add(td.get("tiles").untyped_storage().data_ptr())
