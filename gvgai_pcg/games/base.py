@@ -26,6 +26,7 @@ import numpy as np
 import torch
 from tensordict import TensorDict
 
+from gvgai_pcg._private_apis import unchecked_tensordict
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.levels import Level, LevelFormat, level_format
 from gvgai_pcg.levels.padding import pad_rows
@@ -287,12 +288,24 @@ def pad_entity_tables(state: TensorDict, capacities: dict[str, int]) -> TensorDi
         table = state.get(key)
         missing = size - table.batch_size[1]
         if missing > 0:
-            # leaf by leaf: a TensorDict ``cat`` validates every entry and costs much more
-            state.set(
-                key,
-                table.apply(functools.partial(grow_slots, missing=missing), batch_size=[len(table), size]),
-            )
+            # Leaf by leaf into an unchecked TensorDict: a TensorDict ``cat`` validates every
+            # entry and costs much more, and ``apply`` a third more (Frogs' one-env reset: 240
+            # against 378 us).
+            grown = {
+                name: grow_slots(value, missing)
+                if isinstance(value, torch.Tensor)
+                else pad_rows_of(value, missing)
+                for name, value in table.items()
+            }
+            state.set(key, unchecked_tensordict(grown, torch.Size([len(table), size]), table.device))
     return state
+
+
+def pad_rows_of(table: TensorDict, missing: int) -> TensorDict:
+    """A table nested in an entity table, its leaves grown by ``missing`` zero slots."""
+    return table.apply(
+        functools.partial(grow_slots, missing=missing), batch_size=[len(table), table.batch_size[1] + missing]
+    )
 
 
 def grow_slots(tensor: torch.Tensor, missing: int) -> torch.Tensor:
