@@ -33,6 +33,7 @@ from gvgai_pcg.progress import track
 BATCH_SIZES = (1, 64, 1024, 4096)
 ENGINE_BATCH = 4096
 OBSERVATIONS = ("tiles", "pixels")
+LEVEL_SETS = {"human": "human levels", "generated": "a new generated level every episode at d = 0"}
 WINDOWS = 5  # timed windows per measurement; the median is reported
 MIN_CALLS = 3  # calls of the step in every window, however long they take
 
@@ -82,15 +83,23 @@ class StepResult:
 
 
 def measure_env(
-    game: str, batch: int, obs: str, device: str = "cpu", min_seconds: float = 2.0, max_steps: int = 300
+    game: str,
+    batch: int,
+    obs: str,
+    device: str = "cpu",
+    min_seconds: float = 2.0,
+    max_steps: int = 300,
+    levels: str = "human",
 ) -> StepResult:
-    """Steady-state env steps/s (one step = one env tick) with uniformly random actions."""
+    """Steady-state env steps/s (one step = one env tick) with uniformly random actions, on the
+    human levels or (``levels="generated"``) a new generated level every episode at d = 0, as PPCG
+    starts: there every reset compiles a level no env has played."""
     cuda = torch.device(device).type == "cuda"
     if cuda:
         torch.cuda.empty_cache()
         torch.cuda.reset_peak_memory_stats()
     begin = time.perf_counter()
-    env = GVGAIEnv(game, num_envs=batch, levels="human", obs=obs, device=device, seed=0)
+    env = GVGAIEnv(game, num_envs=batch, levels=level_source(game, levels), obs=obs, device=device, seed=0)
     generator = torch.Generator(device=device).manual_seed(0)
     td = env.reset()
     for _ in range(3):
@@ -110,6 +119,17 @@ def measure_env(
     rate = windowed_rate(step, min_seconds, max_steps=max_steps)
     peak = torch.cuda.max_memory_allocated() if cuda else None
     return StepResult(game, obs, batch, warmup, rate, resets, peak)
+
+
+def level_source(game: str, levels: str) -> object:
+    """What ``GVGAIEnv(levels=...)`` takes for a benchmark's ``levels`` (see ``LEVEL_SETS``)."""
+    if levels not in LEVEL_SETS:
+        raise ValueError(f"unknown level set {levels!r}; valid ones are: {', '.join(LEVEL_SETS)}")
+    if levels == "generated":
+        from gvgai_pcg.envs.level_sources import GeneratedLevels
+
+        return GeneratedLevels(game)
+    return levels
 
 
 def measure_engine(game: str, batch: int = 4096, shards: int = 1, min_seconds: float = 2.0) -> Rate:
@@ -184,17 +204,18 @@ def run_benchmarks(
     observations: tuple[str, ...] = OBSERVATIONS,
     min_seconds: float = 2.0,
     progress: bool = True,
+    levels: str = "human",
 ) -> str:
     """Run every benchmark and return the Markdown section for ``device``."""
     games = games or registered_games()
     configs = [(g, o, b) for g in games for o in observations for b in batch_sizes]
     results = []
     for game, obs, batch in track(configs, "env throughput", "config", progress):
-        results.append(measure_env(game, batch, obs, device, min_seconds))
+        results.append(measure_env(game, batch, obs, device, min_seconds, levels=levels))
     lines = [
         f"Measured {time.strftime('%Y-%m-%d')} with `make bench`. {machine_description(device)}.",
         "",
-        "### Env steps/s (random actions, human levels, resets at their natural rate)",
+        f"### Env steps/s (random actions, {LEVEL_SETS[levels]}, resets at their natural rate)",
         "",
         f"Steps/s is the median of {WINDOWS} timed windows; the slowest and fastest window follow it.",
         "",

@@ -4,6 +4,7 @@ import pytest
 import torch
 
 from gvgai_pcg import benchmark
+from gvgai_pcg.envs import GVGAIEnv
 
 
 def test_the_engine_measure_steps_every_game_with_and_without_shards():
@@ -47,6 +48,23 @@ def test_the_env_measure_reports_windows_and_counts_resets():
     result = benchmark.measure_env("frogs", batch=4, obs="tiles", min_seconds=0.0, max_steps=60)
     assert 0 < result.rate.low <= result.steps_per_s <= result.rate.high
     assert result.resets > 0  # random frogs drown within 60 steps
+
+
+def test_the_env_measure_takes_generated_levels_and_refuses_unknown_sets(monkeypatch):
+    from gvgai_pcg.envs.level_sources import GeneratedLevels
+
+    made = []
+    monkeypatch.setattr(
+        benchmark,
+        "GVGAIEnv",
+        lambda *args, **kwargs: made.append(kwargs["levels"]) or GVGAIEnv(*args, **kwargs),
+    )
+    result = benchmark.measure_env(
+        "frogs", batch=4, obs="tiles", min_seconds=0.0, max_steps=30, levels="generated"
+    )
+    assert isinstance(made[0], GeneratedLevels) and result.steps_per_s > 0
+    with pytest.raises(ValueError, match="valid ones are: human, generated"):
+        benchmark.level_source("frogs", "random")
 
 
 def test_the_training_benchmark_times_the_network_both_ways_and_splits_a_batch(make_small_config):

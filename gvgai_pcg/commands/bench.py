@@ -7,7 +7,7 @@ from pathlib import Path
 
 import torch
 
-from gvgai_pcg.benchmark import BATCH_SIZES, OBSERVATIONS, run_benchmarks, write_section
+from gvgai_pcg.benchmark import BATCH_SIZES, LEVEL_SETS, OBSERVATIONS, run_benchmarks, write_section
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -16,6 +16,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--games", help="comma-separated games (default: all registered)")
     parser.add_argument("--batch-sizes", default=",".join(map(str, BATCH_SIZES)))
     parser.add_argument("--obs", default=",".join(OBSERVATIONS))
+    parser.add_argument(
+        "--levels",
+        choices=tuple(LEVEL_SETS),
+        default="human",
+        help="the env tables' levels: the human ones, or a new generated level every episode at d = 0 "
+        "(as PPCG training starts, where resets cost the most)",
+    )
     parser.add_argument("--seconds", type=float, default=2.0, help="minimum timed seconds per configuration")
     parser.add_argument("--threads", type=int, default=None, help="torch CPU threads (default: torch's)")
     parser.add_argument("--no-peers", action="store_true", help="leave out the peers (bench_peers)")
@@ -32,6 +39,7 @@ def run(args: argparse.Namespace) -> int:
             batch_sizes=tuple(int(b) for b in args.batch_sizes.split(",")),
             observations=tuple(args.obs.split(",")),
             min_seconds=args.seconds,
+            levels=args.levels,
         )
         body += _peers(args, device)
         print(body)

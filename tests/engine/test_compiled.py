@@ -256,7 +256,9 @@ def test_the_compiled_render_draws_only_small_batches_on_the_cpu(monkeypatch):
     assert not COMPILED_RENDER.applies(zelda, 64, torch.device("meta"))  # not checked off the CPU
     assert not GVGAIEnv("zelda", 4, obs="tiles", shards=2)._compiled_render
     fused = COMPILED_RENDER.FUSED_MAX_BYTES  # drawn in the tick's call, which pays for more bytes
-    assert COMPILED_RENDER.applies(frogs, 64, cpu, fused) and not COMPILED_RENDER.applies(frogs, 128, cpu, fused)
+    assert COMPILED_RENDER.applies(frogs, 64, cpu, fused) and not COMPILED_RENDER.applies(
+        frogs, 128, cpu, fused
+    )
     frogs_env = GVGAIEnv("frogs", 64, obs="tiles")
     assert frogs_env._tick_and_draw and not frogs_env._compiled_render
     assert not GVGAIEnv("frogs", 64, obs="pixels")._tick_and_draw
