@@ -150,3 +150,9 @@ def test_a_reset_of_one_env_ticked_compiled_equals_an_eager_reset(game, obs):
             env.step(out.set("action", action)) for env, out in zip((compiled, eager), outs, strict=True)
         ]
         assert torch.equal(stepped[0].get(("next", obs)), stepped[1].get(("next", obs)))
+
+
+def test_a_game_with_a_reset_tick_of_its_own_keeps_it():
+    assert GVGAIEnv("zelda", 4)._compiled_resets
+    assert not GVGAIEnv("frogs", 4)._compiled_resets  # Frogs' reset tick is a third of its tick
+    assert not GVGAIEnv("zelda", 1)._compiled_resets  # a single env never compiles
