@@ -297,17 +297,16 @@ class GVGAIEnv(RowResetEnv):
         batch = pad_entity_tables(fresh, widths)
         if count < MIN_COMPILED_BATCH:
             batch = select_rows(batch, torch.zeros(MIN_COMPILED_BATCH, dtype=torch.int64, device=self.device))
+        nil = torch.zeros(len(batch), dtype=torch.int64, device=self.device)
         observed = None
         if (
             observe
             and self.obs_kind == "tiles"
             and COMPILED_RENDER.applies(self.game, len(batch), self.device, COMPILED_RENDER.FUSED_MAX_BYTES)
         ):
-            observed = self._game_tick.tick_and_draw(
-                batch, torch.zeros(len(batch), dtype=torch.int64, device=self.device)
-            )
-        if observed is None:
-            self._game_tick(batch, torch.zeros(len(batch), dtype=torch.int64, device=self.device))
+            observed = self._game_tick.tick_and_draw(batch, nil)
+        if observed is None:  # not drawn in the tick's call (the tick has not run then)
+            self._game_tick(batch, nil)
             if observe:
                 observed = self._render(batch)
         if count < MIN_COMPILED_BATCH:
