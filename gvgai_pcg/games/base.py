@@ -261,8 +261,12 @@ def char_entities(
         "kind": torch.from_numpy(np.where(alive, keys // cells, 0)),
         "alive": torch.from_numpy(alive),
     }
-    table = TensorDict(table, batch_size=[batch, size])
-    return table if torch.device(device).type == "cpu" else table.to(device)
+    device = torch.device(device)
+    if device.type != "cpu":
+        table = {key: value.to(device) for key, value in table.items()}
+    # Unchecked: every entry is [batch, size] on ``device`` by construction, and a reset compiles
+    # a level or two at a time, where TensorDict's checks cost more than the entries.
+    return unchecked_tensordict(table, torch.Size([batch, size]), device)
 
 
 def avatar_cell(levels: Sequence[Level], chars: str) -> tuple[torch.Tensor, torch.Tensor]:
