@@ -188,6 +188,18 @@ def common_state(
     }
 
 
+def on_device(device: torch.device | str, values: dict, batch_size: Sequence[int]) -> TensorDict:
+    """``TensorDict(values, batch_size, device)`` for a ``compile``, unchecked: it builds every
+    entry (tensors and tables made by ``on_device``) at its batch size, and a reset compiles a
+    level or two at a time, where TensorDict's checks and ``.to`` cost as much as the entries
+    (one level: Solarfox 477 to 316 us, Frogs 991 to 774 us)."""
+    device = torch.device(device)
+    moved = {
+        key: value if isinstance(value, TensorDict) else value.to(device) for key, value in values.items()
+    }
+    return unchecked_tensordict(moved, torch.Size(batch_size), device)
+
+
 def screen_size(level: Level) -> tuple[int, int]:
     """(height, width) in cells of ``level``'s own screen: its grid without the ``OUTSIDE``
     rows at the bottom and columns at the right that :func:`pad_level` added."""

@@ -40,6 +40,7 @@ from gvgai_pcg.games.base import (
     char_grid,
     common_state,
     golden_record,
+    on_device,
     single_sprite_layer,
 )
 from gvgai_pcg.games.frogs.logs import (
@@ -130,12 +131,20 @@ class Frogs(Game):
         }
         trucks = {}
         for name, ch in zip(TRUCK_TYPES, TRUCK_CHARS, strict=True):
-            table = char_entities(levels, {ch: 0}, cpu)
-            table = table.apply(lambda t: t.to(torch.int32) if t.dtype == torch.int64 else t)
-            del table["kind"]
-            table.set("lane", torch.where(table.get("alive"), table.get("y") + CELL, 0))
-            table.set("row", table.get("y") // CELL)
-            trucks[name] = table
+            placed = char_entities(levels, {ch: 0}, cpu)
+            alive, x, y = (
+                placed.get("alive"),
+                placed.get("x").to(torch.int32),
+                placed.get("y").to(torch.int32),
+            )
+            table = {
+                "x": x,
+                "y": y,
+                "alive": alive,
+                "lane": torch.where(alive, y + CELL, 0),
+                "row": y // CELL,
+            }
+            trucks[name] = on_device(device, table, placed.batch_size)
         state = {
             **common_state(levels, seeds, device),
             "wall": char_grid(levels, WALL_CHARS, device),
@@ -149,12 +158,12 @@ class Frogs(Game):
             "highway": char_grid(levels, HIGHWAY_CHARS, device),
             "forestDense": char_grid(levels, DENSE_CHARS, device),
             "forestSparse": char_grid(levels, SPARSE_CHARS, device),
-            "avatar": TensorDict(avatar, batch_size=[batch]),
-            "logs": logs,
+            "avatar": on_device(device, avatar, [batch]),
+            "logs": on_device(device, dict(logs.items()), logs.batch_size),
             **trucks,
-            "spawners": spawners,
+            "spawners": on_device(device, dict(spawners.items()), spawners.batch_size),
         }
-        return TensorDict(state, batch_size=[batch], device=device)  # moves every table
+        return on_device(device, state, [batch])
 
     def tick(self, state: TensorDict, action: torch.Tensor) -> None:
         tick = state.get("tick") + 1

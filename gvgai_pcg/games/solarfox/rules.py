@@ -34,7 +34,6 @@ from functools import cache
 import torch
 from tensordict import TensorDict
 
-from gvgai_pcg._private_apis import unchecked_tensordict
 from gvgai_pcg.games import rng
 from gvgai_pcg.games.actions import MOVE_ACTIONS, move_direction
 from gvgai_pcg.games.base import (
@@ -47,6 +46,7 @@ from gvgai_pcg.games.base import (
     char_grid,
     common_state,
     golden_record,
+    on_device,
     single_sprite_layer,
 )
 from gvgai_pcg.games.geometry import (
@@ -218,11 +218,11 @@ class Solarfox(Game):
             "turning": torch.zeros(wall.shape, dtype=torch.bool, device=device),
             # The last tick in which a turning was created (rule 9): 6a/6b run where it is recent.
             "turning_last": torch.full((batch,), NO_TURNING, dtype=torch.int32, device=device),
-            "avatar": _on(device, avatar, [batch]),
-            "enemies": _on(device, enemies, placed.batch_size),
-            "shots": _on(device, shots, [batch, slots]),
+            "avatar": on_device(device, avatar, [batch]),
+            "enemies": on_device(device, enemies, placed.batch_size),
+            "shots": on_device(device, shots, [batch, slots]),
         }
-        return _on(device, state, [batch])
+        return on_device(device, state, [batch])
 
     def host_arguments(self, state: TensorDict) -> dict[str, object]:
         """The ship's cell look-ups for this batch's grid size (:func:`_ship_tables`, cached): inputs
@@ -532,14 +532,3 @@ class Solarfox(Game):
         """+1 per blib and +2 per powerblib (its blib is worth 1 and eating its powerblib 1, §5.6),
         collected without dying."""
         return level.count("b") + 2 * level.count("p")
-
-
-def _on(device: torch.device, values: dict, batch_size: Sequence[int]) -> TensorDict:
-    """``TensorDict(values, batch_size, device)`` unchecked: ``compile`` builds every entry at its
-    batch size, and a reset compiles a level or two at a time, where TensorDict's checks and
-    ``.to`` cost as much as the entries (Solarfox: 477 to ~300 us a level)."""
-    device = torch.device(device)
-    moved = {
-        key: value if isinstance(value, TensorDict) else value.to(device) for key, value in values.items()
-    }
-    return unchecked_tensordict(moved, torch.Size(batch_size), device)
