@@ -51,12 +51,20 @@ def count_prepared(env: GVGAIEnv, ahead: list[bool] | None = None) -> list[int]:
     return sizes
 
 
-@pytest.mark.parametrize(("game", "keeps_observations"), [("frogs", True), ("zelda", True), ("zelda", False)])
-def test_prepared_episodes_give_the_same_trajectories(game, keeps_observations, monkeypatch):
+@pytest.mark.parametrize(
+    ("game", "keeps_observations", "obs"),
+    [
+        ("frogs", True, "tiles"),
+        ("zelda", True, "tiles"),
+        ("zelda", False, "tiles"),
+        ("solarfox", True, "pixels"),
+    ],
+)
+def test_prepared_episodes_give_the_same_trajectories(game, keeps_observations, obs, monkeypatch):
     if not keeps_observations:
         monkeypatch.setattr(gvgai_env, "READY_OBSERVATIONS_MAX_BYTES", 0)
-    ahead = GVGAIEnv(game, num_envs=24, levels="human", seed=5, max_steps=60)
-    plain = GVGAIEnv(game, num_envs=24, levels="human", seed=5, max_steps=60)
+    ahead = GVGAIEnv(game, num_envs=24, levels="human", seed=5, max_steps=60, obs=obs)
+    plain = GVGAIEnv(game, num_envs=24, levels="human", seed=5, max_steps=60, obs=obs)
     plain._ready = None  # every reset compiles and ticks its own envs
     assert ahead._ready is not None and ahead._ready.keeps_observations == keeps_observations
     ahead_sizes, plain_sizes = count_prepared(ahead), count_prepared(plain)
