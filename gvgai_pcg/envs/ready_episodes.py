@@ -17,7 +17,7 @@ from __future__ import annotations
 import torch
 from tensordict import TensorDict
 
-from gvgai_pcg.engine.rows import copy_tensor_rows_, select_rows
+from gvgai_pcg.engine.rows import copy_tensor_rows_
 from gvgai_pcg.envs.states import merge_states
 from gvgai_pcg.levels import Level
 
@@ -66,19 +66,13 @@ class ReadyEpisodes:
             self.levels[i] = level
         self.episode[index] = episode
 
-    def take(self, index: torch.Tensor) -> tuple[TensorDict, list[Level], torch.Tensor | None]:
-        """The prepared episodes of envs ``index`` (all ready), which are then used up, and their
-        observations (None where they are not kept)."""
-        rows = self._use(index)
-        states = select_rows(self.state, rows)
-        return states, [self.levels[i] for i in index.tolist()], self._observations(rows)
-
     def take_into(
         self, state: TensorDict, index: torch.Tensor, round_up: bool = False
     ) -> tuple[TensorDict, list[Level], torch.Tensor | None]:
-        """``take`` straight into the running ``state``: its envs ``index`` replaced by their
-        prepared episodes (``merge_states``, whose ``round_up`` this passes on), their levels and
-        observations. Half the row copies of taking and then merging."""
+        """Take the prepared episodes of envs ``index`` (all ready), which are then used up: the
+        running ``state`` with those envs replaced by them (``merge_states``, whose ``round_up``
+        this passes on, row by row from here: no state of their own is built first), their levels
+        and their observations (None where they are not kept)."""
         rows = self._use(index)
         merged = merge_states(state, self.state, rows, round_up=round_up, fresh_rows=rows)
         return merged, [self.levels[i] for i in index.tolist()], self._observations(rows)

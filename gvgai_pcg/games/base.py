@@ -273,12 +273,7 @@ def char_entities(
         "kind": torch.from_numpy(np.where(alive, keys // cells, 0)),
         "alive": torch.from_numpy(alive),
     }
-    device = torch.device(device)
-    if device.type != "cpu":
-        table = {key: value.to(device) for key, value in table.items()}
-    # Unchecked: every entry is [batch, size] on ``device`` by construction, and a reset compiles
-    # a level or two at a time, where TensorDict's checks cost more than the entries.
-    return unchecked_tensordict(table, torch.Size([batch, size]), device)
+    return on_device(device, table, [batch, size])
 
 
 def avatar_cell(levels: Sequence[Level], chars: str) -> tuple[torch.Tensor, torch.Tensor]:

@@ -99,8 +99,9 @@ def test_the_kept_observations_are_only_the_stores_own():
     ready.store(torch.arange(4), states, levels, torch.ones(4, dtype=torch.int64), observed)
     kept = observed.clone()
     observed.zero_()  # the caller's tensor is not the store's
-    _, _, first = ready.take(torch.tensor([1, 3]))
-    assert torch.equal(first, kept[[1, 3]])
+    merged, taken, first = ready.take_into(states.clone(), torch.tensor([1, 3]))
+    assert torch.equal(first, kept[[1, 3]]) and taken == [levels[1], levels[3]]
+    assert torch.equal(merged.get("score"), states.get("score"))
     with pytest.raises(ValueError, match="keeps observations"):
         ready.store(torch.tensor([1]), states[:1], levels[:1], torch.ones(1, dtype=torch.int64))
 
