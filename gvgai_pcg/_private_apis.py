@@ -14,6 +14,8 @@ fails after an upgrade, fix the function here; its callers need not change.
   step (Frogs' log table is never full when a spawner fires).
 * ``TensorDict._new_unsafe``: builds a TensorDict without validating its entries, for states cut
   row by row from a valid one (engine/rows.py), where the checks would cost more than the cut.
+* ``TensorDict._tensordict``: the dict of a TensorDict's entries, read by a partial reset's merge
+  of a few rows (envs/states.py), where ``get`` and ``items`` cost more than the copies.
 * ``EnvBase._reset_proc_data`` (a hook), ``EnvBase._reset_check_done``, ``EnvBase._complete_done``,
   ``EnvBase._allow_done_after_reset`` and ``torchrl.envs.utils._update_during_reset``: TorchRL
   merges a partial reset into the running tensordict with ``torch.where`` over every entry; the
@@ -58,6 +60,13 @@ def unchecked_tensordict(
     (``TensorDict._new_unsafe``): the caller guarantees every entry has ``batch_size`` as its
     leading dims and lives on ``device``. The entries are taken as they are, not copied."""
     return TensorDict._new_unsafe(values, batch_size=batch_size, device=device)
+
+
+def entries(tensordict: TensorDict) -> dict[str, torch.Tensor | TensorDict]:
+    """The entries of ``tensordict`` (one level, not its nested ones' leaves) as the dict it keeps
+    them in (``TensorDict._tensordict``), to read and not to change: a ``get`` or ``items`` goes
+    through key checks that cost more than the copy a partial reset makes of each of a few rows."""
+    return tensordict._tensordict
 
 
 # --- TorchRL's reset internals -------------------------------------------------------------------

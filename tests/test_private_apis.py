@@ -27,6 +27,7 @@ PRIVATE_NAMES = (
     "_cdata",
     "_assert_async",
     "_new_unsafe",
+    "._tensordict",
     "_reset_proc_data",
     "_reset_check_done",
     "_complete_done",
@@ -130,6 +131,17 @@ def test_new_unsafe_takes_the_entries_as_they_are():
         assert td.device == torch.device("cpu")
         assert td.get("x") is x  # not copied
         assert td.get("table").batch_size == torch.Size([3, 5])
+
+
+def test_entries_are_the_tensordicts_own_dict_of_its_entries():
+    with relied_on("tensordict.TensorDict._tensordict"):
+        x, nested = torch.arange(6).view(3, 2), TensorDict({"y": torch.zeros(3, 5)}, [3, 5])
+        td = TensorDict({"x": x, "table": nested}, [3])
+        entries = private.entries(td)
+        assert set(entries) == {"x", "table"} and entries["x"] is x
+        assert entries["table"] is td.get("table")
+        td.set("z", torch.ones(3))  # the dict the TensorDict keeps, not a copy
+        assert entries["z"] is td.get("z")
 
 
 def test_reset_ends_with_the_reset_proc_data_hook_of_the_env_that_is_reset():

@@ -2,14 +2,17 @@
 
 A partial reset of a few envs costs the reset tick of a small batch: a few hundred small ops
 whatever the number of envs (on the CPU, a sizeable part of a B = 4096 step). When the next
-level of every env is known in advance (its source does not look at anything that changes during
-training, ``prepare_ahead`` on the source), the env instead prepares the next episode of every
-env whose episode is not ready, all in one batch, and a reset takes its envs' rows from here.
-Each row is exactly what the reset would have computed (same level, episode seed and reset tick),
-so the results do not change; only the reset tick's cost is shared by many resets. The price is
-one more game state per env and, where the env keeps them (observations of a few tens of MB at
-most), one more observation: drawing a reset's one or two envs costs a render's ~50 small ops
-(0.2-0.3 ms, a quarter of a step of 64 Zelda envs), where taking its rows costs one.
+levels of every env are known in advance (its source does not look at anything that changes
+during training, ``prepare_ahead`` on the source), the env instead prepares the next ``depth``
+episodes of every env whose episodes are not ready, all in one batch, and a reset takes its envs'
+rows from here. Each row is exactly what the reset would have computed (same level, episode seed
+and reset tick), so the results do not change; only the reset tick's cost is shared by many
+resets. One episode ahead is not enough where episodes are short: in Frogs under random play an
+env often ends its next episode within a few steps, and with one episode ahead nearly every step
+prepared the one or two envs it had just used (a whole reset tick, and a store, for each). The
+price is ``depth`` more game states per env and, where the env keeps them (observations of a few
+tens of MB at most), as many observations: drawing a reset's one or two envs costs a render's ~50
+small ops (0.2-0.3 ms, a quarter of a step of 64 Zelda envs), where taking its rows costs one.
 """
 
 from __future__ import annotations
@@ -18,74 +21,101 @@ import torch
 from tensordict import TensorDict
 
 from gvgai_pcg.engine.rows import copy_tensor_rows_
-from gvgai_pcg.envs.states import merge_states
+from gvgai_pcg.envs.states import bucket_entity_tables, merge_states
+from gvgai_pcg.games.base import entity_capacities, pad_entity_tables
 from gvgai_pcg.levels import Level
 
 
 class ReadyEpisodes:
-    """One prepared next episode per env (its state after the reset tick, its level and, if
-    ``keeps_observations``, its first observation)."""
+    """The next ``depth`` prepared episodes of each of ``num_envs`` envs (each one's state after
+    the reset tick, its level and, if ``keeps_observations``, its first observation). Episode
+    ``e`` of env ``i`` lives in row ``(e % depth) * num_envs + i``."""
 
-    def __init__(self, num_envs: int, keeps_observations: bool = False) -> None:
+    def __init__(self, num_envs: int, keeps_observations: bool = False, depth: int = 1) -> None:
+        if depth < 1:
+            raise ValueError(f"depth must be at least 1, got {depth}")
+        self.num_envs, self.depth = num_envs, depth
         self.keeps_observations = keeps_observations
         self.state: TensorDict | None = None
         self.observations: torch.Tensor | None = None
-        self.levels: list[Level | None] = [None] * num_envs
+        self.levels: list[Level | None] = [None] * (depth * num_envs)
         # The episode number each row was prepared for (-1: none); a row counts only while it
-        # equals its env's next episode number.
-        self.episode = torch.full((num_envs,), -1, dtype=torch.int64)
+        # holds the episode asked for.
+        self.episode = torch.full((depth * num_envs,), -1, dtype=torch.int64)
 
-    def missing(self, next_episode: torch.Tensor) -> torch.Tensor:
-        """The envs (sorted CPU indices) whose next episode is not prepared."""
-        return (self.episode != next_episode).nonzero().flatten()
+    def rows(self, envs: torch.Tensor, episodes: torch.Tensor) -> torch.Tensor:
+        """The rows (CPU) of episodes ``episodes`` of envs ``envs``."""
+        return episodes % self.depth * self.num_envs + envs
+
+    def ready(self, envs: torch.Tensor, episodes: torch.Tensor) -> bool:
+        """Whether episode ``episodes[k]`` of env ``envs[k]`` is prepared, for every ``k``."""
+        return bool((self.episode[self.rows(envs, episodes)] == episodes).all())
+
+    def missing(self, next_episode: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+        """The envs and episode numbers (CPU, in row order) of the episodes not prepared among
+        every env's next ``depth`` (env ``i``'s from ``next_episode[i]`` on)."""
+        envs = torch.arange(self.num_envs).repeat(self.depth)
+        slot = torch.arange(self.depth).repeat_interleave(self.num_envs)
+        # Row (slot, i) holds the first of env i's next depth episodes that is slot mod depth.
+        base = next_episode.repeat(self.depth)
+        episodes = base + (slot - base) % self.depth
+        missing = (self.episode != episodes).nonzero().flatten()
+        return envs[missing], episodes[missing]
 
     def store(
         self,
-        index: torch.Tensor,
+        envs: torch.Tensor,
+        episodes: torch.Tensor,
         states: TensorDict,
         levels: list[Level],
-        episode: torch.Tensor,
         observations: torch.Tensor | None = None,
+        round_up: bool = False,
     ) -> None:
-        """Keep ``states`` (after their reset tick) and, if kept, their ``observations`` as the
-        next episodes of envs ``index``."""
+        """Keep ``states`` (after their reset tick) and, if kept, their ``observations`` as
+        episodes ``episodes`` of envs ``envs``; entity tables grow as ``merge_states``'s
+        ``round_up`` says."""
         if self.keeps_observations and observations is None:
             raise ValueError("this store keeps observations, and none were given")
+        rows = self.rows(envs, episodes)
         if self.state is None:
-            if len(index) != len(self.levels):
-                raise ValueError("the first episodes prepared must cover every env")
-            self.state = states
+            if not torch.equal(rows, torch.arange(len(self.episode))):
+                raise ValueError("the first episodes prepared must fill every row, in order")
+            self.state = bucket_entity_tables(states) if round_up else states
             # Rows are later copied into it in place, so it must be ours alone.
             self.observations = observations.clone() if self.keeps_observations else None
         else:
-            rows = index.to(self.state.device)
-            self.state = merge_states(self.state, states, rows)
+            device_rows = rows.to(self.state.device)
+            self.state = merge_states(self.state, states, device_rows, round_up=round_up)
             if self.keeps_observations:
-                copy_tensor_rows_(self.observations, rows, observations)
-        for i, level in zip(index.tolist(), levels, strict=True):
-            self.levels[i] = level
-        self.episode[index] = episode
+                copy_tensor_rows_(self.observations, device_rows, observations)
+        for row, level in zip(rows.tolist(), levels, strict=True):
+            self.levels[row] = level
+        self.episode[rows] = episodes
 
     def take_into(
-        self, state: TensorDict, index: torch.Tensor, round_up: bool = False
+        self, state: TensorDict, envs: torch.Tensor, episodes: torch.Tensor, round_up: bool = False
     ) -> tuple[TensorDict, list[Level], torch.Tensor | None]:
-        """Take the prepared episodes of envs ``index`` (all ready), which are then used up: the
+        """Take episodes ``episodes`` of envs ``envs`` (all ready), which are then used up: the
         running ``state`` with those envs replaced by them (``merge_states``, whose ``round_up``
         this passes on, row by row from here: no state of their own is built first), their levels
         and their observations (None where they are not kept)."""
-        rows = self._use(index)
-        merged = merge_states(state, self.state, rows, round_up=round_up, fresh_rows=rows)
-        return merged, [self.levels[i] for i in index.tolist()], self._observations(rows)
-
-    def _use(self, index: torch.Tensor) -> torch.Tensor:
-        """Mark the episodes of envs ``index`` used; their rows (on the state's device)."""
-        if self.state is None or (self.episode[index] < 0).any():
+        rows = self.rows(envs, episodes)
+        if self.state is None or not torch.equal(self.episode[rows], episodes):
             raise RuntimeError("an episode was taken before it was prepared")
-        self.episode[index] = -1
-        return index.to(self.state.device)
+        self.episode[rows] = -1
+        self._widen_to(state)
+        device_rows = rows.to(self.state.device)
+        merged = merge_states(state, self.state, envs.to(self.state.device), round_up, device_rows)
+        observations = self.observations.index_select(0, device_rows) if self.keeps_observations else None
+        return merged, [self.levels[row] for row in rows.tolist()], observations
 
-    def _observations(self, rows: torch.Tensor) -> torch.Tensor | None:
-        return self.observations.index_select(0, rows) if self.keeps_observations else None
+    def _widen_to(self, state: TensorDict) -> None:
+        """Grow the prepared entity tables that are narrower than ``state``'s, once, so that
+        taking rows does not grow each one on every take."""
+        ours, running = entity_capacities(self.state), entity_capacities(state)
+        narrower = {key: width for key, width in running.items() if width > ours.get(key, width)}
+        if narrower:
+            self.state = pad_entity_tables(self.state, narrower)
 
     def clear(self) -> None:
         """Forget every prepared episode (the env seeds changed)."""

@@ -35,17 +35,17 @@ def count_prepared(env: GVGAIEnv, ahead: list[bool] | None = None) -> list[int]:
     if ahead is not None and env._ready is not None:
         store = env._ready.store
 
-        def stored(*args):
+        def stored(*args, **kwargs):
             ahead[-1] = True
-            return store(*args)
+            return store(*args, **kwargs)
 
         env._ready.store = stored
 
-    def counted(index, observe):
+    def counted(index, observe, episodes=None):
         sizes.append(len(index))
         if ahead is not None:
             ahead.append(False)
-        return prepare(index, observe)
+        return prepare(index, observe, episodes)
 
     env._prepare = counted
     return sizes
@@ -73,7 +73,8 @@ def test_prepared_episodes_give_the_same_trajectories(game, keeps_observations, 
         assert got["levels"] == want["levels"]
     assert len(plain_sizes) > 10  # many steps ended episodes...
     assert len(ahead_sizes) < len(plain_sizes) / 1.5  # ...whose reset ticks ran in fewer batches
-    assert sum(ahead_sizes) <= sum(plain_sizes) + 2 * 24  # at most the episodes prepared but not reached
+    # At most the episodes prepared but not reached: depth per env, and the first reset's own.
+    assert sum(ahead_sizes) <= sum(plain_sizes) + (ahead._ready.depth + 1) * 24
 
 
 def test_large_resets_tick_their_own_envs_and_both_kinds_mix(monkeypatch):
@@ -96,14 +97,34 @@ def test_the_kept_observations_are_only_the_stores_own():
     env = GVGAIEnv("zelda", num_envs=4, levels="human", seed=0)
     states, levels, observed = env._prepare(torch.arange(4), observe=True)
     ready = ReadyEpisodes(4, keeps_observations=True)
-    ready.store(torch.arange(4), states, levels, torch.ones(4, dtype=torch.int64), observed)
+    ones = torch.ones(4, dtype=torch.int64)
+    ready.store(torch.arange(4), ones, states, levels, observed)
     kept = observed.clone()
     observed.zero_()  # the caller's tensor is not the store's
-    merged, taken, first = ready.take_into(states.clone(), torch.tensor([1, 3]))
+    merged, taken, first = ready.take_into(states.clone(), torch.tensor([1, 3]), ones[:2])
     assert torch.equal(first, kept[[1, 3]]) and taken == [levels[1], levels[3]]
     assert torch.equal(merged.get("score"), states.get("score"))
+    with pytest.raises(RuntimeError, match="before it was prepared"):  # used up
+        ready.take_into(states.clone(), torch.tensor([1]), ones[:1])
     with pytest.raises(ValueError, match="keeps observations"):
-        ready.store(torch.tensor([1]), states[:1], levels[:1], torch.ones(1, dtype=torch.int64))
+        ready.store(torch.tensor([1]), ones[:1], states[:1], levels[:1])
+
+
+def test_episodes_are_prepared_several_ahead_in_their_own_rows():
+    from gvgai_pcg.envs.ready_episodes import ReadyEpisodes
+
+    ready = ReadyEpisodes(3, depth=2)
+    envs, episodes = ready.missing(torch.tensor([0, 5, 2]))
+    # Row (slot, env): slot 0 holds each env's next even episode, slot 1 its next odd one.
+    assert envs.tolist() == [0, 1, 2, 0, 1, 2] and episodes.tolist() == [0, 6, 2, 1, 5, 3]
+    env = GVGAIEnv("zelda", num_envs=3, levels="human", seed=0)
+    states, levels, _ = env._prepare(envs, observe=False, episodes=episodes)
+    ready.store(envs, episodes, states, levels)
+    assert ready.ready(torch.tensor([1, 1]), torch.tensor([5, 6]))
+    ready.take_into(states[:3].clone(), torch.tensor([1]), torch.tensor([5]))
+    assert not ready.ready(torch.tensor([1]), torch.tensor([5]))
+    envs, episodes = ready.missing(torch.tensor([0, 6, 2]))  # env 1 is on to episode 6: it needs 7
+    assert envs.tolist() == [1] and episodes.tolist() == [7]
 
 
 def test_a_new_seed_drops_the_prepared_episodes():
