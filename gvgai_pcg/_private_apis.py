@@ -16,6 +16,9 @@ fails after an upgrade, fix the function here; its callers need not change.
   row by row from a valid one (engine/rows.py), where the checks would cost more than the cut.
 * ``TensorDict._tensordict``: the dict of a TensorDict's entries, read by a partial reset's merge
   of a few rows (envs/states.py), where ``get`` and ``items`` cost more than the copies.
+* ``EnvBase._step_proc_data`` (a hook): TorchRL reshapes a step's rewards and fills its missing
+  done entries; ``GVGAIEnv``'s steps have neither to do, and it skips the checks
+  (:class:`CompleteStepHook`).
 * ``EnvBase._reset_proc_data`` (a hook), ``EnvBase._reset_check_done``, ``EnvBase._complete_done``,
   ``EnvBase._allow_done_after_reset`` and ``torchrl.envs.utils._update_during_reset``: TorchRL
   merges a partial reset into the running tensordict with ``torch.where`` over every entry; the
@@ -86,6 +89,20 @@ class ResetMergeHook:
         self, tensordict: TensorDictBase | None, tensordict_reset: TensorDictBase
     ) -> TensorDictBase:
         raise NotImplementedError
+
+
+class CompleteStepHook:
+    """Mixin for an ``EnvBase`` subclass whose ``_step`` output is always complete: the reward
+    has the spec's shape and every done entry of the spec is there. TorchRL's ``step`` passes that
+    output through ``self._step_proc_data``, which reshapes the rewards and fills missing done
+    entries: for a complete output, some 40 us of checks a step (a twentieth of a step of 64 Zelda
+    envs). With this mixin first among the bases the output is taken as it is, unless the env
+    runs type checks (``run_type_checks``), which TorchRL's own does."""
+
+    def _step_proc_data(self, next_tensordict_out: TensorDictBase) -> TensorDictBase:
+        if self.run_type_checks:
+            return super()._step_proc_data(next_tensordict_out)
+        return next_tensordict_out
 
 
 def complete_done(env, tensordict_reset: TensorDictBase) -> None:

@@ -19,7 +19,7 @@ from torchrl.envs import EnvBase, TransformedEnv
 
 import gvgai_pcg
 from gvgai_pcg import _private_apis as private
-from gvgai_pcg._private_apis import PINNED, ResetMergeHook
+from gvgai_pcg._private_apis import PINNED, CompleteStepHook, ResetMergeHook
 
 # Every private name the package may use, only in gvgai_pcg/_private_apis.py.
 PRIVATE_NAMES = (
@@ -29,6 +29,7 @@ PRIVATE_NAMES = (
     "_new_unsafe",
     "._tensordict",
     "_reset_proc_data",
+    "_step_proc_data",
     "_reset_check_done",
     "_complete_done",
     "_allow_done_after_reset",
@@ -142,6 +143,34 @@ def test_entries_are_the_tensordicts_own_dict_of_its_entries():
         assert entries["table"] is td.get("table")
         td.set("z", torch.ones(3))  # the dict the TensorDict keeps, not a copy
         assert entries["z"] is td.get("z")
+
+
+class FlatRewardEnv(TinyEnv):
+    """Its step's reward is ``[4]``, not the spec's ``[4, 1]``: TorchRL's step reshapes it."""
+
+    def _step(self, tensordict):
+        out = super()._step(tensordict)
+        self.stepped = out.set("reward", torch.zeros(4))
+        return out
+
+
+class SkippingEnv(CompleteStepHook, FlatRewardEnv):
+    pass
+
+
+def stepped_reward_shape(env: EnvBase) -> torch.Size:
+    td = env.step(env.reset().set("action", torch.zeros(4, dtype=torch.int64)))
+    return td.get(("next", "reward")).shape
+
+
+def test_step_passes_the_step_output_through_the_step_proc_data_hook():
+    with relied_on("EnvBase._step_proc_data"):
+        assert stepped_reward_shape(FlatRewardEnv()) == (4, 1)  # TorchRL's own reshapes
+        env = SkippingEnv()
+        assert stepped_reward_shape(env) == (4,)  # the hook took the output as it is...
+        td = env.step(env.reset().set("action", torch.zeros(4, dtype=torch.int64)))
+        assert td.get("next") is env.stepped
+        assert stepped_reward_shape(SkippingEnv(run_type_checks=True)) == (4, 1)  # ...but not with checks
 
 
 def test_reset_ends_with_the_reset_proc_data_hook_of_the_env_that_is_reset():

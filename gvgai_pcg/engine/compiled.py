@@ -28,6 +28,7 @@ from collections.abc import Callable
 import torch
 from tensordict import TensorDict
 
+from gvgai_pcg.engine.outputs import episode_outputs
 from gvgai_pcg.games.base import Game
 
 COMPILE_VARIABLE = "GVGAI_PCG_COMPILE"
@@ -146,12 +147,17 @@ class CompiledTick:
                 self._compile_failed(self.failures, "tick", action.device.type, error)
                 self.game.tick(state, action, **arguments)
 
-    def tick_and_draw(self, state: TensorDict, action: torch.Tensor) -> torch.Tensor | None:
-        """The tick, then the tiles it leaves (``render_tiles_traced``), as one compiled call; None
-        where that call does not apply or failed to compile, and the caller ticks and draws apart
-        (the tick has not run then). A tick and a compiled render called in turn each pay a
-        compiled call's fixed cost and run between other work that evicts their code from the
-        caches: at 64 Zelda envs the two took 366 us in an env's step and this one 224 us."""
+    def tick_and_draw(
+        self, state: TensorDict, action: torch.Tensor, steps: torch.Tensor, max_steps: int
+    ) -> tuple[torch.Tensor, dict[str, torch.Tensor]] | None:
+        """The tick, then the tiles it leaves (``render_tiles_traced``) and the step's other
+        outputs (``episode_outputs`` after ``steps`` steps of ``max_steps``, and the ``reward``,
+        ``[B, 1]`` float32), as one compiled call; None where that call does not apply or failed
+        to compile, and the caller ticks and draws apart (the tick has not run then). A tick and a
+        compiled render called in turn each pay a compiled call's fixed cost and run between other
+        work that evicts their code from the caches: at 64 Zelda envs the two took 366 us in an
+        env's step and this one 224 us; the outputs, eagerly a dozen small ops, add almost nothing
+        to it."""
         device = action.device.type
         if device in self.fused_failures:
             return None
@@ -159,18 +165,29 @@ class CompiledTick:
         if not compiled:
             return None
         try:
-            return self._compiled_and_drawn(self.game, state, action, **arguments)
+            return self._compiled_and_drawn(self.game, state, action, steps, max_steps, **arguments)
         except COMPILE_ERRORS as error:  # raised while compiling, before the tick ran
             self._compile_failed(self.fused_failures, "tick and tiles render", device, error)
             return None
 
 
-def tick_and_draw(game: Game, state: TensorDict, action: torch.Tensor, **arguments: object) -> torch.Tensor:
-    """One tick of ``state``, then its tiles: what ``CompiledTick.tick_and_draw`` compiles."""
+def tick_and_draw(
+    game: Game,
+    state: TensorDict,
+    action: torch.Tensor,
+    steps: torch.Tensor,
+    max_steps: int,
+    **arguments: object,
+) -> tuple[torch.Tensor, dict[str, torch.Tensor]]:
+    """One tick of ``state``, then its tiles and the step's other outputs: what
+    ``CompiledTick.tick_and_draw`` compiles."""
     from gvgai_pcg.games.render import render_tiles_traced
 
+    before = state.get("score").clone()
     type(game).tick(game, state, action, **arguments)
-    return render_tiles_traced(game, state)
+    outputs = episode_outputs(state, steps, max_steps)
+    outputs["reward"] = (state.get("score") - before).to(torch.float32).unsqueeze(-1)
+    return render_tiles_traced(game, state), outputs
 
 
 class CompiledRender:

@@ -17,9 +17,10 @@ import torch
 from tensordict import TensorDict, TensorDictBase
 from torchrl.data import Binary, Bounded, Categorical, Composite, Unbounded
 
-from gvgai_pcg._private_apis import unchecked_tensordict
+from gvgai_pcg._private_apis import CompleteStepHook, unchecked_tensordict
 from gvgai_pcg.engine.buffers import BufferPool
 from gvgai_pcg.engine.compiled import COMPILED_RENDER, MIN_COMPILED_BATCH, CompiledTick, engine_tick
+from gvgai_pcg.engine.outputs import episode_outputs
 from gvgai_pcg.engine.rows import copy_tensor_rows_, first_rows, select_rows
 from gvgai_pcg.envs.level_bank import CompiledLevelBank
 from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
@@ -49,7 +50,7 @@ READY_DEPTH_MAX = 8
 READY_OBSERVATIONS_MAX_BYTES = 32 << 20
 
 
-class GVGAIEnv(RowResetEnv):
+class GVGAIEnv(CompleteStepHook, RowResetEnv):
     """``num_envs`` copies of ``game`` stepped together (batch size ``[num_envs]``).
 
     Args:
@@ -316,7 +317,10 @@ class GVGAIEnv(RowResetEnv):
             and self.obs_kind == "tiles"
             and COMPILED_RENDER.applies(self.game, len(batch), self.device, COMPILED_RENDER.FUSED_MAX_BYTES)
         ):
-            observed = self._game_tick.tick_and_draw(batch, nil)
+            # Steps of their own: the step's graph takes distinct tensors (an aliased pair would
+            # be another graph).
+            fused = self._game_tick.tick_and_draw(batch, nil, torch.zeros_like(nil), self.max_steps)
+            observed = None if fused is None else fused[0]
         if observed is None:  # not drawn in the tick's call (the tick has not run then)
             self._game_tick(batch, nil)
             if observe:
@@ -342,18 +346,18 @@ class GVGAIEnv(RowResetEnv):
     def _step(self, tensordict: TensorDictBase) -> TensorDict:
         state = self.state
         action = tensordict.get("action").reshape(self.num_envs).to(self.device, torch.int64)
-        before = state.get("score").clone()  # a sharded step writes the new score into it
         self._steps += 1
+        if self._tick_and_draw and isinstance(self._game_tick, CompiledTick):
+            fused = self._game_tick.tick_and_draw(state, action, self._steps, self.max_steps)
+            if fused is not None:  # the tick, the tiles and the other outputs in one call
+                return self._output(*fused)
+        before = state.get("score").clone()  # a sharded step writes the new score into it
         out = self._observation(state, self._stepper(self._tick, state, action), restarted=None)
         out.set("reward", (state.get("score") - before).to(torch.float32).unsqueeze(-1))
         return out
 
     def _tick(self, state: TensorDict, action: torch.Tensor) -> torch.Tensor:
         """One tick of ``state``, then its observation (the work of one shard)."""
-        if self._tick_and_draw and len(state) == self.num_envs and isinstance(self._game_tick, CompiledTick):
-            tiles = self._game_tick.tick_and_draw(state, action)
-            if tiles is not None:
-                return tiles
         self._game_tick(state, action)
         return self._render(state)
 
@@ -386,24 +390,18 @@ class GVGAIEnv(RowResetEnv):
         ``restarted`` (``[B]`` bool) is true have just been reset: none of them is done (a Frogs
         level without goals is won at its reset tick, but its episode only ends at the next step).
         """
-        won = state.get("won")
-        terminated = won | state.get("lost")
-        truncated = self._steps >= self.max_steps
-        if restarted is not None:
-            running = ~restarted
-            terminated = terminated & running
-            truncated = truncated & running
-        truncated = truncated & ~terminated
+        running = None if restarted is None else ~restarted
+        return self._output(observed, episode_outputs(state, self._steps, self.max_steps, running))
+
+    def _output(self, observed: torch.Tensor, outputs: dict[str, torch.Tensor]) -> TensorDict:
+        """The env's output: the observation ``observed``, ``outputs`` (``episode_outputs``, and
+        the reward after a step) and the env's own entries."""
         self._observed = observed  # a partial reset keeps it for the envs it does not restart
         values = {
             self.obs_kind: observed,
-            "score": state.get("score").to(torch.float32).unsqueeze(-1),
-            "won": won.unsqueeze(-1).clone(),
+            **outputs,
             "difficulty": self._difficulty.unsqueeze(-1).clone(),
             "level_seed": self._level_seeds.to(self.device, copy=True).unsqueeze(-1),
-            "terminated": terminated.unsqueeze(-1),
-            "truncated": truncated.unsqueeze(-1),
-            "done": (terminated | truncated).unsqueeze(-1),
         }
         # Every entry is [num_envs, ...] on self.device, just made: the checks would cost a third
         # of this method.

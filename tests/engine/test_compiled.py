@@ -115,12 +115,12 @@ def test_a_tick_and_draw_that_does_not_compile_leaves_the_state_to_the_separate_
     before = state.clone()
     tick = CompiledTick(game)
     with pytest.warns(RuntimeWarning, match="compiling toy's tick and tiles render for cpu failed"):
-        assert tick.tick_and_draw(state, torch.tensor([2, 3])) is None
+        assert tick.tick_and_draw(state, torch.tensor([2, 3]), torch.ones(2, dtype=torch.int64), 9) is None
     assert set(tick.fused_failures) == {"cpu"} and not tick.failures  # the tick alone may still compile
     assert all(torch.equal(before.get(key), state.get(key)) for key in state.keys(True, True))  # not ticked
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # said once, and not tried again
-        assert tick.tick_and_draw(state, torch.tensor([2, 3])) is None
+        assert tick.tick_and_draw(state, torch.tensor([2, 3]), torch.ones(2, dtype=torch.int64), 9) is None
 
 
 def test_the_speedup_script_times_both_ticks():

@@ -24,6 +24,23 @@ def test_specs_hold_for_every_game(game, obs):
 
 
 @pytest.mark.parametrize("obs", ["tiles", "pixels"])
+def test_step_outputs_are_as_torchrl_would_complete_them(obs):
+    """The env skips TorchRL's completion of its step outputs (CompleteStepHook): they must need
+    none, for every game's done entries and reward."""
+    from torchrl.envs import EnvBase
+
+    for game in registered_games():
+        env = GVGAIEnv(game, num_envs=3, obs=obs, max_steps=2)
+        td = env.reset()
+        for _ in range(3):  # through a truncation
+            out = env._step(td.set("action", torch.randint(0, env.game.num_actions, (3,))))
+            completed = EnvBase._step_proc_data(env, out.clone())
+            assert set(completed.keys()) == set(out.keys()) and (completed == out).all()
+            assert all(completed.get(key).shape == out.get(key).shape for key in out.keys())
+            td = env.reset(out.set("_reset", out.get("done")))
+
+
+@pytest.mark.parametrize("obs", ["tiles", "pixels"])
 def test_observation_specs_hold_what_is_observed(obs):
     """Tiles are 0/1 and pixels any uint8 (the specs are not Bounded: see GVGAIEnv._make_specs)."""
     env = GVGAIEnv("frogs", num_envs=8, obs=obs, seed=1)
