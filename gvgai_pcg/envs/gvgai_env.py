@@ -311,8 +311,11 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         if count < MIN_COMPILED_BATCH:
             batch = select_rows(batch, torch.zeros(MIN_COMPILED_BATCH, dtype=torch.int64, device=self.device))
         nil = torch.zeros(len(batch), dtype=torch.int64, device=self.device)
-        observed = None
-        if (
+        fused = None
+        # The steps' graph ticks and draws in one call where this env's steps do, whatever the
+        # size of this batch (episodes prepared ahead come several hundred at a time): the tick
+        # alone would be another graph to compile, seconds for a few rare calls.
+        if self._tick_and_draw or (
             observe
             and self.obs_kind == "tiles"
             and COMPILED_RENDER.applies(self.game, len(batch), self.device, COMPILED_RENDER.FUSED_MAX_BYTES)
@@ -320,8 +323,8 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
             # Steps of their own: the step's graph takes distinct tensors (an aliased pair would
             # be another graph).
             fused = self._game_tick.tick_and_draw(batch, nil, torch.zeros_like(nil), self.max_steps)
-            observed = None if fused is None else fused[0]
-        if observed is None:  # not drawn in the tick's call (the tick has not run then)
+        observed = fused[0] if fused is not None and observe else None
+        if fused is None:  # not ticked in one call with the tiles (the tick has not run then)
             self._game_tick(batch, nil)
             if observe:
                 observed = self._render(batch)

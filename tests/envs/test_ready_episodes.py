@@ -139,3 +139,21 @@ def test_a_new_seed_drops_the_prepared_episodes():
 def test_sources_that_read_the_difficulty_are_not_prepared_ahead():
     assert GVGAIEnv("zelda", num_envs=2, levels=GeneratedLevels("zelda"))._ready is None
     assert GVGAIEnv("zelda", num_envs=2, levels=list(human_levels("zelda")[:2]))._ready is not None
+
+
+def test_episodes_prepared_ahead_tick_in_the_steps_graph(monkeypatch):
+    """Hundreds of episodes prepared at once tick and draw in the one graph the steps use: the
+    tick alone would be another graph to compile, seconds for a few calls."""
+    from gvgai_pcg.engine.compiled import CompiledTick
+
+    alone = []
+    original = CompiledTick.__call__
+    monkeypatch.setattr(
+        CompiledTick, "__call__", lambda self, *args: alone.append(1) or original(self, *args)
+    )
+    env = GVGAIEnv("zelda", num_envs=64, levels="human", seed=3)
+    assert env._tick_and_draw and env._compiled_resets and env._ready.depth == 8
+    sizes = count_prepared(env)
+    rollout(env, 60)
+    assert max(sizes[1:]) > 256  # prepared ahead, more than the step's graph draws in a step...
+    assert not alone  # ...in that same graph
