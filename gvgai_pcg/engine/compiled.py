@@ -185,9 +185,7 @@ def tick_and_draw(
 
     before = state.get("score").clone()
     type(game).tick(game, state, action, **arguments)
-    outputs = episode_outputs(state, steps, max_steps)
-    outputs["reward"] = (state.get("score") - before).to(torch.float32).unsqueeze(-1)
-    return render_tiles_traced(game, state), outputs
+    return render_tiles_traced(game, state), episode_outputs(state, steps, max_steps, score_before=before)
 
 
 class CompiledRender:

@@ -13,12 +13,17 @@ from tensordict import TensorDict
 
 
 def episode_outputs(
-    state: TensorDict, steps: torch.Tensor, max_steps: int, running: torch.Tensor | None = None
+    state: TensorDict,
+    steps: torch.Tensor,
+    max_steps: int,
+    running: torch.Tensor | None = None,
+    score_before: torch.Tensor | None = None,
 ) -> dict[str, torch.Tensor]:
     """``score`` (float32), ``won``, ``terminated``, ``truncated`` and ``done``, each ``[B, 1]``, of
-    ``state`` after ``steps`` steps of at most ``max_steps``. Envs where ``running`` (``[B]``
-    bool, if given) is false have just been reset and are not done (a Frogs level without goals is
-    won at its reset tick, but its episode only ends at the next step)."""
+    ``state`` after ``steps`` steps of at most ``max_steps``, and, after a step from a score of
+    ``score_before``, the ``reward`` (float32). Envs where ``running`` (``[B]`` bool, if given) is
+    false have just been reset and are not done (a Frogs level without goals is won at its reset
+    tick, but its episode only ends at the next step)."""
     won = state.get("won")
     terminated = won | state.get("lost")
     truncated = steps >= max_steps
@@ -26,10 +31,14 @@ def episode_outputs(
         terminated = terminated & running
         truncated = truncated & running
     truncated = truncated & ~terminated
-    return {
-        "score": state.get("score").to(torch.float32).unsqueeze(-1),
+    score = state.get("score")
+    outputs = {
+        "score": score.to(torch.float32).unsqueeze(-1),
         "won": won.unsqueeze(-1).clone(),
         "terminated": terminated.unsqueeze(-1),
         "truncated": truncated.unsqueeze(-1),
         "done": (terminated | truncated).unsqueeze(-1),
     }
+    if score_before is not None:
+        outputs["reward"] = (score - score_before).to(torch.float32).unsqueeze(-1)
+    return outputs

@@ -235,7 +235,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
             # caller holds it.
             fresh = self._start_episodes(index)
             observed = copy_tensor_rows_(self.buffers.clone(observed), index.to(self.device), fresh)
-        out = self._observation(self.state, observed, restarted=mask)
+        out = self._reset_output(self.state, observed, restarted=mask)
         if not reset_all:
             # Every row holds the running values, so the merge may take these entries whole.
             self._complete_entries = dict(out.items())
@@ -266,7 +266,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         self._episodes[index] += 1
         for i, level in zip(index.tolist(), levels, strict=True):
             self._levels[i] = level
-        self._steps[index.to(self.device)] = 0
+        self._steps[rows] = 0
         self._level_seeds[index] = torch.tensor([lv.seed if lv.seed is not None else -1 for lv in levels])
         return observed
 
@@ -355,9 +355,9 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
             if fused is not None:  # the tick, the tiles and the other outputs in one call
                 return self._output(*fused)
         before = state.get("score").clone()  # a sharded step writes the new score into it
-        out = self._observation(state, self._stepper(self._tick, state, action), restarted=None)
-        out.set("reward", (state.get("score") - before).to(torch.float32).unsqueeze(-1))
-        return out
+        observed = self._stepper(self._tick, state, action)
+        outputs = episode_outputs(state, self._steps, self.max_steps, score_before=before)
+        return self._output(observed, outputs)
 
     def _tick(self, state: TensorDict, action: torch.Tensor) -> torch.Tensor:
         """One tick of ``state``, then its observation (the work of one shard)."""
@@ -386,15 +386,12 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         # Whole-batch tiles are drawn into recycled buffers (the size of a partial reset varies).
         return render_tiles(self.game, state, self.buffers if whole else None)
 
-    def _observation(
-        self, state: TensorDict, observed: torch.Tensor, restarted: torch.Tensor | None
-    ) -> TensorDict:
-        """The output of every env of ``state``, whose observation is ``observed``. Envs where
-        ``restarted`` (``[B]`` bool) is true have just been reset: none of them is done (a Frogs
-        level without goals is won at its reset tick, but its episode only ends at the next step).
-        """
-        running = None if restarted is None else ~restarted
-        return self._output(observed, episode_outputs(state, self._steps, self.max_steps, running))
+    def _reset_output(self, state: TensorDict, observed: torch.Tensor, restarted: torch.Tensor) -> TensorDict:
+        """The reset's output for every env of ``state``, whose observation is ``observed``. Envs
+        where ``restarted`` (``[B]`` bool) is true have just been reset: none of them is done (a
+        Frogs level without goals is won at its reset tick, but its episode only ends at the next
+        step)."""
+        return self._output(observed, episode_outputs(state, self._steps, self.max_steps, ~restarted))
 
     def _output(self, observed: torch.Tensor, outputs: dict[str, torch.Tensor]) -> TensorDict:
         """The env's output: the observation ``observed``, ``outputs`` (``episode_outputs``, and
