@@ -83,11 +83,14 @@ def test_the_training_benchmark_times_the_network_both_ways_and_splits_a_batch(m
     assert set(layouts) == {"own", "contiguous"} and all(c.cpu > 0 for c in layouts.values())
     text = training.describe("run", {**dict.fromkeys(NUMBERS, 1.0), "layout_cpu_speedup": 1.25})
     assert "updates 1.25x as fast as contiguous" in text
+    assert "keeps the acting passes' graph" in text
+    text = training.describe("run", {**dict.fromkeys(NUMBERS, 1.0), "keeps_acting_graph": 0.0})
+    assert "recomputes the acting passes" in text
 
 
 NUMBERS = ("frames_per_batch", "load", "end_to_end_fps", "end_to_end_cpu_fps", "limit_fps", "limit_cpu_fps")
 NUMBERS += ("ratio", "cpu_ratio", "reused_limit_fps", "reused_limit_cpu_fps", "reused_ratio")
-NUMBERS += ("reused_cpu_ratio",)
+NUMBERS += ("reused_cpu_ratio", "keeps_acting_graph")
 
 
 @pytest.fixture

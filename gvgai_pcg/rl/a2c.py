@@ -141,7 +141,7 @@ def _train(cfg: DictConfig, run_dir: Path, config: dict, session: RunSession) ->
     remaining = max(0, int(cfg.total_frames) - frames)
     remaining = math.ceil(remaining / frames_per_batch) * frames_per_batch
     if workers == 1:
-        # the acting passes keep their graph for the update (see gvgai_pcg.rl.rollout)
+        # from 24 envs the acting passes keep their graph for the update (gvgai_pcg.rl.rollout)
         collector = session.closing(ActingRollouts(env, net, obs_key, int(algo.n_steps)))
     else:
         env.close()

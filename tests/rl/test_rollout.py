@@ -7,7 +7,7 @@ import torch
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.rl.a2c_loss import A2CLoss
 from gvgai_pcg.rl.models import as_tensordict_module, make_actor_critic
-from gvgai_pcg.rl.rollout import ActingRollouts
+from gvgai_pcg.rl.rollout import KEEP_GRAPH_FROM_ENVS, ActingRollouts, keeps_acting_graph
 
 
 def _setup(num_envs: int = 6, max_steps: int = 7):
@@ -27,7 +27,7 @@ def _gradients(net, loss_module, rollout) -> list[torch.Tensor]:
 def test_a_rollout_has_the_collector_layout_and_follows_the_episodes():
     torch.manual_seed(0)
     env, net = _setup()
-    rollouts = ActingRollouts(env, net, "tiles", n_steps=5)
+    rollouts = ActingRollouts(env, net, "tiles", n_steps=5, keep_graph=True)
     first, second = rollouts.collect(), rollouts.collect()
     assert first.batch_size == (6, 5)
     for key in ("tiles", "action", "logits", "state_value"):
@@ -49,7 +49,7 @@ def test_the_update_on_the_acting_graph_equals_the_update_that_recomputes_the_po
     torch.manual_seed(1)
     env, net = _setup()
     loss_module = A2CLoss(as_tensordict_module(net, "tiles"))
-    rollout = ActingRollouts(env, net, "tiles", n_steps=5).collect()
+    rollout = ActingRollouts(env, net, "tiles", n_steps=5, keep_graph=True).collect()
     seen: list[int] = []  # observations the loss passes through the network
     hook = net.register_forward_hook(lambda module, args, out: seen.append(args[0].shape[0]))
     reused = _gradients(net, loss_module, rollout)
@@ -69,3 +69,28 @@ def test_the_update_on_the_acting_graph_equals_the_update_that_recomputes_the_po
     assert not no_graph.get("logits").requires_grad
     torch.testing.assert_close(_gradients(net, loss_module, no_graph), recomputed)
     assert logits.shape == (6, 5, env.action_spec.space.n) and values.shape == (6, 5)
+
+
+def test_small_batches_act_without_a_graph_and_the_update_recomputes_it_equally():
+    assert not keeps_acting_graph(12) and keeps_acting_graph(64)
+    assert keeps_acting_graph(KEEP_GRAPH_FROM_ENVS) and not keeps_acting_graph(KEEP_GRAPH_FROM_ENVS - 1)
+    env, net = _setup()
+    loss_module = A2CLoss(as_tensordict_module(net, "tiles"))
+    kept, plain = (ActingRollouts(env, net, "tiles", 5, keep_graph=keep) for keep in (True, False))
+    assert not ActingRollouts(env, net, "tiles", 5).keep_graph  # 6 envs: the default recomputes
+    torch.manual_seed(2)
+    with_graph = kept.collect()
+    torch.manual_seed(2)
+    env.set_seed(3)
+    without = plain.collect()
+    assert not without.get("logits").requires_grad and not without.get("state_value").requires_grad
+    # the same episodes and actions either way, and the same update
+    assert torch.equal(with_graph.get("action"), without.get("action"))
+    torch.testing.assert_close(with_graph.get("logits").detach(), without.get("logits"))
+    seen: list[int] = []
+    hook = net.register_forward_hook(lambda module, args, out: seen.append(args[0].shape[0]))
+    recomputed = _gradients(net, loss_module, without)
+    hook.remove()
+    assert sum(seen) >= 6 * 5  # every frame passed through the network again
+    for a, b in zip(_gradients(net, loss_module, with_graph), recomputed, strict=True):
+        torch.testing.assert_close(a, b, rtol=1e-4, atol=1e-6)
