@@ -131,6 +131,10 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         # Sources whose next levels are known in advance get their partial resets prepared in bulk.
         self._make_specs()
         self._ready = None
+        # Generated levels depend on the difficulty: their episodes are prepared at it, and count
+        # only at it (see ``_difficulty_holds``).
+        self._ready_by_difficulty = bool(getattr(self.level_source, "depends_on_difficulty", False))
+        self._last_difficulties: torch.Tensor | None = None
         if getattr(self.level_source, "prepare_ahead", False):
             observation_bytes = self.observation_spec[obs].shape.numel()  # uint8
             depth = max(1, min(READY_DEPTH_MAX, READY_ROWS // num_envs))
@@ -246,12 +250,28 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         the reset tick."""
         partial = self._state is not None and len(index) < self.num_envs
         rows = index.to(self.device)
+        difficulties = self._difficulty.to("cpu", copy=True) if self._ready_by_difficulty else None
         if partial and self._ready is not None and len(index) <= PREPARED_RESETS_MAX:
             episodes = self._episodes[index]
-            if not self._ready.ready(index, episodes):  # prepare every missing episode in one batch
-                envs, ahead = self._ready.missing(self._episodes)
+            taken = self._ready.ready(index, episodes, difficulties)
+            if not taken and self._difficulty_holds(difficulties):
+                # prepare every missing episode in one batch
+                envs, ahead = self._ready.missing(self._episodes, difficulties)
                 states, levels, observed = self._prepare(envs, self._ready.keeps_observations, ahead)
-                self._ready.store(envs, ahead, states, levels, observed, round_up=self.game.compiles)
+                self._ready.store(
+                    envs,
+                    ahead,
+                    states,
+                    levels,
+                    observed,
+                    round_up=self.game.compiles,
+                    difficulties=None if difficulties is None else difficulties[envs],
+                )
+                taken = True
+        else:
+            taken = False
+        self._last_difficulties = difficulties
+        if taken:
             self._state, levels, observed = self._ready.take_into(
                 self._state, index, episodes, self.game.compiles
             )
@@ -269,6 +289,21 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         self._steps[rows] = 0
         self._level_seeds[index] = torch.tensor([lv.seed if lv.seed is not None else -1 for lv in levels])
         return observed
+
+    def _difficulty_holds(self, difficulties: torch.Tensor | None) -> bool:
+        """Whether episodes prepared ahead at these difficulties (every env's, or None where the
+        levels do not depend on them) are likely to be played: every env is at one difficulty,
+        the same as at the last reset. So PCG X and the stretches where PPCG's difficulty stays
+        put (at 0 or 1) prepare ahead, while a difficulty on the move (each env's changes at its
+        next reset) prepares only each reset's own envs, as a bulk would be thrown away."""
+        if difficulties is None:
+            return True
+        last = self._last_difficulties
+        return (
+            bool((difficulties == difficulties[0]).all())
+            and last is not None
+            and torch.equal(difficulties, last)
+        )
 
     def _prepare(
         self, index: torch.Tensor, observe: bool, episodes: torch.Tensor | None = None

@@ -3,10 +3,11 @@
 The env asks its source for one level per resetting env, passing each env's episode seed and
 difficulty, so a source can be deterministic per (env, episode) whatever the batch does.
 
-A source whose levels depend on nothing but the env index and the episode seed (not on the
-difficulty, nor on any state of its own) says so with ``prepare_ahead = True``: the env then
-prepares the next episodes of many envs at once, ahead of their resets
-(``gvgai_pcg.envs.ready_episodes``).
+A source whose levels depend on nothing but the env index and the episode seed (nor on any
+state of its own) says so with ``prepare_ahead = True``: the env then prepares the next episodes
+of many envs at once, ahead of their resets (``gvgai_pcg.envs.ready_episodes``). One whose levels
+also depend on the difficulty adds ``depends_on_difficulty = True``: its episodes are prepared at
+each env's difficulty and used only at that difficulty.
 """
 
 from __future__ import annotations
@@ -129,6 +130,8 @@ class GeneratedLevels:
     """
 
     levels_recur = False  # a level comes back once in 2**31 episodes: compiling it is the cheaper way
+    prepare_ahead = True  # a function of the env index, the episode seed...
+    depends_on_difficulty = True  # ...and the difficulty
 
     def __init__(self, game: str, generator: str | None = None) -> None:
         self.game, self.generator = game, _checked_generator(game, generator)

@@ -1,18 +1,20 @@
 """Next episodes prepared ahead, in bulk, for level sources that allow it.
 
 A partial reset of a few envs costs the reset tick of a small batch: a few hundred small ops
-whatever the number of envs (on the CPU, a sizeable part of a B = 4096 step). When the next
-levels of every env are known in advance (its source does not look at anything that changes
-during training, ``prepare_ahead`` on the source), the env instead prepares the next ``depth``
-episodes of every env whose episodes are not ready, all in one batch, and a reset takes its envs'
-rows from here. Each row is exactly what the reset would have computed (same level, episode seed
-and reset tick), so the results do not change; only the reset tick's cost is shared by many
-resets. One episode ahead is not enough where episodes are short: in Frogs under random play an
-env often ends its next episode within a few steps, and with one episode ahead nearly every step
-prepared the one or two envs it had just used (a whole reset tick, and a store, for each). The
-price is ``depth`` more game states per env and, where the env keeps them (observations of a few
-tens of MB at most), as many observations: drawing a reset's one or two envs costs a render's ~50
-small ops (0.2-0.3 ms, a quarter of a step of 64 Zelda envs), where taking its rows costs one.
+whatever the number of envs (on the CPU, a sizeable part of a B = 4096 step). When the next levels
+of every env are known in advance (its source does not look at anything that changes during
+training, ``prepare_ahead`` on the source), the env instead prepares the next ``depth`` episodes of
+every env whose episodes are not ready, all in one batch, and a reset takes its envs' rows from
+here. A source whose levels also depend on the difficulty (generated levels) is prepared at each
+env's difficulty of the moment, and a row counts only for that difficulty. Each row is exactly what
+the reset would have computed (same level, episode seed and reset tick), so the results do not
+change; only the reset tick's cost is shared by many resets. One episode ahead is not enough where
+episodes are short: in Frogs under random play an env often ends its next episode within a few
+steps, and with one episode ahead nearly every step prepared the one or two envs it had just used
+(a whole reset tick, and a store, for each). The price is ``depth`` more game states per env and,
+where the env keeps them (observations of a few tens of MB at most), as many observations: drawing
+a reset's one or two envs costs a render's ~50 small ops (0.2-0.3 ms, a quarter of a step of 64
+Zelda envs), where taking its rows costs one.
 """
 
 from __future__ import annotations
@@ -40,26 +42,40 @@ class ReadyEpisodes:
         self.observations: torch.Tensor | None = None
         self.levels: list[Level | None] = [None] * (depth * num_envs)
         # The episode number each row was prepared for (-1: none); a row counts only while it
-        # holds the episode asked for.
+        # holds the episode asked for (and, where difficulties are given, at the difficulty asked).
         self.episode = torch.full((depth * num_envs,), -1, dtype=torch.int64)
+        self.difficulty = torch.full((depth * num_envs,), float("nan"), dtype=torch.float64)
 
     def rows(self, envs: torch.Tensor, episodes: torch.Tensor) -> torch.Tensor:
         """The rows (CPU) of episodes ``episodes`` of envs ``envs``."""
         return episodes % self.depth * self.num_envs + envs
 
-    def ready(self, envs: torch.Tensor, episodes: torch.Tensor) -> bool:
-        """Whether episode ``episodes[k]`` of env ``envs[k]`` is prepared, for every ``k``."""
-        return bool((self.episode[self.rows(envs, episodes)] == episodes).all())
+    def ready(
+        self, envs: torch.Tensor, episodes: torch.Tensor, difficulties: torch.Tensor | None = None
+    ) -> bool:
+        """Whether episode ``episodes[k]`` of env ``envs[k]`` is prepared, for every ``k`` (and at
+        ``difficulties[envs[k]]``, where every env's difficulty is given)."""
+        rows = self.rows(envs, episodes)
+        prepared = self.episode[rows] == episodes
+        if difficulties is not None:
+            prepared &= self.difficulty[rows] == difficulties[envs]
+        return bool(prepared.all())
 
-    def missing(self, next_episode: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
+    def missing(
+        self, next_episode: torch.Tensor, difficulties: torch.Tensor | None = None
+    ) -> tuple[torch.Tensor, torch.Tensor]:
         """The envs and episode numbers (CPU, in row order) of the episodes not prepared among
-        every env's next ``depth`` (env ``i``'s from ``next_episode[i]`` on)."""
+        every env's next ``depth`` (env ``i``'s from ``next_episode[i]`` on; at difficulty
+        ``difficulties[i]``, where given)."""
         envs = torch.arange(self.num_envs).repeat(self.depth)
         slot = torch.arange(self.depth).repeat_interleave(self.num_envs)
         # Row (slot, i) holds the first of env i's next depth episodes that is slot mod depth.
         base = next_episode.repeat(self.depth)
         episodes = base + (slot - base) % self.depth
-        missing = (self.episode != episodes).nonzero().flatten()
+        missing = self.episode != episodes
+        if difficulties is not None:
+            missing |= self.difficulty != difficulties[envs]
+        missing = missing.nonzero().flatten()
         return envs[missing], episodes[missing]
 
     def store(
@@ -70,10 +86,11 @@ class ReadyEpisodes:
         levels: list[Level],
         observations: torch.Tensor | None = None,
         round_up: bool = False,
+        difficulties: torch.Tensor | None = None,
     ) -> None:
         """Keep ``states`` (after their reset tick) and, if kept, their ``observations`` as
-        episodes ``episodes`` of envs ``envs``; entity tables grow as ``merge_states``'s
-        ``round_up`` says."""
+        episodes ``episodes`` of envs ``envs`` (prepared at ``difficulties``, one per row, where
+        the levels depend on it); entity tables grow as ``merge_states``'s ``round_up`` says."""
         if self.keeps_observations and observations is None:
             raise ValueError("this store keeps observations, and none were given")
         rows = self.rows(envs, episodes)
@@ -91,6 +108,7 @@ class ReadyEpisodes:
         for row, level in zip(rows.tolist(), levels, strict=True):
             self.levels[row] = level
         self.episode[rows] = episodes
+        self.difficulty[rows] = float("nan") if difficulties is None else difficulties.to(torch.float64)
 
     def take_into(
         self, state: TensorDict, envs: torch.Tensor, episodes: torch.Tensor, round_up: bool = False
@@ -120,3 +138,4 @@ class ReadyEpisodes:
     def clear(self) -> None:
         """Forget every prepared episode (the env seeds changed)."""
         self.episode.fill_(-1)
+        self.difficulty.fill_(float("nan"))

@@ -136,9 +136,65 @@ def test_a_new_seed_drops_the_prepared_episodes():
         assert (got["root"] == want["root"]).all()
 
 
-def test_sources_that_read_the_difficulty_are_not_prepared_ahead():
-    assert GVGAIEnv("zelda", num_envs=2, levels=GeneratedLevels("zelda"))._ready is None
+def test_sources_that_keep_state_of_their_own_are_not_prepared_ahead():
+    class Counting:  # the levels of a source with state depend on when it is asked
+        game = "zelda"
+
+        def next_levels(self, env_indices, episode_seeds, difficulties):
+            return [human_levels("zelda")[0]] * len(env_indices)
+
+    assert GVGAIEnv("zelda", num_envs=2, levels=Counting())._ready is None
     assert GVGAIEnv("zelda", num_envs=2, levels=list(human_levels("zelda")[:2]))._ready is not None
+    generated = GVGAIEnv("zelda", num_envs=2, levels=GeneratedLevels("zelda"))
+    assert generated._ready is not None and generated._ready_by_difficulty
+
+
+def ppcg_env(game: str, num_envs: int, alpha: float, **kwargs):
+    """A generated-level env whose difficulty a DifficultyTransform moves (PPCG) or holds (alpha 0)."""
+    from torchrl.envs import TransformedEnv
+
+    from gvgai_pcg.envs.difficulty import DifficultyTransform
+
+    base = GVGAIEnv(game, num_envs=num_envs, levels=GeneratedLevels(game), seed=11, max_steps=40, **kwargs)
+    return TransformedEnv(base, DifficultyTransform("progressive", alpha=alpha, win_rule="study", game=game))
+
+
+@pytest.mark.parametrize(("game", "alpha"), [("frogs", 0.0), ("solarfox", 0.0), ("frogs", 0.05)])
+def test_generated_episodes_prepared_at_their_difficulty_give_the_same_trajectories(game, alpha):
+    """At a difficulty that holds (PCG X, PPCG at 0) generated episodes are prepared ahead in
+    bulk; where it moves (here PPCG with alpha 0.05 and the study's win rule, under which a
+    timeout raises it) each prepared episode counts only at its own difficulty. Either way the
+    trajectories, levels and difficulties are those of an env that prepares nothing ahead."""
+    ahead, plain = ppcg_env(game, 16, alpha), ppcg_env(game, 16, alpha)
+    plain.base_env._ready = None
+    ahead_sizes, plain_sizes = count_prepared(ahead.base_env), count_prepared(plain.base_env)
+    got_all, want_all = rollout(ahead, 120), rollout(plain, 120)
+    for got, want in zip(got_all, want_all, strict=True):
+        assert (got["next"] == want["next"]).all() and (got["root"] == want["root"]).all()
+        assert got["levels"] == want["levels"]
+    moved = {float(d) for out in want_all for d in out["root"].get("difficulty").flatten()}
+    if alpha == 0.0:
+        assert moved == {0.0}
+        assert len(ahead_sizes) < len(plain_sizes) / 1.5  # bulk preparation...
+    else:
+        assert len(moved) > 3  # the difficulty moved...
+        assert max(ahead_sizes[1:]) <= 16  # ...and while it moves, nothing is prepared in bulk
+
+
+def test_a_prepared_episode_counts_only_at_its_difficulty():
+    from gvgai_pcg.envs.ready_episodes import ReadyEpisodes
+
+    ready = ReadyEpisodes(2, depth=1)
+    env = GVGAIEnv("zelda", num_envs=2, levels=GeneratedLevels("zelda"), seed=0)
+    envs, episodes = ready.missing(torch.tensor([0, 0]), torch.tensor([0.25, 0.25], dtype=torch.float64))
+    states, levels, _ = env._prepare(envs, observe=False, episodes=episodes)
+    ready.store(envs, episodes, states, levels, difficulties=torch.tensor([0.25, 0.25]))
+    at = torch.tensor([0.25, 0.5], dtype=torch.float64)
+    assert ready.ready(torch.tensor([0]), torch.tensor([0]), at)
+    assert not ready.ready(torch.tensor([1]), torch.tensor([0]), at)  # env 1 is at 0.5 now
+    assert ready.ready(torch.tensor([1]), torch.tensor([0]))  # a source without difficulties
+    envs, episodes = ready.missing(torch.tensor([0, 0]), at)
+    assert envs.tolist() == [1] and episodes.tolist() == [0]
 
 
 def test_episodes_prepared_ahead_tick_in_the_steps_graph(monkeypatch):
