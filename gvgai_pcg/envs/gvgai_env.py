@@ -257,6 +257,8 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
             if not taken and self._difficulty_holds(difficulties):
                 # prepare every missing episode in one batch
                 envs, ahead = self._ready.missing(self._episodes, difficulties)
+                if difficulties is not None:
+                    envs, ahead = self._bounded_bulk(index, envs, ahead)
                 states, levels, observed = self._prepare(envs, self._ready.keeps_observations, ahead)
                 self._ready.store(
                     envs,
@@ -289,6 +291,19 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         self._steps[rows] = 0
         self._level_seeds[index] = torch.tensor([lv.seed if lv.seed is not None else -1 for lv in levels])
         return observed
+
+    def _bounded_bulk(
+        self, index: torch.Tensor, envs: torch.Tensor, episodes: torch.Tensor
+    ) -> tuple[torch.Tensor, torch.Tensor]:
+        """The missing episodes ``envs, episodes`` to prepare in one bulk of generated levels: the
+        resetting envs' own and at most ``READY_ROWS`` others. Each costs a generated level (up to
+        about 1 ms in Boulderdash), and the whole bulk is lost when the difficulty moves before
+        it is used: unbounded, 4,096 envs would prepare 4,096 levels at once."""
+        own = torch.isin(envs, index) & (episodes == self._episodes[envs])
+        others = (~own).nonzero().flatten()[:READY_ROWS]
+        keep = own.clone()
+        keep[others] = True
+        return envs[keep], episodes[keep]
 
     def _difficulty_holds(self, difficulties: torch.Tensor | None) -> bool:
         """Whether episodes prepared ahead at these difficulties (every env's, or None where the

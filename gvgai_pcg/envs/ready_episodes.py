@@ -22,7 +22,7 @@ from __future__ import annotations
 import torch
 from tensordict import TensorDict
 
-from gvgai_pcg.engine.rows import copy_tensor_rows_
+from gvgai_pcg.engine.rows import copy_tensor_rows_, select_rows
 from gvgai_pcg.envs.states import bucket_entity_tables, merge_states
 from gvgai_pcg.games.base import entity_capacities, pad_entity_tables
 from gvgai_pcg.levels import Level
@@ -94,9 +94,13 @@ class ReadyEpisodes:
         if self.keeps_observations and observations is None:
             raise ValueError("this store keeps observations, and none were given")
         rows = self.rows(envs, episodes)
+        if self.state is None and not torch.equal(rows, torch.arange(len(self.episode))):
+            # A first store of some rows (a bounded bulk): every row starts as a copy of the
+            # first one given, never taken (its episode is -1), and the given rows go in below.
+            filler = torch.zeros(len(self.episode), dtype=torch.int64, device=states.device)
+            self.state = select_rows(bucket_entity_tables(states) if round_up else states, filler)
+            self.observations = observations.index_select(0, filler) if self.keeps_observations else None
         if self.state is None:
-            if not torch.equal(rows, torch.arange(len(self.episode))):
-                raise ValueError("the first episodes prepared must fill every row, in order")
             self.state = bucket_entity_tables(states) if round_up else states
             # Rows are later copied into it in place, so it must be ours alone.
             self.observations = observations.clone() if self.keeps_observations else None

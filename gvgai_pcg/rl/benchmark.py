@@ -255,7 +255,10 @@ def benchmark(cfg: DictConfig) -> dict[str, float]:
         "reused_limit_fps": frames / reused.wall,
         "reused_limit_cpu_fps": frames / reused.cpu,
         "frames_per_batch": frames,
-        "keeps_acting_graph": float(keeps_acting_graph(int(cfg.env.num_envs))),
+        # a collector's rollouts carry no graph, whatever the batch
+        "keeps_acting_graph": float(
+            keeps_acting_graph(int(cfg.env.num_envs)) and int(cfg.collector.workers) == 1
+        ),
         "load": os.getloadavg()[0],
     }
     numbers["ratio"] = numbers["end_to_end_fps"] / numbers["limit_fps"]

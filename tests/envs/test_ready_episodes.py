@@ -185,7 +185,7 @@ def test_a_prepared_episode_counts_only_at_its_difficulty():
     from gvgai_pcg.envs.ready_episodes import ReadyEpisodes
 
     ready = ReadyEpisodes(2, depth=1)
-    env = GVGAIEnv("zelda", num_envs=2, levels=GeneratedLevels("zelda"), seed=0)
+    env = GVGAIEnv("zelda", num_envs=2, levels=GeneratedLevels("zelda"), seed=0, difficulty=0.25)
     envs, episodes = ready.missing(torch.tensor([0, 0]), torch.tensor([0.25, 0.25], dtype=torch.float64))
     states, levels, _ = env._prepare(envs, observe=False, episodes=episodes)
     ready.store(envs, episodes, states, levels, difficulties=torch.tensor([0.25, 0.25]))
@@ -213,3 +213,57 @@ def test_episodes_prepared_ahead_tick_in_the_steps_graph(monkeypatch):
     rollout(env, 60)
     assert max(sizes[1:]) > 256  # prepared ahead, more than the step's graph draws in a step...
     assert not alone  # ...in that same graph
+
+
+def test_episodes_prepared_before_the_difficulty_moved_are_not_played_after_it():
+    """A bulk prepared while the difficulty held at 0 is stale once it moves to 0.5: every reset
+    after that plays a level of 0.5, as an env that prepares nothing ahead does."""
+    ahead, plain = ppcg_env("frogs", 16, 0.0), ppcg_env("frogs", 16, 0.0)
+    plain.base_env._ready = None
+    stored = []
+    store = ahead.base_env._ready.store
+    ahead.base_env._ready.store = lambda *args, **kwargs: (
+        stored.append(len(args[0])) or store(*args, **kwargs)
+    )
+
+    def play(env):
+        generator = torch.Generator().manual_seed(0)
+        td, outputs = env.reset(), []
+        for step in range(80):
+            if step == 40:
+                env.transform.shared_difficulty[0] = 0.5
+            action = torch.randint(0, env.game.num_actions, (env.num_envs,), generator=generator)
+            stepped, td = env.step_and_maybe_reset(td.set("action", action))
+            outputs.append((stepped.get("next").exclude("action").clone(), td.exclude("action").clone()))
+        return outputs, env.current_levels
+
+    (got, got_levels), (want, want_levels) = play(ahead), play(plain)
+    assert stored and max(stored) > 16  # a bulk ran while d held at 0...
+    for (got_next, got_root), (want_next, want_root) in zip(got, want, strict=True):
+        assert (got_next == want_next).all() and (got_root == want_root).all()
+    assert got_levels == want_levels
+    difficulties = want[-1][1].get("difficulty").flatten().tolist()
+    assert 0.5 in difficulties  # ...and later resets ran at the new difficulty
+
+
+def test_a_bulk_of_generated_levels_is_bounded(monkeypatch):
+    """At most READY_ROWS episodes besides the resetting envs' own are generated in one bulk (a
+    bulk is lost when the difficulty moves), and a first bulk smaller than the store works."""
+    monkeypatch.setattr(gvgai_env, "READY_ROWS", 4)
+    ahead, plain = ppcg_env("frogs", 16, 0.0), ppcg_env("frogs", 16, 0.0)
+    plain.base_env._ready = None
+    assert ahead.base_env._ready.depth == 1
+    bulks = []  # (resetting envs, episodes missing, episodes prepared)
+    bound = ahead.base_env._bounded_bulk
+
+    def bounded(index, envs, episodes):
+        kept = bound(index, envs, episodes)
+        bulks.append((len(index), len(envs), len(kept[0])))
+        return kept
+
+    ahead.base_env._bounded_bulk = bounded
+    for got, want in zip(rollout(ahead, 80), rollout(plain, 80), strict=True):
+        assert (got["next"] == want["next"]).all() and (got["root"] == want["root"]).all()
+        assert got["levels"] == want["levels"]
+    assert len(bulks) > 1 and all(prepared <= own + 4 for own, _, prepared in bulks)
+    assert bulks[0][1] == 16 and bulks[0][2] < 16  # the first bulk was cut, below the store's rows
