@@ -251,31 +251,16 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         partial = self._state is not None and len(index) < self.num_envs
         rows = index.to(self.device)
         difficulties = self._difficulty.to("cpu", copy=True) if self._ready_by_difficulty else None
-        if partial and self._ready is not None and len(index) <= PREPARED_RESETS_MAX:
-            episodes = self._episodes[index]
-            taken = self._ready.ready(index, episodes, difficulties)
-            if not taken and self._difficulty_holds(difficulties):
-                # prepare every missing episode in one batch
-                envs, ahead = self._ready.missing(self._episodes, difficulties)
-                if difficulties is not None:
-                    envs, ahead = self._bounded_bulk(index, envs, ahead)
-                states, levels, observed = self._prepare(envs, self._ready.keeps_observations, ahead)
-                self._ready.store(
-                    envs,
-                    ahead,
-                    states,
-                    levels,
-                    observed,
-                    round_up=self.game.compiles,
-                    difficulties=None if difficulties is None else difficulties[envs],
-                )
-                taken = True
-        else:
-            taken = False
+        taken = (
+            partial
+            and self._ready is not None
+            and len(index) <= PREPARED_RESETS_MAX
+            and self._episodes_ready(index, difficulties)
+        )
         self._last_difficulties = difficulties
         if taken:
             self._state, levels, observed = self._ready.take_into(
-                self._state, index, episodes, self.game.compiles
+                self._state, index, self._episodes[index], self.game.compiles
             )
             if observed is None:
                 observed = self._render(select_rows(self._state, rows))
@@ -291,6 +276,24 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         self._steps[rows] = 0
         self._level_seeds[index] = torch.tensor([lv.seed if lv.seed is not None else -1 for lv in levels])
         return observed
+
+    def _episodes_ready(self, index: torch.Tensor, difficulties: torch.Tensor | None) -> bool:
+        """Whether the next episodes of envs ``index`` are prepared (at ``difficulties``, where
+        the levels depend on them), after preparing every missing one in one batch where the
+        difficulty holds (``_difficulty_holds``)."""
+        if self._ready.ready(index, self._episodes[index], difficulties):
+            return True
+        if not self._difficulty_holds(difficulties):
+            return False
+        envs, ahead = self._ready.missing(self._episodes, difficulties)
+        if difficulties is not None:
+            envs, ahead = self._bounded_bulk(index, envs, ahead)
+        states, levels, observed = self._prepare(envs, self._ready.keeps_observations, ahead)
+        prepared_at = None if difficulties is None else difficulties[envs]
+        self._ready.store(
+            envs, ahead, states, levels, observed, round_up=self.game.compiles, difficulties=prepared_at
+        )
+        return True
 
     def _bounded_bulk(
         self, index: torch.Tensor, envs: torch.Tensor, episodes: torch.Tensor
