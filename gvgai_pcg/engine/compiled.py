@@ -40,6 +40,17 @@ INDUCTOR_OPTIONS = {"cpp.simdlen": 0}
 MIN_COMPILED_BATCH = 2
 # Every entity-table width a batch can reach recompiles once; these are few (powers of two).
 RECOMPILE_LIMIT = 32
+# Inductor makes a loop parallel only where its size hint gives each thread at least
+# ``cpp.min_chunk_size`` (512) iterations, and the hint is the size of the first trace: every
+# later batch size reuses that graph. A tick first traced at 64 envs ran its loops over the envs
+# on one thread at 4,096 too: Zelda, 2 threads, 1,831 us a tick at 4,096 and 592 at 1,024, against
+# 1,071 and 414 for a graph first traced at 4,096. So from this many envs a thread the tick runs a
+# graph of its own, first traced at such a batch (``CompiledTick.large_batch``).
+LARGE_BATCH_PER_THREAD = 512
+# Options of that graph: it has to differ from the small batches' graph in something inductor's
+# on-disk cache hashes, since the cache's key leaves out size hints and would hand either graph's
+# code to the other. A smaller minimum chunk changes no loop at the batches it runs.
+LARGE_BATCH_OPTIONS = {**INDUCTOR_OPTIONS, "cpp.min_chunk_size": LARGE_BATCH_PER_THREAD // 2}
 
 # What compiling raises (an error inside a compiled tick is not among them and propagates).
 COMPILE_ERRORS = (torch._dynamo.exc.TorchDynamoException, torch._dynamo.exc.FailOnRecompileLimitHit)
@@ -90,6 +101,9 @@ class CompiledTick:
         self._compiled = torch.compile(
             type(game).tick, fullgraph=True, dynamic=True, options=INDUCTOR_OPTIONS
         )
+        self._compiled_large = torch.compile(
+            type(game).tick, fullgraph=True, dynamic=True, options=LARGE_BATCH_OPTIONS
+        )
         # Why compiling failed, per device type: a device where it failed ticks eagerly from then
         # on; the others still compile (a CUDA compiler error leaves the CPU tick compiled).
         self.failures: dict[str, str] = {}
@@ -105,6 +119,12 @@ class CompiledTick:
         """Why compiling failed on some device (None where it never did)."""
         return next(iter(self.failures.values()), None)
 
+    def large_batch(self, batch: int) -> bool:
+        """Whether a batch of ``batch`` envs ticks through the graph for large batches (see
+        ``LARGE_BATCH_PER_THREAD``); with one thread no loop is parallel and one graph serves all."""
+        threads = torch.get_num_threads()
+        return self.game.parallel_graph and threads > 1 and batch >= LARGE_BATCH_PER_THREAD * threads
+
     def _host_arguments(self, state: TensorDict, action: torch.Tensor) -> tuple[dict | None, bool]:
         """The host arguments of the next tick of ``state`` (None where it is not worked out) and
         whether the tick may run compiled."""
@@ -114,7 +134,7 @@ class CompiledTick:
             device in self.game.compiled_devices
             and device not in self.failures
             and MIN_COMPILED_BATCH <= batch
-            and (largest is None or batch <= largest)
+            and (largest is None or batch <= largest or self.large_batch(batch))
         ):
             return None, False
         _configured_thread()
@@ -141,8 +161,9 @@ class CompiledTick:
         elif not compiled:
             self.game.tick(state, action, **arguments)
         else:
+            compiled_tick = self._compiled_large if self.large_batch(len(action)) else self._compiled
             try:
-                self._compiled(self.game, state, action, **arguments)
+                compiled_tick(self.game, state, action, **arguments)
             except COMPILE_ERRORS as error:  # raised while compiling, before the tick ran
                 self._compile_failed(self.failures, "tick", action.device.type, error)
                 self.game.tick(state, action, **arguments)

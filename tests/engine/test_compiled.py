@@ -9,7 +9,7 @@ import warnings
 import pytest
 import torch
 
-from gvgai_pcg.engine.compiled import COMPILE_VARIABLE, CompiledTick, engine_tick
+from gvgai_pcg.engine.compiled import COMPILE_VARIABLE, LARGE_BATCH_PER_THREAD, CompiledTick, engine_tick
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.games import get_game, registered_games
 from gvgai_pcg.generators import get_generator
@@ -276,3 +276,56 @@ def test_a_render_that_fails_to_compile_is_drawn_eagerly_for_its_game_alone(monk
     cpu = torch.device("cpu")
     assert not COMPILED_RENDER.applies(walk, 4, cpu)
     assert COMPILED_RENDER.applies(get_game("zelda"), 4, cpu)
+
+
+def test_a_large_batch_on_several_threads_ticks_through_a_graph_of_its_own(monkeypatch):
+    # Inductor decides which loops run in parallel from the batch size of a graph's first trace;
+    # a large batch gets its own graph so that one first traced small never serves it.
+    threads = torch.get_num_threads()
+    torch.set_num_threads(2)
+    try:
+        large = LARGE_BATCH_PER_THREAD * 2
+        game = get_game("zelda")
+        tick = CompiledTick(game)
+        assert tick.large_batch(large) and not tick.large_batch(large - 1)
+        assert not CompiledTick(get_game("boulderdash")).large_batch(large * 4)  # see parallel_graph
+        torch.set_num_threads(1)
+        assert not tick.large_batch(large * 8)  # one thread: no loop is parallel anyway
+        torch.set_num_threads(2)
+        levels = [human_levels("zelda")[i % 5] for i in range(large)]
+        seeds = torch.arange(large) * 7919
+        eager, compiled = (game.compile(levels, seeds, torch.device("cpu")) for _ in range(2))
+        tick(game.compile(levels[:8], seeds[:8], torch.device("cpu")), torch.zeros(8, dtype=torch.int64))
+        monkeypatch.setattr(
+            tick, "_compiled", lambda *args, **kwargs: pytest.fail("ticked by the small graph")
+        )
+        generator = torch.Generator().manual_seed(0)
+        for step in range(20):
+            action = torch.randint(0, game.num_actions, (large,), generator=generator)
+            game.tick(eager, action)
+            tick(compiled, action)
+            for key in eager.keys(True, True):
+                assert torch.equal(eager.get(key), compiled.get(key)), f"{key} differs at tick {step}"
+        assert tick.failed is None
+    finally:
+        torch.set_num_threads(threads)
+
+
+def test_a_batch_above_the_largest_compiled_runs_compiled_where_the_parallel_graph_serves_it(monkeypatch):
+    import gvgai_pcg.engine.compiled as compiled_module
+
+    monkeypatch.setattr(compiled_module, "LARGE_BATCH_PER_THREAD", 4)
+    game = get_game("solarfox")
+    monkeypatch.setattr(game, "max_compiled_batch", 4)
+    levels = [human_levels("solarfox")[i % 5] for i in range(16)]
+    state = game.compile(levels, torch.arange(16), torch.device("cpu"))
+    action = torch.zeros(16, dtype=torch.int64)
+    tick = CompiledTick(game)
+    threads = torch.get_num_threads()
+    try:
+        torch.set_num_threads(2)
+        assert tick._host_arguments(state, action)[1]  # 16 envs, 8 a thread: the parallel graph
+        torch.set_num_threads(1)
+        assert not tick._host_arguments(state, action)[1]  # past the largest, and no parallel graph
+    finally:
+        torch.set_num_threads(threads)
