@@ -134,7 +134,7 @@ class CompiledTick:
             device in self.game.compiled_devices
             and device not in self.failures
             and MIN_COMPILED_BATCH <= batch
-            and (largest is None or batch <= largest or self.large_batch(batch))
+            and (largest is None or batch <= largest)
         ):
             return None, False
         _configured_thread()

@@ -101,9 +101,7 @@ class Game(ABC):
     # Bool host arguments (see ``host_arguments``) whose graph the compiler gets wrong: a tick
     # where one is true runs eagerly. Each says why where it is set; a test holds it to eager.
     eager_when: ClassVar[tuple[str, ...]] = ()
-    # The largest batch whose tick runs compiled, where a compiled tick stops paying above it. A
-    # batch large enough for the graph of parallel loops (``CompiledTick.large_batch``, several
-    # threads) runs compiled whatever its size, where the game allows that graph.
+    # The largest batch whose tick runs compiled, where a compiled tick stops paying above it.
     max_compiled_batch: ClassVar[int | None] = None
     # Whether a large batch on several threads may tick through a graph with its loops over the
     # envs in parallel (``gvgai_pcg.engine.compiled.LARGE_BATCH_PER_THREAD``). Each game that

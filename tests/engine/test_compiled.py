@@ -309,23 +309,3 @@ def test_a_large_batch_on_several_threads_ticks_through_a_graph_of_its_own(monke
         assert tick.failed is None
     finally:
         torch.set_num_threads(threads)
-
-
-def test_a_batch_above_the_largest_compiled_runs_compiled_where_the_parallel_graph_serves_it(monkeypatch):
-    import gvgai_pcg.engine.compiled as compiled_module
-
-    monkeypatch.setattr(compiled_module, "LARGE_BATCH_PER_THREAD", 4)
-    game = get_game("solarfox")
-    monkeypatch.setattr(game, "max_compiled_batch", 4)
-    levels = [human_levels("solarfox")[i % 5] for i in range(16)]
-    state = game.compile(levels, torch.arange(16), torch.device("cpu"))
-    action = torch.zeros(16, dtype=torch.int64)
-    tick = CompiledTick(game)
-    threads = torch.get_num_threads()
-    try:
-        torch.set_num_threads(2)
-        assert tick._host_arguments(state, action)[1]  # 16 envs, 8 a thread: the parallel graph
-        torch.set_num_threads(1)
-        assert not tick._host_arguments(state, action)[1]  # past the largest, and no parallel graph
-    finally:
-        torch.set_num_threads(threads)

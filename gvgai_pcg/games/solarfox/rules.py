@@ -138,9 +138,8 @@ def _window_rows(x: torch.Tensor, y: torch.Tensor, height: int, width: int) -> t
 @register_game("solarfox")
 class Solarfox(Game):
     compiles = True
-    # Above this its compiled tick stops paying on one thread: the env stepped 0.98x as fast at
-    # B = 2,048 and 0.84x at 4,096 (docs/benchmarks.md, 2026-11-26). On several threads a batch
-    # that large ticks through the graph of parallel loops, which pays (1.06-1.15x at 4,096 on 2).
+    # Above this its compiled tick stops paying: the env stepped 1.08x as fast at B = 2,048 and
+    # 1.02x at 4,096 on 2 threads, 0.98x and 0.84x on one (docs/benchmarks.md, 2026-11-26).
     max_compiled_batch = 2048
     actions = MOVE_ACTIONS
     tile_types = (
