@@ -8,8 +8,9 @@ about 1-2 ms whatever the batch. ``torch.compile`` fuses a tick that traces as o
 tables of a handful of slots and was 3-5x slower than eager at B = 1024-4096, where the scalar
 code is 2-3x faster (docs/benchmarks.md, "The compiled tick").
 
-Shapes are dynamic, so one compilation serves every batch size and level size; a different
-entity-table width can still recompile (the ordered stepBack loops over its slots), which is why
+Shapes are dynamic, so one compilation serves every batch size and level size (on several threads
+large batches get a graph of their own: ``LARGE_BATCH_PER_THREAD``); a different entity-table width
+can still recompile (the ordered stepBack loops over its slots), which is why
 a running state grows its tables to a power of two (``gvgai_pcg.envs.states``). Compiling needs a
 C++ compiler on the CPU (Triton on CUDA); where it fails the engine warns once and runs the
 eager tick, which computes the same. ``GVGAI_PCG_COMPILE=0`` turns compiling off. What a tick
@@ -119,11 +120,17 @@ class CompiledTick:
         """Why compiling failed on some device (None where it never did)."""
         return next(iter(self.failures.values()), None)
 
-    def large_batch(self, batch: int) -> bool:
+    def large_batch(self, batch: int, device: torch.device | str = "cpu") -> bool:
         """Whether a batch of ``batch`` envs ticks through the graph for large batches (see
-        ``LARGE_BATCH_PER_THREAD``); with one thread no loop is parallel and one graph serves all."""
+        ``LARGE_BATCH_PER_THREAD``); with one thread no loop is parallel and one graph serves all.
+        The CPU only: CUDA's kernels are not split over threads this way (and not measured)."""
         threads = torch.get_num_threads()
-        return self.game.parallel_graph and threads > 1 and batch >= LARGE_BATCH_PER_THREAD * threads
+        return (
+            torch.device(device).type == "cpu"
+            and self.game.parallel_graph
+            and threads > 1
+            and batch >= LARGE_BATCH_PER_THREAD * threads
+        )
 
     def _host_arguments(self, state: TensorDict, action: torch.Tensor) -> tuple[dict | None, bool]:
         """The host arguments of the next tick of ``state`` (None where it is not worked out) and
@@ -161,7 +168,9 @@ class CompiledTick:
         elif not compiled:
             self.game.tick(state, action, **arguments)
         else:
-            compiled_tick = self._compiled_large if self.large_batch(len(action)) else self._compiled
+            compiled_tick = (
+                self._compiled_large if self.large_batch(len(action), action.device) else self._compiled
+            )
             try:
                 compiled_tick(self.game, state, action, **arguments)
             except COMPILE_ERRORS as error:  # raised while compiling, before the tick ran

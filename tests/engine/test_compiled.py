@@ -288,6 +288,7 @@ def test_a_large_batch_on_several_threads_ticks_through_a_graph_of_its_own(monke
         game = get_game("zelda")
         tick = CompiledTick(game)
         assert tick.large_batch(large) and not tick.large_batch(large - 1)
+        assert not tick.large_batch(large, "cuda")  # CUDA keeps one graph
         assert not CompiledTick(get_game("boulderdash")).large_batch(large * 4)  # see parallel_graph
         torch.set_num_threads(1)
         assert not tick.large_batch(large * 8)  # one thread: no loop is parallel anyway
