@@ -124,12 +124,12 @@ class CompiledTick:
         """Whether a batch of ``batch`` envs ticks through the graph for large batches (see
         ``LARGE_BATCH_PER_THREAD``); with one thread no loop is parallel and one graph serves all.
         The CPU only: CUDA's kernels are not split over threads this way (and not measured)."""
-        threads = torch.get_num_threads()
+        threads = torch.get_num_threads()  # the cheap tests first: this runs at every compiled tick
         return (
-            torch.device(device).type == "cpu"
-            and self.game.parallel_graph
-            and threads > 1
+            threads > 1
             and batch >= LARGE_BATCH_PER_THREAD * threads
+            and self.game.parallel_graph
+            and torch.device(device).type == "cpu"
         )
 
     def _host_arguments(self, state: TensorDict, action: torch.Tensor) -> tuple[dict | None, bool]:

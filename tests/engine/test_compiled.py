@@ -19,6 +19,12 @@ from tests.games.toy_game import LEVEL_TEXT, Walk
 COMPILED_GAMES = [name for name in registered_games() if get_game(name).compiles]
 
 
+def assert_same_states(expected, actual, when: str = "") -> None:
+    """Every leaf of ``actual`` equals ``expected``'s (``when`` says at which tick, for a failure)."""
+    for key in expected.keys(True, True):
+        assert torch.equal(expected.get(key), actual.get(key)), f"{key} differs{when}"
+
+
 def test_the_games_that_compile():
     assert set(COMPILED_GAMES) == {"zelda", "boulderdash", "frogs", "solarfox"}
 
@@ -54,8 +60,7 @@ def test_compiled_tick_equals_eager_tick(game_name, other_branch):
         action = torch.randint(0, game.num_actions, (len(levels),), generator=generator)
         game.tick(eager, action)
         tick(compiled, action)
-        for key in eager.keys(True, True):
-            assert torch.equal(eager.get(key), compiled.get(key)), f"{key} differs at tick {step}"
+        assert_same_states(eager, compiled, f" at tick {step}")
     assert tick.failed is None
 
 
@@ -103,8 +108,7 @@ def test_a_tick_that_does_not_compile_runs_eagerly_after_a_warning():
         warnings.simplefilter("error")  # said once
         tick(compiled_state, action)
     game.tick(eager_state, action)
-    for key in eager_state.keys(True, True):
-        assert torch.equal(eager_state.get(key), compiled_state.get(key))
+    assert_same_states(eager_state, compiled_state)
 
 
 def test_a_tick_and_draw_that_does_not_compile_leaves_the_state_to_the_separate_calls():
@@ -156,8 +160,7 @@ def test_a_batch_as_wide_as_an_entity_table_ticks_as_eagerly(game_name):
         action = torch.randint(0, game.num_actions, (4,), generator=generator)
         game.tick(eager, action)
         tick(compiled, action)
-        for key in eager.keys(True, True):
-            assert torch.equal(eager.get(key), compiled.get(key)), f"{key} differs at tick {step}"
+        assert_same_states(eager, compiled, f" at tick {step}")
 
 
 def test_a_batch_above_the_games_compiled_limit_ticks_eagerly(monkeypatch):
@@ -236,8 +239,7 @@ def test_an_env_drawing_compiled_observes_what_an_eager_one_does(game_name, monk
         resets += bool(outs[0].get(("next", "done")).any())  # a reset call
         assert torch.equal(outs[0].get(("next", "tiles")), outs[1].get(("next", "tiles")))
         assert torch.equal(tds[0].get("tiles"), tds[1].get("tiles"))
-        for key in envs[0].state.keys(True, True):
-            assert torch.equal(envs[0].state.get(key), envs[1].state.get(key)), key
+        assert_same_states(envs[0].state, envs[1].state)
     # the fused call ran for every step and every reset (compiled resets tick through it too)
     resets_fused = 1 + resets if envs[0]._compiled_resets else 0  # the first reset, then each reset call
     assert len(fused) == 60 + resets_fused and all(tiles is not None for tiles in fused[:4])
@@ -305,8 +307,7 @@ def test_a_large_batch_on_several_threads_ticks_through_a_graph_of_its_own(monke
             action = torch.randint(0, game.num_actions, (large,), generator=generator)
             game.tick(eager, action)
             tick(compiled, action)
-            for key in eager.keys(True, True):
-                assert torch.equal(eager.get(key), compiled.get(key)), f"{key} differs at tick {step}"
+            assert_same_states(eager, compiled, f" at tick {step}")
         assert tick.failed is None
     finally:
         torch.set_num_threads(threads)
