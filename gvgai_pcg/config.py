@@ -295,7 +295,7 @@ SCHEMA: dict[str, Any] = {
     "threads": Integer(0),
     "env": {"num_envs": Integer(1), "obs": OneOf(("tiles", "pixels")), "max_steps": Integer(1)},
     "collector": {"workers": Integer(1)},
-    "checkpoint": {"every_frames": Integer(1)},
+    "checkpoint": {"every_frames": Integer(1), "keep_every_frames": Integer(0)},
     "log": {
         "every_episodes": Integer(1),
         "backends": ListOf(OneOf(LOG_BACKENDS), unique=True, min_items=0),

@@ -59,10 +59,10 @@ def run(args: argparse.Namespace) -> int:
     if args.jobs < 1:
         raise ValueError(f"--jobs must be at least 1, got {args.jobs}")
     out = args.out or Path("reproduce") / budget.name
-    print(
-        f"reproduce: budget {budget.name}, {len(conditions)} conditions x {len(budget.seeds)} seeds, "
-        f"{budget.frames:,} frames each, into {out}"
-    )
+    low, high = budget.frames_range
+    frames = f"{low:,} frames each" if low == high else f"{low:,}-{high:,} frames each"
+    runs = sum(len(budget.seeds_of(c)) for c in conditions)
+    print(f"reproduce: budget {budget.name}, {len(conditions)} conditions, {runs} runs, {frames}, into {out}")
     outcome = reproduce(
         budget,
         conditions,
@@ -87,6 +87,8 @@ def run(args: argparse.Namespace) -> int:
 
         images = args.page.parent / "images" / "results"
         commit = args.trained_at or code_commit()
-        write_results_page(args.page, outcome.published, images, "images/results", budget.frames, commit)
+        write_results_page(
+            args.page, outcome.published, images, "images/results", budget.frames_range[0], commit
+        )
         print(f"page: {args.page}")
     return 0

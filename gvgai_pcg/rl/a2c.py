@@ -37,6 +37,7 @@ from gvgai_pcg.rl.provenance import record_session
 from gvgai_pcg.rl.rollout import ActingRollouts
 from gvgai_pcg.rl.run_log import EpisodeTracker, RunLog
 from gvgai_pcg.rl.run_session import RunSession, open_run
+from gvgai_pcg.rl.snapshots import Snapshots
 from gvgai_pcg.rl.stop_signal import StopSignal, ignoring_stop_signals
 
 log = logging.getLogger(__name__)
@@ -161,6 +162,7 @@ def _train(cfg: DictConfig, run_dir: Path, config: dict, session: RunSession) ->
     losses_since_row: list[torch.Tensor] = []
     every = int(cfg.checkpoint.every_frames)
     next_checkpoint = (frames // every + 1) * every
+    snapshots = Snapshots(run_dir, int(cfg.checkpoint.get("keep_every_frames", 0)), frames)
     bar = progress(int(cfg.total_frames), "train", "frame", initial=frames)
     row_frames, row_time, start = frames, time.perf_counter(), time.perf_counter() - elapsed
 
@@ -224,6 +226,7 @@ def _train(cfg: DictConfig, run_dir: Path, config: dict, session: RunSession) ->
 
         if steady_start is None:
             steady_frames, steady_start, steady_cpu = frames, time.perf_counter(), time.process_time()
+        snapshots.maybe_keep(frames, net, config)  # before a checkpoint past it: a resume redoes it
         if frames >= next_checkpoint:
             checkpoint()
             next_checkpoint = (frames // every + 1) * every

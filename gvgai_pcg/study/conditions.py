@@ -41,9 +41,11 @@ class Budget:
         name: ``smoke``, ``small`` or ``paper``.
         conditions: the conditions (names of ``conf/condition`` files).
         seeds: the training seeds of every condition.
-        frames: training frames per run.
+        frames: training frames per run (of every condition ``condition_frames`` leaves out).
         overrides: Hydra overrides for every run (a preset, the env batch, checkpoints).
         protocol: the evaluation protocol's settings (``gvgai_pcg.evaluation.Protocol``).
+        condition_frames: frames of the conditions that train longer or shorter than ``frames``.
+        condition_seeds: seeds of the conditions that need more or fewer than ``seeds``.
     """
 
     name: str
@@ -52,11 +54,32 @@ class Budget:
     frames: int
     overrides: tuple[str, ...] = ()
     protocol: dict = field(default_factory=dict)
+    condition_frames: dict[str, int] = field(default_factory=dict)
+    condition_seeds: dict[str, tuple[int, ...]] = field(default_factory=dict)
+
+    def frames_of(self, condition: str) -> int:
+        return int(self.condition_frames.get(condition, self.frames))
+
+    def seeds_of(self, condition: str) -> tuple[int, ...]:
+        return tuple(self.condition_seeds.get(condition, self.seeds))
+
+    @property
+    def all_seeds(self) -> tuple[int, ...]:
+        """Every seed some condition trains, in order."""
+        return tuple(sorted({s for c in self.conditions for s in self.seeds_of(c)} | set(self.seeds)))
 
     @property
     def runs(self) -> int:
-        return len(self.conditions) * len(self.seeds)
+        return sum(len(self.seeds_of(c)) for c in self.conditions)
 
+    @property
+    def frames_range(self) -> tuple[int, int]:
+        frames = [self.frames_of(c) for c in self.conditions] or [self.frames]
+        return min(frames), max(frames)
+
+
+# The training setup of ``medium``, chosen by the pilot (docs/results.md, "The pilot").
+MEDIUM_SETUP: tuple[str, ...] = ()
 
 BUDGETS = {
     "smoke": Budget(
@@ -74,6 +97,19 @@ BUDGETS = {
     ),
     "small": Budget("small", STUDY_CONDITIONS, seeds=(0, 1, 2), frames=5_000_000),
     # The study: pixels and the Nature CNN, 12 envs, 40M frames (GENERATORS.md §3), 4 seeds.
+    # Enough training to settle the study's claims (issue 35): frames per condition from the small
+    # sweep's curves (Zelda's multi-level and generated conditions still rose at 5M: 20M), 4 seeds,
+    # 5 where the power estimate asks for them (Zelda's PCG/PPCG contrasts); a model kept every 1M
+    # frames for the test score over training; the setup the pilot chose (docs/results.md).
+    "medium": Budget(
+        "medium",
+        STUDY_CONDITIONS,
+        seeds=(0, 1, 2, 3),
+        frames=10_000_000,
+        overrides=MEDIUM_SETUP + ("checkpoint.keep_every_frames=1000000",),
+        condition_frames={c: 20_000_000 for c in ("zelda-lv0-3", "zelda-pcg0.5", "zelda-pcg1", "zelda-ppcg")},
+        condition_seeds={c: (0, 1, 2, 3, 4) for c in ("zelda-pcg0.5", "zelda-pcg1", "zelda-ppcg")},
+    ),
     "paper": Budget(
         "paper", STUDY_CONDITIONS, seeds=(0, 1, 2, 3), frames=40_000_000, overrides=("preset=paper",)
     ),

@@ -17,6 +17,7 @@ START, END = "<!-- results:start -->", "<!-- results:end -->"
 
 
 def _runs_table(published: Path, target_frames: int) -> str:
+    from gvgai_pcg.evaluation.checkpoints import read_run_config
     from gvgai_pcg.rl.provenance import session_commits
     from gvgai_pcg.rl.run_log import read_log
 
@@ -34,7 +35,8 @@ def _runs_table(published: Path, target_frames: int) -> str:
         hours = rows[-1]["time"] / 3600 if rows else 0.0
         total += hours
         score = f"{rows[-1]['mean_score']:.2f}" if rows else "-"
-        done = "yes" if frames >= target_frames else "no (resumes)"
+        target = int((read_run_config(run) or {}).get("total_frames", target_frames))
+        done = "yes" if frames >= target else "no (resumes)"
         commits = ", ".join(f"`{commit}`" for commit in session_commits(run)) or "-"
         lines.append(f"| {run.name} | {frames:,} | {done} | {hours:.2f} | {score} | {commits} |")
     count = len(lines) - 2

@@ -79,13 +79,16 @@ def sweep_arguments(
     seeds: Sequence[int] | None = None,
 ) -> list[str]:
     """The ``gvgai-pcg train -m`` arguments of one multirun over ``conditions`` x ``seeds`` (the
-    budget's by default). Seeds vary slowest, so a sweep cut short holds every condition at its
-    first seed."""
+    budget's by default), conditions of one frame budget. Seeds vary slowest, so a sweep cut short
+    holds every condition at its first seed."""
+    frames = {budget.frames_of(c) for c in conditions}
+    if len(frames) > 1:
+        raise ValueError(f"one multirun trains one frame budget; {', '.join(conditions)} have several")
     arguments = [
         "-m",
         "seed=" + ",".join(map(str, budget.seeds if seeds is None else seeds)),
         "condition=" + ",".join(conditions),
-        f"total_frames={budget.frames}",
+        f"total_frames={frames.pop() if frames else budget.frames}",
         f"out_dir={runs_dir}",
         *budget.overrides,
     ]
@@ -97,19 +100,21 @@ def sweep_arguments(
 def sweep_plan(
     budget: Budget, conditions: Sequence[str], skip: Iterable[tuple[str, int]] = ()
 ) -> list[tuple[tuple[int, ...], list[str]]]:
-    """The multiruns that train ``conditions`` x the budget's seeds less the ``(condition, seed)``
-    pairs in ``skip``, in order: seeds in turn, consecutive seeds with the same conditions in one
-    multirun (so nothing skipped is one multirun over every seed)."""
+    """The multiruns that train ``conditions`` x their seeds less the ``(condition, seed)`` pairs
+    in ``skip``, in order: seeds in turn, one multirun per frame budget of a seed (longest first),
+    consecutive seeds with the same conditions in one multirun (so nothing skipped, at one frame
+    budget, is one multirun over every seed)."""
     skip = set(skip)
     plan: list[tuple[tuple[int, ...], list[str]]] = []
-    for seed in budget.seeds:
-        left = [c for c in conditions if (c, seed) not in skip]
-        if not left:
-            continue
-        if plan and plan[-1][1] == left:
-            plan[-1] = ((*plan[-1][0], seed), left)
-        else:
-            plan.append(((seed,), left))
+    for seed in budget.all_seeds:
+        left = [c for c in conditions if seed in budget.seeds_of(c) and (c, seed) not in skip]
+        budgets = sorted({budget.frames_of(c) for c in left}, reverse=True)
+        for frames in budgets:
+            group = [c for c in left if budget.frames_of(c) == frames]
+            if len(budgets) == 1 and plan and plan[-1][1] == group:
+                plan[-1] = ((*plan[-1][0], seed), group)
+            else:
+                plan.append(((seed,), group))
     return plan
 
 
@@ -209,7 +214,7 @@ def planned_configs(budget: Budget, conditions: Sequence[str], overrides: Sequen
     configs: dict[tuple[str, int], dict[str, dict]] = {}
     with initialize_config_dir(config_dir=str(config_dir()), version_base="1.3", job_name="train"):
         for condition in conditions:
-            for seed in budget.seeds:
+            for seed in budget.seeds_of(condition):
                 arguments = sweep_arguments(budget, [condition], Path("."), None, ours, (seed,))[1:]
                 for job in sweep_jobs(arguments, multirun=True):
                     cfg = OmegaConf.to_container(compose("config", overrides=job), resolve=True)
@@ -230,10 +235,9 @@ def published_elsewhere(
         run = Path(published) / "runs" / name
         if not (run / PUBLISHED).is_file() or not run_results_path(run, protocol).is_file():
             return None
-        if published_run_info(run).frames < budget.frames:
+        if published_run_info(run).frames < int(config["total_frames"]):
             return None
-        same = _without_out_dir(read_run_config(run) or {}) == _without_out_dir(config)
-        return run.resolve() if same else None
+        return run.resolve() if _same_training(read_run_config(run) or {}, config) else None
 
     runs_there = Path(published) / "runs"
     if not runs_there.is_dir() or not any(runs_there.iterdir()):
@@ -241,14 +245,22 @@ def published_elsewhere(
     skip, runs = set(), []
     for pair, planned in planned_configs(budget, conditions, overrides).items():
         found = [finished_there(name, config) for name, config in planned.items()]
-        if all(found) and not any(_finished(out / "runs" / name, budget.frames) for name in planned):
+        frames = budget.frames_of(pair[0])
+        if all(found) and not any(_finished(out / "runs" / name, frames) for name in planned):
             skip.add(pair)
             runs += found
     return skip, runs
 
 
-def _without_out_dir(config: dict) -> dict:
-    return {key: value for key, value in config.items() if key != "out_dir"}
+def _same_training(published: dict, planned: dict) -> bool:
+    """Whether a published run's config trains exactly as ``planned`` does: the same values of
+    every key but bookkeeping (checkpoints, logs, where it was written), and keys added since
+    it was trained at their old behaviour's value (``ADDED_KEYS``)."""
+    from gvgai_pcg.rl.checkpoint import config_differences
+
+    if published.get("total_frames") != planned.get("total_frames"):
+        return False
+    return not config_differences(published, planned)
 
 
 def _finished(run: Path, frames: int) -> bool:
@@ -347,21 +359,27 @@ def reproduce(
     seconds = run_sweep(budget, conditions, out, jobs, launcher, overrides, skip) if train else 0.0
     report_dir = out / "report"
     report_dir.mkdir(parents=True, exist_ok=True)
-    here = _trained_here(out / "runs", budget.frames if finished_only else 0, {p.name for p in elsewhere})
+    here = _trained_here(out / "runs", finished_only, {p.name for p in elsewhere})
     build_report([*here, *elsewhere], report_dir, protocol, cache_dir=out / "random", progress=progress)
-    write_claims([*here, *elsewhere], out / "random", protocol, report_dir / "claims.md", budget.frames)
+    target = budget.frames_range[0]
+    write_claims([*here, *elsewhere], out / "random", protocol, report_dir / "claims.md", target)
     published = publish(out, Path(publish_to), protocol, here) if publish_to is not None else None
     return Outcome(out, out / "runs", report_dir, published, seconds)
 
 
-def _trained_here(runs_dir: Path, frames: int, leave_out: set[str]) -> list[Path]:
-    """The runs under ``runs_dir`` that have trained ``frames`` or more, but those named in
-    ``leave_out`` (their published copies are reported instead)."""
-    from gvgai_pcg.evaluation.checkpoints import find_runs
+def _trained_here(runs_dir: Path, finished_only: bool, leave_out: set[str]) -> list[Path]:
+    """The runs under ``runs_dir`` (with ``finished_only``, those that have trained their config's
+    ``total_frames``), but those named in ``leave_out`` (their published copies are reported
+    instead)."""
+    from gvgai_pcg.evaluation.checkpoints import find_runs, read_run_config
+
+    def wanted(run: Path) -> bool:
+        frames = int((read_run_config(run) or {}).get("total_frames", 0)) if finished_only else 0
+        return run.name not in leave_out and _finished(run, frames)
 
     if not runs_dir.is_dir():
         return []
-    return [run for run in find_runs([runs_dir]) if run.name not in leave_out and _finished(run, frames)]
+    return [run for run in find_runs([runs_dir]) if wanted(run)]
 
 
 def _keep(source: str, target: str) -> str:

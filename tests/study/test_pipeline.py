@@ -218,3 +218,36 @@ def test_the_smoke_budget_runs_every_condition_end_to_end(tmp_path):
     games = {row["game"] for row in rows}
     assert games == {"zelda", "solarfox", "frogs", "boulderdash"}
     assert len(find_runs([tmp_path / "published" / "runs"])) == len(STUDY_CONDITIONS)
+
+
+def test_a_budget_with_per_condition_frames_and_seeds_plans_one_multirun_per_frame_budget():
+    budget = replace(
+        BUDGETS["small"],
+        conditions=("zelda-lv0", "zelda-ppcg"),
+        seeds=(0, 1),
+        condition_frames={"zelda-ppcg": 20_000_000},
+        condition_seeds={"zelda-ppcg": (0, 1, 2)},
+    )
+    conditions = ["zelda-lv0", "zelda-ppcg"]
+    assert budget.runs == 2 + 3 and budget.frames_range == (5_000_000, 20_000_000)
+    plan = sweep_plan(budget, conditions)
+    assert plan == [
+        ((0,), ["zelda-ppcg"]),
+        ((0,), ["zelda-lv0"]),
+        ((1,), ["zelda-ppcg"]),
+        ((1,), ["zelda-lv0"]),
+        ((2,), ["zelda-ppcg"]),
+    ]
+    assert "total_frames=20000000" in sweep_arguments(budget, ["zelda-ppcg"], Path("/r"), seeds=(2,))
+    with pytest.raises(ValueError, match="one frame budget"):
+        sweep_arguments(budget, conditions, Path("/r"))
+
+
+def test_the_medium_budget_trains_what_issue_35_asks_and_keeps_models_along_the_way():
+    medium = BUDGETS["medium"]
+    assert all(medium.frames_of(c) >= 10_000_000 for c in medium.conditions)
+    for c in ("zelda-lv0-3", "zelda-pcg0.5", "zelda-pcg1", "zelda-ppcg"):
+        assert medium.frames_of(c) >= 20_000_000
+    assert all(len(medium.seeds_of(c)) >= 4 for c in medium.conditions)
+    assert all(len(medium.seeds_of(c)) >= 5 for c in ("zelda-pcg0.5", "zelda-pcg1", "zelda-ppcg"))
+    assert "checkpoint.keep_every_frames=1000000" in medium.overrides
