@@ -37,8 +37,14 @@ class RunInfo:
 
     path: Path
     config: dict = field(repr=False)
-    checkpoint: Path
+    checkpoint: Path  # the model its records name (a published run: where it was trained)
     frames: int
+    published_copy: Path | None = None  # a published run's model, copied beside its records
+
+    @property
+    def model_file(self) -> Path:
+        """The file that holds the run's weights here."""
+        return self.published_copy or self.checkpoint
 
     @property
     def game(self) -> str:
@@ -193,11 +199,14 @@ def run_info(run_dir: Path, checkpoint: Path | None = None) -> RunInfo:
 
 
 def published_run_info(run_dir: Path) -> RunInfo:
-    """A published run: its config from ``config.yaml``, its model as ``published.json`` names it."""
+    """A published run: its config from ``config.yaml``, its model as ``published.json`` names it,
+    and the copy of that model published beside it, where there is one."""
     import json
 
     from omegaconf import OmegaConf
 
     model = json.loads((run_dir / PUBLISHED).read_text())
     config = OmegaConf.to_container(OmegaConf.load(run_dir / "config.yaml"), resolve=True)
-    return RunInfo(run_dir, config, Path(model["checkpoint"]), int(model["frames"]))
+    copy = run_dir / model["copied"] if model.get("copied") else None
+    copy = copy if copy is not None and copy.is_file() else None
+    return RunInfo(run_dir, config, Path(model["checkpoint"]), int(model["frames"]), copy)

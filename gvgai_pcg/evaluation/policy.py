@@ -68,7 +68,7 @@ def load_policy(
 ) -> ActorCriticPolicy:
     """The policy of a run (``RunInfo``: its config, the checkpoint it names) or of one model or
     checkpoint file (its own saved config), on ``device``."""
-    path = Path(source) if isinstance(source, str | Path) else source.checkpoint
+    path = Path(source) if isinstance(source, str | Path) else source.model_file
     state = load_state(path)  # tensors and plain data only, finite weights
     config = state["config"] if isinstance(source, str | Path) else source.config
     game, obs, model = config["game"]["name"], config["env"]["obs"], config["model"]

@@ -34,7 +34,9 @@ from omegaconf import OmegaConf
 from gvgai_pcg.games.registry import find_game_spec
 from gvgai_pcg.study.conditions import Budget
 
-MODEL_LIMIT_BYTES = 1_000_000  # a trained model is published only below this size
+# A trained model (weights, config, frames: no optimizer) is published only below this size: the
+# compact CNN's 295k float32 weights are 1.2 MB, the Nature CNN's on pixels far more.
+MODEL_LIMIT_BYTES = 2_000_000
 WRITER_LOCKS = shutil.ignore_patterns(".lock", ".*.lock")  # the evaluator's, never published
 
 
@@ -304,9 +306,9 @@ def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = 
         if records_path is not None:
             first = read_records(records_path)[0]
             model = {"checkpoint": first.checkpoint, "frames": first.frames}
-        if model["frames"] == info.frames and info.checkpoint.stat().st_size < MODEL_LIMIT_BYTES:
-            shutil.copy2(info.checkpoint, target / info.checkpoint.name)
-            model["copied"] = info.checkpoint.name
+        if model["frames"] == info.frames and info.model_file.stat().st_size < MODEL_LIMIT_BYTES:
+            shutil.copy2(info.model_file, target / info.model_file.name)
+            model["copied"] = info.model_file.name
         (target / PUBLISHED).write_text(json.dumps(model, indent=1) + "\n")
     if (out / "report").is_dir():
         shutil.rmtree(dest / "report", ignore_errors=True)  # no figure of an earlier report stays
