@@ -24,8 +24,6 @@ from typing import Any
 
 from omegaconf import DictConfig, OmegaConf
 
-from gvgai_pcg.levels.seeds import TRAINING_SEED_SPACE  # generated training levels' seeds lie below
-
 CONFIG_NAME = "config"
 
 
@@ -39,6 +37,9 @@ def config_dir() -> Path:
     package = Path(__file__).resolve().parent
     for candidate in (package / "conf", package.parent / "conf"):
         if (candidate / f"{CONFIG_NAME}.yaml").is_file():
+            from gvgai_pcg.curricula.registry import store_configs
+
+            store_configs(candidate)  # plug-in curricula's configs join the regimen group
             return candidate
     raise FileNotFoundError(
         f"the Hydra configs are missing: looked for {CONFIG_NAME}.yaml in {package / 'conf'} (an installed "
@@ -235,48 +236,36 @@ WIN_RULES = ("game", "study")
 LOG_BACKENDS = ("csv", "tensorboard", "wandb")
 HUMAN_LEVEL = Integer(0, 4)
 DIFFICULTY = Number(0.0, 1.0)
+# The regimen section's keys are the chosen curriculum's (gvgai_pcg.curricula: Curriculum.schema).
 # win_rule is read by pcg and ppcg only; the others accept it so that preset=paper (which sets it
 # for every regimen) combines with any of them.
-REGIMENS: dict[str, dict[str, Any]] = {
-    "lv": {"name": Text(), "level": HUMAN_LEVEL, "tag": Text(), "win_rule": OneOf(WIN_RULES)},
-    "lv0-3": {
-        "name": Text(),
-        "levels": ListOf(HUMAN_LEVEL, unique=True),
-        "tag": Text(),
-        "win_rule": OneOf(WIN_RULES),
-    },
-    "human": {"name": Text(), "tag": Text(), "win_rule": OneOf(WIN_RULES)},
-    "levels": {"name": Text(), "path": LevelPaths(), "tag": Text(), "win_rule": OneOf(WIN_RULES)},
-    "pcg": {
-        "name": Text(),
-        "difficulty": DIFFICULTY,
-        "num_levels": Integer(0, TRAINING_SEED_SPACE),
-        "start_seed": Integer(0, TRAINING_SEED_SPACE - 1),
-        "win_rule": OneOf(WIN_RULES),
-        "tag": Text(),
-    },
-    "ppcg": {
-        "name": Text(),
-        "alpha": Number(0.0, 1.0, low_open=True),
-        "start": DIFFICULTY,
-        "win_rule": OneOf(WIN_RULES),
-        "tag": Text(),
-    },
-}
-OPTIONAL = {("regimen", "win_rule")}  # keys a section may leave out
+
+
+def _regimens() -> dict[str, Any]:
+    from gvgai_pcg.curricula import registered_curricula
+
+    return registered_curricula()
+
+
+def __getattr__(name: str) -> Any:
+    if name == "REGIMENS":  # each regimen's keys and their rules, from the registered curricula
+        return {key: curriculum.schema for key, curriculum in _regimens().items()}
+    raise AttributeError(f"module 'gvgai_pcg.config' has no attribute {name!r}")
 
 
 @dataclass(frozen=True)
 class Variants:
-    """A section whose keys depend on its ``name`` (the regimen group)."""
+    """A section whose keys depend on its ``name`` (the regimen group): ``variants()`` gives
+    the objects by name, each with ``schema`` (its keys' rules) and ``optional`` (keys it may
+    leave out)."""
 
-    variants: Mapping[str, Mapping[str, Any]]
+    variants: Callable[[], Mapping[str, Any]]
     key: str = "name"
 
 
 SCHEMA: dict[str, Any] = {
     "game": {"name": OneOf(_games)},
-    "regimen": Variants(REGIMENS),
+    "regimen": Variants(_regimens),
     "model": {"name": OneOf(_models), "hidden": Integer(1)},
     "algo": {
         "name": OneOf(("a2c",)),
@@ -312,7 +301,9 @@ def _shown(value: Any) -> str:
     return repr(value) if isinstance(value, str) else str(value)
 
 
-def _check_section(values: Any, schema: Mapping[str, Any], prefix: str, out: dict) -> None:
+def _check_section(
+    values: Any, schema: Mapping[str, Any], prefix: str, out: dict, optional: frozenset[str] = frozenset()
+) -> None:
     where = prefix.rstrip(".") or "the config"
     if not isinstance(values, dict):
         raise ConfigError(f"{where}={_shown(values)}: expected a section with the keys {', '.join(schema)}")
@@ -324,7 +315,7 @@ def _check_section(values: Any, schema: Mapping[str, Any], prefix: str, out: dic
     for key, rule in schema.items():
         name = f"{prefix}{key}"
         if key not in values:
-            if (prefix.rstrip("."), key) in OPTIONAL:
+            if key in optional:
                 continue
             what = rule.expected if hasattr(rule, "expected") else "a section"
             raise ConfigError(f"{name}: missing; expected {what}")
@@ -334,11 +325,13 @@ def _check_section(values: Any, schema: Mapping[str, Any], prefix: str, out: dic
         if isinstance(rule, Variants):
             out[key] = {}
             choice = value.get(rule.key) if isinstance(value, dict) else None
-            if choice not in rule.variants:
+            variants = rule.variants()
+            if choice not in variants:
                 raise ConfigError(
-                    f"{name}.{rule.key}={_shown(choice)}: expected one of {', '.join(rule.variants)}"
+                    f"{name}.{rule.key}={_shown(choice)}: expected one of {', '.join(variants)}"
                 )
-            _check_section(value, rule.variants[choice], f"{name}.", out[key])
+            variant = variants[choice]
+            _check_section(value, variant.schema, f"{name}.", out[key], frozenset(variant.optional))
         elif isinstance(rule, Mapping):
             out[key] = {}
             _check_section(value, rule, f"{name}.", out[key])
@@ -350,30 +343,10 @@ def _check_section(values: Any, schema: Mapping[str, Any], prefix: str, out: dic
 
 
 def _check_together(config: dict) -> None:
-    """Rules across keys: a generated set's seeds, a level set's files, model and observation."""
+    """Rules across keys: the regimen's own (``Curriculum.check``: a generated set's seeds, a level
+    set's files), model and observation."""
     regimen = config["regimen"]
-    if regimen["name"] == "pcg":
-        count, start = regimen["num_levels"], regimen["start_seed"]
-        if count == 0 and start != 0:
-            raise ConfigError(
-                f"regimen.start_seed={start}: expected 0 with regimen.num_levels=0 (unlimited levels); "
-                "a start seed picks the first level of a finite set (regimen.num_levels >= 1)"
-            )
-        if start + count > TRAINING_SEED_SPACE:
-            raise ConfigError(
-                f"regimen.start_seed={start}: expected start_seed + num_levels <= 2**31 "
-                f"(training seeds stay below 2**31), got {start + count}"
-            )
-    if regimen["name"] == "levels":
-        from gvgai_pcg.levels.sets import load_level_set
-
-        try:
-            load_level_set(config["game"]["name"], regimen["path"])
-        except (ValueError, OSError) as error:
-            path, message = regimen["path"], str(error)
-            if isinstance(path, str):
-                message = message.removeprefix(f"{path}: ")  # named once is enough
-            raise ConfigError(f"regimen.path={_shown(path)}: {message}") from None
+    _regimens()[regimen["name"]].check(regimen, config)
     if config["model"]["name"] == "nature" and config["env"]["obs"] != "pixels":
         raise ConfigError(
             f"env.obs={_shown(config['env']['obs'])}: expected pixels with model=nature "
@@ -419,7 +392,7 @@ def _rule_of(dotted: str) -> Any:
     rule: Any = SCHEMA
     for part in dotted.split("."):
         if isinstance(rule, Variants):
-            rule = next((v[part] for v in rule.variants.values() if part in v), None)
+            rule = next((v.schema[part] for v in rule.variants().values() if part in v.schema), None)
         elif isinstance(rule, Mapping):
             rule = rule.get(part)
         if rule is None:

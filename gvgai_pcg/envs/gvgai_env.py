@@ -126,6 +126,8 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
             self.game, self.grid_height, self.grid_width, self.device, COMPILED_LEVEL_CACHE
         )
         self._level_seeds = torch.full((num_envs,), -1, dtype=torch.int64)
+        # The d each env's level was made at: the env's difficulty, or the source's own (DR).
+        self._level_difficulties = torch.full((num_envs,), self._default_difficulty, dtype=torch.float64)
         self._stepper = ShardedStepper(shards, min_shard=1)
         self.buffers = BufferPool(keep=8)  # large whole-batch outputs, reused once released
         # Sources whose next levels are known in advance get their partial resets prepared in bulk.
@@ -174,6 +176,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
                 "won": Categorical(2, shape=(b, 1), dtype=torch.bool, device=self.device),
                 "difficulty": Bounded(0.0, 1.0, shape=(b, 1), dtype=torch.float64, device=self.device),
                 "level_seed": Unbounded(shape=(b, 1), dtype=torch.int64, device=self.device),
+                "level_difficulty": Bounded(0.0, 1.0, shape=(b, 1), dtype=torch.float64, device=self.device),
             },
             shape=(b,),
         )
@@ -275,7 +278,17 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
             self._levels[i] = level
         self._steps[rows] = 0
         self._level_seeds[index] = torch.tensor([lv.seed if lv.seed is not None else -1 for lv in levels])
+        self._level_difficulties[index] = self._level_difficulties_of(index, self._episodes[index] - 1)
         return observed
+
+    def _level_difficulties_of(self, index: torch.Tensor, episodes: torch.Tensor) -> torch.Tensor:
+        """The d at which episodes ``episodes`` of envs ``index`` made their levels: the env's
+        difficulty, unless the source draws its own (``level_difficulties``, as DR does)."""
+        difficulties = self._difficulty[index.to(self.device)].cpu()
+        drawn = getattr(self.level_source, "level_difficulties", None)
+        if drawn is None:
+            return difficulties
+        return drawn(index, mix64(self._env_seeds[index] ^ mix64(episodes)), difficulties)
 
     def _episodes_ready(self, index: torch.Tensor, difficulties: torch.Tensor | None) -> bool:
         """Whether the next episodes of envs ``index`` are prepared (at ``difficulties``, where
@@ -455,6 +468,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
             **outputs,
             "difficulty": self._difficulty.unsqueeze(-1).clone(),
             "level_seed": self._level_seeds.to(self.device, copy=True).unsqueeze(-1),
+            "level_difficulty": self._level_difficulties.to(self.device, copy=True).unsqueeze(-1),
         }
         # Every entry is [num_envs, ...] on self.device, just made: the checks would cost a third
         # of this method.

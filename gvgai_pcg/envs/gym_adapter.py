@@ -143,6 +143,11 @@ class Regimen:
         self.curriculum.shared_difficulty[0] = self._checked_difficulty(value)
 
     def _checked_difficulty(self, value: float) -> float:
+        if self.curriculum is None and regimen_kind(self.name).generated:
+            raise ValueError(
+                f"regimen {self.name!r} chooses the difficulty of its levels itself; "
+                "use regimen='pcg' or 'ppcg' to set it"
+            )
         if self.curriculum is None:
             raise ValueError(
                 f"regimen {self.name!r} plays {'your own' if self.name == 'levels' else 'human'} levels, "

@@ -7,7 +7,12 @@ A source whose levels depend on nothing but the env index and the episode seed (
 state of its own) says so with ``prepare_ahead = True``: the env then prepares the next episodes
 of many envs at once, ahead of their resets (``gvgai_pcg.envs.ready_episodes``). One whose levels
 also depend on the difficulty adds ``depends_on_difficulty = True``: its episodes are prepared at
-each env's difficulty and used only at that difficulty.
+each env's difficulty and used only at that difficulty. One that draws the difficulty of its
+levels itself (DR) reports it with ``level_difficulties(env_indices, episode_seeds, difficulties)``,
+which the env writes as each env's ``level_difficulty``.
+
+A source that learns from training also has ``observe(signals)`` (``gvgai_pcg.curricula.signals``):
+the training loop calls it after each batch with what happened on each level.
 """
 
 from __future__ import annotations
@@ -226,3 +231,44 @@ class GeneratedLevelSet:
             f"GeneratedLevelSet({self.game!r}, d={self.difficulty:g}, {self.num_levels} levels "
             f"from seed {self.start_seed})"
         )
+
+
+# DR draws its difficulty from bits of the episode seed that its level seed (the low 31) leaves.
+_DR_STREAM = 0x44522D64  # "DR-d"
+
+
+def uniform_difficulties(episode_seeds: torch.Tensor) -> torch.Tensor:
+    """``[N]`` float64 difficulties, uniform on [0, 1), one a function of each episode seed."""
+    from gvgai_pcg.games.rng import mix64
+
+    bits = mix64(episode_seeds.to(torch.int64) ^ _DR_STREAM)
+    return ((bits >> 11) & ((1 << 53) - 1)).to(torch.float64) * 2.0**-53
+
+
+class RandomDifficultyLevels:
+    """Domain randomisation: a new generated level every episode at a difficulty drawn uniformly
+    from [0, 1] for that env and episode (``uniform_difficulties`` of the episode seed), whatever
+    difficulty the env is at. The level is (generator, d, seed) with the seed as in
+    ``GeneratedLevels``; the env reports d as ``level_difficulty`` (``level_difficulties``)."""
+
+    levels_recur = False
+    prepare_ahead = True  # a function of the env index and episode seed only
+
+    def __init__(self, game: str, generator: str | None = None) -> None:
+        self.game, self.generator = game, _checked_generator(game, generator)
+
+    def level_difficulties(
+        self, env_indices: torch.Tensor, episode_seeds: torch.Tensor, difficulties: torch.Tensor
+    ) -> torch.Tensor:
+        return uniform_difficulties(episode_seeds)
+
+    def next_levels(
+        self, env_indices: torch.Tensor, episode_seeds: torch.Tensor, difficulties: torch.Tensor
+    ) -> list[Level]:
+        drawn = uniform_difficulties(episode_seeds).tolist()
+        seeds = (episode_seeds % TRAINING_SEED_SPACE).tolist()
+        return [_generated_of(self.game, self.generator, d, s) for d, s in zip(drawn, seeds, strict=True)]
+
+    def __repr__(self) -> str:
+        own = "" if self.generator == self.game else f", generator={self.generator!r}"
+        return f"RandomDifficultyLevels({self.game!r}{own})"

@@ -1,12 +1,13 @@
-"""The training env of each regimen: one natively batched ``GVGAIEnv``, wrapped in a
-``DifficultyTransform`` for the generated-level regimens (PCG X, PPCG).
+"""The training env of each regimen: one natively batched ``GVGAIEnv``, wrapped as its
+curriculum says (a ``DifficultyTransform`` for PCG X and PPCG).
 
-The regimens are the table of ``gvgai_pcg.envs.regimens`` (shared with the Gymnasium API). Lv X,
-Lv 0-3 and ``human`` play human-designed levels, ``levels`` a level set of your own (a folder or a
-list of files); PCG X and PPCG play generated levels at the difficulty the transform writes
-into the reset tensordict: a new one every episode, or with ``num_levels`` >= 1 (PCG X only) a
-fixed set of that many. ``training_levels`` names the finite set a regimen trains on, which
-the evaluation plays as the run's training set.
+The regimens are the registered curricula (``gvgai_pcg.curricula``, shared with the Gymnasium
+API). Lv X, Lv 0-3 and ``human`` play human-designed levels, ``levels`` a level set of your own
+(a folder or a list of files); PCG X and PPCG play generated levels at the difficulty the
+transform writes into the reset tensordict: a new one every episode, or with ``num_levels`` >= 1
+(PCG X only) a fixed set of that many; DR a new one at a difficulty drawn every episode.
+``training_levels`` names the finite set a regimen trains on, which the evaluation plays as the
+run's training set.
 """
 
 from __future__ import annotations
@@ -17,58 +18,31 @@ from dataclasses import dataclass
 from omegaconf import DictConfig
 from torchrl.envs import EnvBase
 
+from gvgai_pcg.curricula import get_curriculum
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.difficulty import DifficultyTransform
 from gvgai_pcg.envs.level_sources import LevelSource
-from gvgai_pcg.envs.regimens import regimen_curriculum, regimen_kind, regimen_source
-from gvgai_pcg.envs.reset_rows import RowResetTransformedEnv
-from gvgai_pcg.levels import Level, human_level, human_levels
+from gvgai_pcg.levels import Level
 
 
-def training_source(game: str, regimen: Mapping) -> LevelSource:
-    """The level source of a regimen (``regimen``: its config section)."""
-    name = regimen["name"]
-    if regimen_kind(name).generated:
-        return regimen_source(
-            game,
-            name,
-            difficulty=float(regimen.get("difficulty", 0.0)),
-            num_levels=int(regimen.get("num_levels", 0)),
-            start_seed=int(regimen.get("start_seed", 0)),
-        )
-    return regimen_source(game, name, training_levels(game, regimen))
+def training_source(game: str, regimen: Mapping, state: object = None) -> LevelSource:
+    """The level source of a regimen (``regimen``: its config section), around its shared
+    ``state`` (``make_difficulty``)."""
+    return get_curriculum(regimen["name"]).make_source(game, regimen, state)
 
 
 def training_levels(game: str, regimen: Mapping, limit: int | None = None) -> list[Level] | None:
     """The finite set of levels a regimen trains on (at most its first ``limit``), ``None`` when
-    it draws a new generated level every episode (PPCG, PCG X without ``num_levels``)."""
-    name = regimen["name"]
-    if name == "lv":
-        levels = [human_level(game, int(regimen["level"]))]
-    elif name == "lv0-3":
-        levels = [human_level(game, int(i)) for i in regimen["levels"]]
-    elif name == "human":
-        levels = human_levels(game)
-    elif name == "levels":
-        from gvgai_pcg.levels.sets import load_level_set
-
-        levels = load_level_set(game, regimen["path"])
-    elif name == "pcg" and int(regimen.get("num_levels", 0)) > 0:
-        return training_source(game, regimen).first(
-            limit if limit is not None else int(regimen["num_levels"])
-        )
-    else:
-        regimen_kind(name)  # an unknown name is refused with the valid ones
-        return None
-    return levels if limit is None else levels[:limit]
+    it draws a new generated level every episode (PPCG, DR, PCG X without ``num_levels``)."""
+    return get_curriculum(regimen["name"]).training_levels(game, regimen, limit)
 
 
 @dataclass
 class EnvFactory:
     """A picklable recipe for the training env, so collector workers can build their own.
 
-    ``difficulty`` (a ``DifficultyTransform`` or ``None``) is shared: every env built by this
-    factory moves the same shared-memory value.
+    ``difficulty`` (the curriculum's shared state: PPCG's ``DifficultyTransform``, or ``None``)
+    is shared: every env built by this factory moves the same shared-memory value.
     """
 
     game: str
@@ -82,19 +56,17 @@ class EnvFactory:
 
     def __call__(self, worker: int = 0) -> EnvBase:
         seed = self.seed + 7919 * worker
-        source = training_source(self.game, self.regimen)
+        source = self.level_source()
         env = GVGAIEnv(self.game, self.num_envs, source, self.obs, self.max_steps, self.device, seed)
-        if not regimen_kind(self.regimen.name).generated:
-            return env
-        return RowResetTransformedEnv(env, self.difficulty)
+        return get_curriculum(self.regimen.name).wrap(env, self.difficulty)
+
+    def level_source(self) -> LevelSource:
+        """A level source around the shared state: the training loop calls its ``observe``
+        (where it has one) with each batch's ``gvgai_pcg.curricula.signals``."""
+        return training_source(self.game, self.regimen, self.difficulty)
 
 
 def make_difficulty(regimen: DictConfig, game: str) -> DifficultyTransform | None:
-    """The ``DifficultyTransform`` of a generated-level regimen, ``None`` for given levels."""
-    return regimen_curriculum(
-        game,
-        regimen.name,
-        difficulty=float(regimen.difficulty if regimen.name == "pcg" else regimen.get("start", 0.0)),
-        alpha=float(regimen.get("alpha", 0.01)),
-        win_rule=regimen.get("win_rule", "game"),
-    )
+    """The curriculum's shared state (PCG X and PPCG: their ``DifficultyTransform``), ``None``
+    where it has none."""
+    return get_curriculum(regimen.name).make_state(game, regimen)

@@ -10,9 +10,10 @@ at the default 64 envs those cost as much as the update.
 
 What it keeps true: the rollout tensordict has the layout of a TorchRL collector's
 (``[B, T]``, the observation, ``action`` and ``("next", reward | done | terminated |
-truncated | score | won | <observation>)``), actions are sampled from the policy with the
-global torch generator, and every env of the batch restarts on its own when its episode ends
-(``step_and_maybe_reset``), so transforms such as the ``DifficultyTransform`` see every step.
+truncated | score | won | level_seed | level_difficulty | <observation>)``), actions are sampled
+from the policy with the global torch generator, and every env of the batch restarts on its own
+when its episode ends (``step_and_maybe_reset``), so transforms such as the ``DifficultyTransform``
+see every step.
 
 Keeping the graph pays only from about 24 envs (``KEEP_GRAPH_FROM_ENVS``): the backward pass then
 runs once per acting pass, and at small batches ``n_steps`` small backward passes cost more than
@@ -30,7 +31,9 @@ from tensordict import TensorDict, TensorDictBase
 from torch import nn
 from torchrl.envs import EnvBase
 
-NEXT_KEYS = ("reward", "done", "terminated", "truncated", "score", "won")
+# the level each step was played on (gvgai_pcg.curricula.signals attributes rollouts to levels)
+LEVEL_KEYS = ("level_seed", "level_difficulty")
+NEXT_KEYS = ("reward", "done", "terminated", "truncated", "score", "won", *LEVEL_KEYS)
 KEEP_GRAPH_FROM_ENVS = 24  # where keeping the acting graph and recomputing cost the same
 
 

@@ -1,5 +1,5 @@
-"""One regimen table: training (its configs) and the Gymnasium API accept the same names and
-build the same level source and curriculum from them."""
+"""One registry of curricula: training (its configs) and the Gymnasium API accept the same
+names and build the same level source and shared state from them."""
 
 from __future__ import annotations
 
@@ -8,22 +8,30 @@ import yaml
 
 from gvgai_pcg.config import REGIMENS as CONFIG_REGIMENS
 from gvgai_pcg.config import config_dir
+from gvgai_pcg.curricula import registered_curricula
 from gvgai_pcg.envs.gym_adapter import GVGAIGymEnv
-from gvgai_pcg.envs.level_sources import FixedLevel, GeneratedLevels, GeneratedLevelSet, UniformLevels
-from gvgai_pcg.envs.regimens import GENERATED_REGIMENS, REGIMENS, regimen_kind
+from gvgai_pcg.envs.level_sources import (
+    FixedLevel,
+    GeneratedLevels,
+    GeneratedLevelSet,
+    RandomDifficultyLevels,
+    UniformLevels,
+)
+from gvgai_pcg.envs.regimens import regimen_kind, regimen_names
 from gvgai_pcg.rl.environment import make_difficulty, training_source
 
 
 def test_the_config_group_the_schema_and_the_table_name_the_same_regimens():
     files = {yaml.safe_load(path.read_text())["name"] for path in (config_dir() / "regimen").glob("*.yaml")}
-    assert files == set(CONFIG_REGIMENS) == set(REGIMENS)
+    assert files == set(CONFIG_REGIMENS) == set(registered_curricula()) == set(regimen_names())
+    assert set(regimen_names(generated=True)) == {"pcg", "ppcg", "dr"}
 
 
 @pytest.mark.parametrize("make", [regimen_kind, lambda name: GVGAIGymEnv("zelda", regimen=name)])
 def test_an_unknown_regimen_is_refused_with_every_valid_name(make):
     with pytest.raises(ValueError, match="unknown regimen 'pcg2'") as error:
         make("pcg2")
-    assert all(name in str(error.value) for name in REGIMENS)
+    assert all(name in str(error.value) for name in regimen_names())
 
 
 @pytest.mark.parametrize(
@@ -39,6 +47,7 @@ def test_an_unknown_regimen_is_refused_with_every_valid_name(make):
             GeneratedLevelSet,
         ),
         (["regimen=ppcg"], {"regimen": "ppcg"}, GeneratedLevels),
+        (["regimen=dr"], {"regimen": "dr"}, RandomDifficultyLevels),
     ],
 )
 def test_training_and_gymnasium_build_the_same_source_and_curriculum(
@@ -50,7 +59,7 @@ def test_training_and_gymnasium_build_the_same_source_and_curriculum(
     assert type(trained) is type(gym.source.source) is source_type
     assert vars(trained) == vars(gym.source.source)  # the same levels, set, seeds and difficulty
     curriculum, gym_curriculum = make_difficulty(cfg.regimen, "zelda"), gym.curriculum
-    assert (curriculum is None) == (gym_curriculum is None) == (cfg.regimen.name not in GENERATED_REGIMENS)
+    assert (curriculum is None) == (gym_curriculum is None) == (cfg.regimen.name not in ("pcg", "ppcg"))
     if curriculum is not None:
         assert (curriculum.mode, curriculum.difficulty, curriculum.alpha) == (
             gym_curriculum.mode,
