@@ -13,15 +13,13 @@ generates at exactly that value.
 
 from __future__ import annotations
 
-import contextlib
-import fcntl
-from collections.abc import Iterator
 from pathlib import Path
 
 import torch
 from tensordict import TensorDictBase
 from torchrl.envs.transforms import Transform
 
+from gvgai_pcg.curricula.state import exclusive, share_buffers_through
 from gvgai_pcg.games.registry import get_game_spec
 
 MODES = ("fixed", "progressive")
@@ -81,13 +79,7 @@ class DifficultyTransform(Transform):
         value as the main process; in-process shared memory does not survive that pickling. The
         files start from the current values (a resumed run's are restored first), and a lock file
         there serialises the moves of all processes."""
-        from tensordict import MemoryMappedTensor
-
-        directory.mkdir(parents=True, exist_ok=True)
-        for name, buffer in list(self.named_buffers()):
-            path = directory / f"{name}.memmap"
-            path.unlink(missing_ok=True)  # left by an earlier session of the run
-            self.register_buffer(name, MemoryMappedTensor.from_tensor(buffer, filename=path))
+        share_buffers_through(self, directory)
         self.lock_path = directory / "difficulty.lock"
 
     def wins(self, next_tensordict: TensorDictBase) -> torch.Tensor:
@@ -103,7 +95,7 @@ class DifficultyTransform(Transform):
 
     def update(self, outcomes: list[bool]) -> float:
         """Move the difficulty once per outcome (True = win), in order; returns the new value."""
-        with _exclusive(self.lock_path):
+        with exclusive(self.lock_path):
             value = float(self.shared_difficulty[0])
             if self.mode == "progressive":
                 for win in outcomes:
@@ -144,17 +136,3 @@ class DifficultyTransform(Transform):
             f"DifficultyTransform(mode={self.mode!r}, d={self.difficulty:.2f}, alpha={self.alpha}, "
             f"win_rule={self.win_rule!r})"
         )
-
-
-@contextlib.contextmanager
-def _exclusive(path: Path | None) -> Iterator[None]:
-    """Hold an exclusive lock on the file ``path`` (nothing if ``None``)."""
-    if path is None:
-        yield
-        return
-    with open(path, "a") as handle:
-        fcntl.flock(handle, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            fcntl.flock(handle, fcntl.LOCK_UN)

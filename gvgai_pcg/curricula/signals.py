@@ -1,0 +1,131 @@
+"""What the learner tells a curriculum after each batch: what happened on each level.
+
+``LevelSignals`` cuts a batch's rollout (``[..., T]``, TorchRL's layout, with the env's
+``("next", "level_seed")`` and ``("next", "level_difficulty")``) into level segments: the steps
+one env played on one level within the batch. The training loop gives the result to the level
+source's ``observe(signals)`` where the source has one. ``signals`` is a TensorDict of batch
+``[S]`` (one row per segment, by env then time) with these keys:
+
+========================  =========  =====================================================
+key                       dtype      meaning
+========================  =========  =====================================================
+``env``                   int64      the env's row in the batch (workers' envs one after another)
+``level_seed``            int64      the generator seed of the level (-1: a given level)
+``level_difficulty``      float64    the d the level was generated at
+``steps``                 int64      steps of this segment in the batch
+``finished``              bool       the level's episode ended in this batch
+``won``                   bool       it ended in a win (false while it runs)
+``return``                float32    the episode's return so far (the whole return once finished)
+``length``                int64      the episode's length so far (the whole length once finished)
+========================  =========  =====================================================
+
+Where the learner provides them, per-step learning signals are averaged over the segment's steps
+(a PLR score needs them; keys present only when given):
+
+========================  =========  =====================================================
+``advantage``             float32    mean GAE (or n-step) advantage
+``advantage_abs``         float32    mean absolute advantage (PLR's L1 value loss)
+``advantage_positive``    float32    mean of max(advantage, 0) (PLR⊥'s positive value loss)
+``state_value``           float32    mean value estimate V(s)
+``value_loss``            float32    mean squared error of V(s) against the value target
+========================  =========  =====================================================
+
+A level is identified by (the curriculum's generator, ``level_difficulty``, ``level_seed``):
+regenerating it from them gives the same level. Episodes run across batches: ``LevelSignals``
+carries each env's running return and length from one batch to the next.
+"""
+
+from __future__ import annotations
+
+import torch
+from tensordict import TensorDict, TensorDictBase
+
+LEVEL_KEYS = ("level_seed", "level_difficulty")
+LEARNING_KEYS = ("advantage", "advantage_abs", "advantage_positive", "state_value", "value_loss")
+
+
+class LevelSignals:
+    """Per-level signals of successive batches of one training run (one instance per run)."""
+
+    def __init__(self) -> None:
+        self._return: torch.Tensor | None = None  # [E] running return of each env's episode
+        self._length: torch.Tensor | None = None  # [E] running length
+
+    def __call__(
+        self,
+        rollout: TensorDictBase,
+        advantage: torch.Tensor | None = None,
+        state_value: torch.Tensor | None = None,
+        value_target: torch.Tensor | None = None,
+    ) -> TensorDict:
+        """The signals of ``rollout`` (``[..., T]``); ``advantage``, ``state_value`` and
+        ``value_target`` are per step, of the rollout's shape (a trailing 1 allowed)."""
+        steps = rollout.batch_size[-1]
+        nxt = rollout.get("next")
+
+        def flat(value: torch.Tensor) -> torch.Tensor:
+            return value.reshape(-1, steps, *value.shape[len(rollout.batch_size) :]).reshape(-1, steps)
+
+        done, won = flat(nxt.get("done")).cpu(), flat(nxt.get("won")).cpu()
+        reward = flat(nxt.get("reward")).cpu().to(torch.float32)
+        seeds, difficulty = flat(nxt.get("level_seed")).cpu(), flat(nxt.get("level_difficulty")).cpu()
+        envs = done.shape[0]
+        if self._return is None or self._return.shape[0] != envs:
+            self._return = torch.zeros(envs, dtype=torch.float32)
+            self._length = torch.zeros(envs, dtype=torch.int64)
+        # segment k of env e: the steps after its k-th done of the batch
+        before = torch.cumsum(done.to(torch.int64), 1) - done.to(torch.int64)
+        ids = torch.arange(envs).unsqueeze(1) * (steps + 1) + before
+        segments, inverse = torch.unique(ids.flatten(), return_inverse=True)
+        count = len(segments)
+        position = torch.arange(envs * steps)
+        first = torch.full((count,), envs * steps, dtype=torch.int64).scatter_reduce(
+            0, inverse, position, "amin"
+        )
+        last = torch.zeros(count, dtype=torch.int64).scatter_reduce(0, inverse, position, "amax")
+        env = segments // (steps + 1)
+        opens_batch = segments % (steps + 1) == 0  # the segment continues the previous batch's episode
+        seg_steps = torch.bincount(inverse, minlength=count)
+        seg_return = torch.zeros(count).index_add_(0, inverse, reward.flatten())
+        carried_return = torch.where(opens_batch, self._return[env], 0.0)
+        carried_length = torch.where(opens_batch, self._length[env], 0)
+        finished = done.flatten()[last]
+        signals = {
+            "env": env,
+            "level_seed": seeds.flatten()[first].to(torch.int64),
+            "level_difficulty": difficulty.flatten()[first].to(torch.float64),
+            "steps": seg_steps,
+            "finished": finished,
+            "won": finished & won.flatten()[last].to(torch.bool),
+            "return": carried_return + seg_return,
+            "length": carried_length + seg_steps,
+        }
+        # what runs on into the next batch: each env's last segment, unless it finished
+        ends = torch.zeros(envs, dtype=torch.int64).scatter_reduce(0, env, torch.arange(count), "amax")
+        self._return = torch.where(finished[ends], 0.0, signals["return"][ends])
+        self._length = torch.where(finished[ends], 0, signals["length"][ends])
+        if advantage is not None:
+            adv = flat(advantage.detach()).cpu().to(torch.float32).flatten()
+            signals["advantage"] = _mean(adv, inverse, seg_steps)
+            signals["advantage_abs"] = _mean(adv.abs(), inverse, seg_steps)
+            signals["advantage_positive"] = _mean(adv.clamp(min=0.0), inverse, seg_steps)
+        if state_value is not None:
+            value = flat(state_value.detach()).cpu().to(torch.float32).flatten()
+            signals["state_value"] = _mean(value, inverse, seg_steps)
+            if value_target is not None:
+                target = flat(value_target.detach()).cpu().to(torch.float32).flatten()
+                signals["value_loss"] = _mean((target - value) ** 2, inverse, seg_steps)
+        return TensorDict(signals, batch_size=[count])
+
+
+def _mean(values: torch.Tensor, inverse: torch.Tensor, counts: torch.Tensor) -> torch.Tensor:
+    return torch.zeros(len(counts)).index_add_(0, inverse, values) / counts
+
+
+def observe(source: object, signals: TensorDict) -> bool:
+    """Give ``signals`` to ``source.observe`` where it has one; whether it had."""
+    hook = getattr(source, "observe", None)
+    if hook is None:
+        return False
+    hook(signals)
+    return True

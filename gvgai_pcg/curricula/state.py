@@ -1,0 +1,75 @@
+"""Curriculum state shared by every env and collector worker of a run, and kept in checkpoints.
+
+A curriculum's state (``Curriculum.make_state``) is read by the level sources of every env and
+moved by ``observe`` (or, for PPCG, by its transform). ``SharedState`` gives a plug-in what
+``DifficultyTransform`` has for PPCG's d: tensors registered as buffers (``register_shared``) live
+in shared memory, so in-process envs see one value; ``share_through(directory)`` backs them by
+memory-mapped files, so collector worker processes, which receive a pickled copy, read and
+move the very same values; ``locked()`` serialises the moves of all processes; and
+``state_dict`` / ``load_state_dict`` carry them into checkpoints and back.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import fcntl
+import math
+from collections.abc import Iterator
+from pathlib import Path
+
+import torch
+from torch import nn
+
+
+def share_buffers_through(module: nn.Module, directory: Path) -> Path:
+    """Back every buffer of ``module`` by a memory-mapped file in ``directory`` (from its current
+    value); returns the lock file all processes lock around a move."""
+    from tensordict import MemoryMappedTensor
+
+    directory.mkdir(parents=True, exist_ok=True)
+    for name, buffer in list(module.named_buffers()):
+        path = directory / f"{name}.memmap"
+        path.unlink(missing_ok=True)  # left by an earlier session of the run
+        module.register_buffer(name, MemoryMappedTensor.from_tensor(buffer, filename=path))
+    return directory / f"{type(module).__name__.lower()}.lock"
+
+
+@contextlib.contextmanager
+def exclusive(path: Path | None) -> Iterator[None]:
+    """Hold an exclusive lock on the file ``path`` (nothing if ``None``)."""
+    if path is None:
+        yield
+        return
+    with open(path, "a") as handle:
+        fcntl.flock(handle, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(handle, fcntl.LOCK_UN)
+
+
+class SharedState(nn.Module):
+    """Base of a curriculum's shared state: register tensors with ``register_shared``, move them
+    inside ``with self.locked():``."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.lock_path: Path | None = None
+
+    def register_shared(self, name: str, value: torch.Tensor) -> torch.Tensor:
+        """Keep ``value`` as the shared buffer ``name`` (in shared memory) and return it."""
+        self.register_buffer(name, value.clone().share_memory_())
+        return getattr(self, name)
+
+    def share_through(self, directory: Path) -> None:
+        """Share the buffers with worker processes through files in ``directory``."""
+        self.lock_path = share_buffers_through(self, directory)
+
+    def locked(self) -> contextlib.AbstractContextManager[None]:
+        """A lock across every process that shares the state (through ``share_through``)."""
+        return exclusive(self.lock_path)
+
+    @property
+    def difficulty(self) -> float:
+        """The difficulty a training log shows for the curriculum (NaN: none)."""
+        return math.nan
