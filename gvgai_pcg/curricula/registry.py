@@ -1,5 +1,5 @@
-"""The curricula by name: ours (``gvgai_pcg.curricula.builtin``), those registered in-process
-(``register_curriculum``), and those of installed packages through the entry-point group
+"""The curricula by name: ours (``gvgai_pcg.curricula.builtin``, and every other module of this
+package that defines ``CURRICULUM``), those registered in-process (``register_curriculum``), and those of installed packages through the entry-point group
 ``gvgai_pcg.curricula`` (an entry point names a curriculum and loads its ``Curriculum``), read
 when a name is missing, as games are (``gvgai_pcg.games.registry``).
 
@@ -10,7 +10,9 @@ finds it without a file in ``conf/regimen/``.
 
 from __future__ import annotations
 
+import pkgutil
 import warnings
+from importlib import import_module
 from importlib.metadata import entry_points
 from pathlib import Path
 
@@ -19,16 +21,25 @@ from gvgai_pcg.curricula.base import Curriculum
 ENTRY_POINT_GROUP = "gvgai_pcg.curricula"
 CONFIG_GROUP = "regimen"  # the config group a curriculum is chosen by (kept: runs name it)
 
+_INFRASTRUCTURE = {"base", "builtin", "registry", "signals", "state"}  # modules that hold no curriculum
 _CURRICULA: dict[str, Curriculum] = {}
 _read_entry_points = False
 
 
 def _builtins() -> None:
-    if not _CURRICULA:
-        from gvgai_pcg.curricula.builtin import BUILTIN_CURRICULA
+    """Register the study's curricula, then the ``CURRICULUM`` of every other module here (once)."""
+    if _CURRICULA:
+        return
+    from gvgai_pcg.curricula.builtin import BUILTIN_CURRICULA
 
-        for curriculum in BUILTIN_CURRICULA:
-            _CURRICULA[curriculum.name] = curriculum
+    for curriculum in BUILTIN_CURRICULA:
+        _CURRICULA[curriculum.name] = curriculum
+    package = import_module(__package__)
+    for module in pkgutil.iter_modules(package.__path__):
+        if module.name not in _INFRASTRUCTURE:
+            curriculum = getattr(import_module(f"{__package__}.{module.name}"), "CURRICULUM", None)
+            if isinstance(curriculum, Curriculum):
+                _CURRICULA.setdefault(curriculum.name, curriculum)
 
 
 def register_curriculum(curriculum: Curriculum) -> Curriculum:
