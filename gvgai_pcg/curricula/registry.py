@@ -1,7 +1,8 @@
 """The curricula by name: ours (``gvgai_pcg.curricula.builtin``, and every other module of this
-package that defines ``CURRICULUM``), those registered in-process (``register_curriculum``), and those of installed packages through the entry-point group
-``gvgai_pcg.curricula`` (an entry point names a curriculum and loads its ``Curriculum``), read
-when a name is missing, as games are (``gvgai_pcg.games.registry``).
+package that defines ``CURRICULUM``), those registered in-process (``register_curriculum``),
+and those of installed packages through the entry-point group ``gvgai_pcg.curricula`` (an entry
+point names a curriculum and loads its ``Curriculum``), read when a name is missing, as games
+are (``gvgai_pcg.games.registry``).
 
 A plug-in's config (``Curriculum.config``, a yaml file) becomes the ``regimen`` group's option of
 its name in Hydra's config store (``store_configs``), so ``gvgai-pcg train regimen=<name>``
