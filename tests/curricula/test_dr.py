@@ -75,3 +75,15 @@ def test_a_generated_level_env_reports_the_difficulty_it_was_made_at(eager):
     out = env.reset()
     assert out["level_difficulty"].dtype == torch.float64 and out["level_difficulty"].shape == (2, 1)
     assert env.observation_spec["level_difficulty"].is_in(out["level_difficulty"])
+
+
+def test_a_ppcg_env_reports_the_difficulty_its_levels_were_made_at(eager):
+    cfg = compose_config(["game=zelda", "regimen=ppcg", "regimen.start=0.3"])
+    state = make_difficulty(cfg.regimen, "zelda")
+    env = EnvFactory("zelda", cfg.regimen, 1, "tiles", 5, "cpu", seed=2, difficulty=state)()
+    out = env.reset()
+    state.shared_difficulty[0] = 0.9  # d moves while the episode runs: the level's d stays
+    out = env.step(out.set("action", torch.zeros(1, dtype=torch.int64)))["next"]
+    level = env.base_env.current_levels[0]
+    assert out["level_difficulty"].item() == 0.3 and out["difficulty"].item() == 0.9
+    assert level == generate_level("zelda", 0.3, out["level_seed"].item())
