@@ -3,7 +3,7 @@
 ``LevelSignals`` cuts a batch's rollout (``[..., T]``, TorchRL's layout, with the env's
 ``("next", "level_seed")`` and ``("next", "level_difficulty")``) into level segments: the steps
 one env played on one level within the batch. The training loop gives the result to the level
-source's ``observe(signals)`` where the source has one. ``signals`` is a TensorDict of batch
+source's ``observe(signals)`` where the source has one (``feedback_for(source)`` does both). ``signals`` is a TensorDict of batch
 ``[S]`` (one row per segment, by env then time) with these keys:
 
 ========================  =========  =====================================================
@@ -120,6 +120,25 @@ class LevelSignals:
 
 def _mean(values: torch.Tensor, inverse: torch.Tensor, counts: torch.Tensor) -> torch.Tensor:
     return torch.zeros(len(counts)).index_add_(0, inverse, values) / counts
+
+
+class Feedback:
+    """The learner's side of the hook: ``feedback(rollout, advantage=..., state_value=...,
+    value_target=...)`` after each batch gives the batch's signals to ``source.observe``."""
+
+    def __init__(self, source: object) -> None:
+        self.source, self.signals = source, LevelSignals()
+
+    def __call__(self, rollout: TensorDictBase, **learning: torch.Tensor | None) -> TensorDict:
+        signals = self.signals(rollout, **learning)
+        self.source.observe(signals)
+        return signals
+
+
+def feedback_for(source: object) -> Feedback | None:
+    """A ``Feedback`` to ``source`` where it has ``observe`` (a curriculum that learns), else
+    ``None``: the loop then skips the signals altogether."""
+    return Feedback(source) if callable(getattr(source, "observe", None)) else None
 
 
 def observe(source: object, signals: TensorDict) -> bool:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import torch
 from tensordict import TensorDict
 
-from gvgai_pcg.curricula.signals import LevelSignals, observe
+from gvgai_pcg.curricula.signals import LevelSignals, feedback_for, observe
 
 
 def rollout(done: list[list[int]], seeds: list[list[int]], won: list[list[int]] | None = None) -> TensorDict:
@@ -61,3 +61,16 @@ def test_observe_calls_the_hook_only_where_there_is_one():
     signals = LevelSignals()(rollout([[1]], [[2]]))
     assert observe(Learns(), signals) and seen == [1]
     assert not observe(object(), signals)
+
+
+def test_feedback_collects_and_observes_for_a_source_that_learns():
+    seen = []
+
+    class Learns:
+        def observe(self, signals):
+            seen.append(signals["level_seed"].tolist())
+
+    feedback = feedback_for(Learns())
+    signals = feedback(rollout([[0, 1]], [[3, 3]]), advantage=torch.ones(1, 2))
+    assert seen == [[3]] and signals["advantage"].tolist() == [1.0]
+    assert feedback_for(object()) is None
