@@ -3,8 +3,9 @@
 ``LevelSignals`` cuts a batch's rollout (``[..., T]``, TorchRL's layout, with the env's
 ``("next", "level_seed")`` and ``("next", "level_difficulty")``) into level segments: the steps
 one env played on one level within the batch. The training loop gives the result to the level
-source's ``observe(signals)`` where the source has one (``feedback_for(source)`` does both). ``signals`` is a TensorDict of batch
-``[S]`` (one row per segment, by env then time) with these keys:
+source's ``observe(signals)`` where the source has one (``feedback_for(source)`` does both).
+``signals`` is a TensorDict of batch ``[S]`` (one row per segment, by env then time) with these
+keys:
 
 ========================  =========  =====================================================
 key                       dtype      meaning
