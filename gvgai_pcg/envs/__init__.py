@@ -17,6 +17,7 @@ _EXPORTS = {
     "GeneratedLevelSet": "gvgai_pcg.envs.level_sources",
     "LevelPerEnv": "gvgai_pcg.envs.level_sources",
     "LevelSource": "gvgai_pcg.envs.level_sources",
+    "RandomDifficultyLevels": "gvgai_pcg.envs.level_sources",
     "UniformLevels": "gvgai_pcg.envs.level_sources",
     "as_level_source": "gvgai_pcg.envs.level_sources",
     "DifficultyTransform": "gvgai_pcg.envs.difficulty",
@@ -30,6 +31,7 @@ __all__ = [
     "GeneratedLevels",
     "LevelPerEnv",
     "LevelSource",
+    "RandomDifficultyLevels",
     "UniformLevels",
     "as_level_source",
 ]
@@ -43,6 +45,7 @@ if TYPE_CHECKING:
         GeneratedLevelSet,
         LevelPerEnv,
         LevelSource,
+        RandomDifficultyLevels,
         UniformLevels,
         as_level_source,
     )
