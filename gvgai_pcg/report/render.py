@@ -22,11 +22,16 @@ CSV_COLUMNS = (
     "std",
     "training",
     "best",
+    "seed_means",
+    "ci95_low",
+    "ci95_high",
 )
 LEGEND = (
-    "Mean over runs (seeds) of each run's mean score, ± the std across runs. "
+    "Mean over runs (seeds) of each run's mean score, ± the standard deviation across runs (population "
+    "SD, as the study computed it; not a confidence interval: the claims give 95 % t intervals, and "
+    "`results.csv` each run's mean and the 95 % t interval of every cell); no ± for a single run. "
     "† = a test set the row trained on (Train: each run's own training levels); "
-    "**bold** = best held-out score of the column."
+    "**bold** = best held-out score of the column (none where all tie)."
 )
 
 
@@ -89,6 +94,9 @@ def write_csv(tables: Sequence[GameTable], path: Path) -> Path:
                             "" if cell.std is None else f"{cell.std:.6g}",
                             int(cell.training),
                             int(cell.best),
+                            ";".join(f"{v:.6g}" for v in cell.seed_means),
+                            "" if cell.ci95 is None else f"{cell.ci95[0]:.6g}",
+                            "" if cell.ci95 is None else f"{cell.ci95[1]:.6g}",
                         )
                     )
     return path

@@ -6,8 +6,11 @@ the test sets ``pcg0.5``, ``pcg1``, ``lv0`` … ``lv4``, and ``train`` (each run
 levels, marked as trained on) when a run has a training set of its own.
 A condition's cell is the mean over its runs (seeds) of each run's mean score on the test set,
 with the std across those run means (population std, as the study's ``calculate_mean_std.py``
-computed it with numpy). A cell on a test set the runs trained on is marked ``training``; the
-best held-out mean of each column (over the condition rows) is marked ``best``.
+computed it with numpy; none for a single run), each run's mean, and the two-sided 95 % t
+interval of the mean over runs (Student's t, n - 1 degrees of freedom; none for a single run).
+A cell on a test set the runs trained on is marked ``training``; the best held-out mean of each
+column (over the condition rows) is marked ``best``, unless every held-out cell of the column
+ties with it (all zeros in Frogs: nothing is best).
 """
 
 from __future__ import annotations
@@ -30,10 +33,24 @@ _NUMBER = re.compile(r"(\d+(?:\.\d+)?)")
 @dataclass
 class Cell:
     mean: float
-    std: float | None = None  # across runs; None for Max and Random
+    std: float | None = None  # across runs (population); None for Max, Random and a single run
     runs: int = 1
     training: bool = False  # the row's runs trained on this test set's levels
     best: bool = False  # the best held-out mean of its column
+    seed_means: tuple[float, ...] = ()  # each run's mean, in run order
+    ci95: tuple[float, float] | None = None  # 95 % t interval of the mean over runs; None below 2 runs
+
+
+def t_interval(values: Sequence[float], level: float = 0.95) -> tuple[float, float] | None:
+    """The two-sided t interval of the mean of ``values`` (None for fewer than two)."""
+    if len(values) < 2:
+        return None
+    from scipy import stats
+
+    mean = sum(values) / len(values)
+    sd = math.sqrt(sum((v - mean) ** 2 for v in values) / (len(values) - 1))
+    half = float(stats.t.ppf(0.5 + level / 2, len(values) - 1)) * sd / math.sqrt(len(values))
+    return mean - half, mean + half
 
 
 @dataclass
@@ -102,23 +119,32 @@ def condition_row(label: str, frames: int, runs: Sequence[RunResults], columns: 
         if not values:
             continue
         mean = sum(values) / len(values)
-        std = math.sqrt(sum((v - mean) ** 2 for v in values) / len(values))
+        std = math.sqrt(sum((v - mean) ** 2 for v in values) / len(values)) if len(values) > 1 else None
         cells[column] = Cell(
-            mean, std, len(values), training=any(column in run.training_sets for run in runs)
+            mean,
+            std,
+            len(values),
+            training=any(column in run.training_sets for run in runs),
+            seed_means=tuple(values),
+            ci95=t_interval(values),
         )
     name = f"{label} ({format_frames(frames)})"
     return Row(name, "trained", cells, regimen=label, frames=frames, runs=[run.path for run in runs])
 
 
 def mark_best(rows: Sequence[Row], columns: Sequence[str]) -> None:
-    """Mark, per column, the held-out cells of the trained rows that have the highest mean."""
+    """Mark, per column, the held-out cells of the trained rows that have the highest mean; none
+    where every held-out cell ties with the highest (a column of zeros has no best)."""
     for column in columns:
         held_out = [r.cells[column] for r in rows if r.kind == "trained" and column in r.cells]
         held_out = [cell for cell in held_out if not cell.training]
         if held_out:
             top = max(cell.mean for cell in held_out)
-            for cell in held_out:
-                cell.best = math.isclose(cell.mean, top, rel_tol=0, abs_tol=1e-9)
+            best = [math.isclose(cell.mean, top, rel_tol=0, abs_tol=1e-9) for cell in held_out]
+            if all(best) and len(held_out) > 1:
+                continue
+            for cell, is_best in zip(held_out, best, strict=True):
+                cell.best = is_best
 
 
 def build_table(

@@ -65,8 +65,7 @@ def test_table_cell_by_cell(multirun, tmp_path):
         "| Random | -1.00 | -1.00 | -1.00 | -1.00 | -1.00 | -1.00 | -1.00 |",
         "| Lv 0 (1k) | 1.50 ± 0.50 | 0.50 ± 0.50 | 6.50 ± 1.50 † | **2.00 ± 1.00** | **2.00 ± 1.00** "
         "| **2.00 ± 1.00** | **2.00 ± 1.00** |",
-        "| PPCG (2k) | **2.00 ± 0.00** | **1.00 ± 0.00** | **7.00 ± 0.00** | 0.00 ± 0.00 | 0.00 ± 0.00 "
-        "| 0.00 ± 0.00 | 0.00 ± 0.00 |",
+        "| PPCG (2k) | **2.00** | **1.00** | **7.00** | 0.00 | 0.00 | 0.00 | 0.00 |",  # one run: no ± 0.00
     ]
     with open(report.csv) as handle:
         rows = list(csv.DictReader(handle))
@@ -79,8 +78,13 @@ def test_table_cell_by_cell(multirun, tmp_path):
         "1",
         "0",
     )
+    assert lv0["seed_means"] == "5;8"  # each run's mean; the 95 % t interval with 1 degree of freedom:
+    assert float(lv0["ci95_low"]) == pytest.approx(6.5 - 12.706 * 1.5, abs=1e-3)
+    assert float(lv0["ci95_high"]) == pytest.approx(6.5 + 12.706 * 1.5, abs=1e-3)
+    ppcg = next(r for r in rows if r["row"] == "PPCG (2k)" and r["test_set"] == "lv0")
+    assert (ppcg["std"], ppcg["ci95_low"], ppcg["seed_means"]) == ("", "", "7")
     html = report.html.read_text()
-    assert '<td class="train">6.50 ± 1.50 †</td>' in html and "<strong>7.00 ± 0.00</strong>" in html
+    assert '<td class="train">6.50 ± 1.50 †</td>' in html and "<strong>7.00</strong>" in html
     assert "| Lv 0 (1k) |" in report.markdown.read_text()
 
 
