@@ -122,7 +122,7 @@ def _build_report(
     progress: bool,
     force: bool,
 ) -> Report:
-    games = list(dict.fromkeys(info.game for info in runs))
+    games = sorted({info.game for info in runs})  # one order, however the runs were found
     tables, figures = [], {}
     for game in games:
         game_runs = [info for info in runs if info.game == game]

@@ -96,15 +96,16 @@ def difficulty_markdown(games: Mapping) -> str:
         f"{LATE_FRAMES / 1e6:g}M frames. The study (Figure 2, text): Zelda and Frogs reach d = 1, Solarfox "
         f"never reaches it, Boulderdash stops near d = {STUDY_REACHED['boulderdash']}.",
         "",
-        "| game | run | highest d | first d >= 0.5 | first d = 1 | late d |",
-        "|---|---:|---:|---:|---:|---:|",
+        "| game | run | highest d | reached at | first d >= 0.5 | first d = 1 | late d |",
+        "|---|---:|---:|---:|---:|---:|---:|",
     ]
     found = False
     for name, game in games.items():
         for i, log in enumerate(game.difficulty.get("PPCG", [])):
             found = True
             lines.append(
-                f"| {name} | {i} | {log.highest:.2f} | {_frames(log.first_at(0.5))} "
+                f"| {name} | {i} | {log.highest:.2f} | {_frames(log.first_at(log.highest))} "
+                f"| {_frames(log.first_at(0.5))} "
                 f"| {_frames(log.first_at(1.0))} | {log.late():.2f} |"
             )
     return "\n".join(lines) if found else ""

@@ -170,7 +170,7 @@ def test_a_published_run_rebuilds_the_report_without_its_model(tmp_path):
     assert list(csv.reader(open(rebuilt / "results.csv"))) == original
     assert any(row[1].startswith("Lv 0") for row in original)  # the trained run is in the table
     claims = (out / "report" / "claims.md").read_text()
-    assert "| zelda | A policy trained on one human level" in claims and "Lv 0 1 run(s)" in claims
+    assert "| zelda | Trained on one human level (Lv 0, Lv 4)" in claims and "Lv 0 1 run(s)" in claims
     (tmp_path / "images").mkdir()
     (tmp_path / "images" / "curves-frogs.png").write_bytes(b"an earlier report's figure")
     page = tmp_path / "results.md"
