@@ -23,7 +23,7 @@ from gvgai_pcg.evaluation.protocol import Protocol, protocol_test_sets
 from gvgai_pcg.report.curves import plot_curves, pool_runs
 from gvgai_pcg.report.generalisation import LEVEL_COUNT_FIGURE, level_count_curves, plot_level_counts
 from gvgai_pcg.report.render import html_report, markdown_report, write_csv
-from gvgai_pcg.report.table import GameTable, RunResults, build_table, format_frames
+from gvgai_pcg.report.table import GameTable, RunResults, build_table
 
 log = logging.getLogger(__name__)
 
@@ -61,7 +61,7 @@ def run_results(
                 info.frames,
             )
             return None
-    return RunResults(info.label, info.frames, info.training_sets, records, str(info.path))
+    return RunResults(info.label, info.frames, info.training_sets, records, str(info.path), info.config)
 
 
 def random_records(
@@ -134,11 +134,8 @@ def _build_report(
         results = [r for _, r in evaluated]
         baseline = random_records(game, protocol, cache_dir, evaluate, device, progress, force)
         tables.append(build_table(game, protocol_test_sets(game, protocol), baseline, results))
-        # One figure panel per row of the table: a condition is a regimen and a frame count.
-        conditions: dict[str, list[Path]] = {}
-        in_table = {result.path for result in results}
-        for info in (info for info in game_runs if str(info.path) in in_table):
-            conditions.setdefault(f"{info.label} ({format_frames(info.frames)})", []).append(info.path)
+        # One figure panel per row of the table: a regimen, a frame count and a training config.
+        conditions = {row.name: [Path(p) for p in row.runs] for row in tables[-1].rows if row.runs}
         curves = [c for label, dirs in conditions.items() if (c := pool_runs(label, dirs)) is not None]
         if curves:
             figures[game] = plot_curves(game, curves, out_dir / f"curves-{game}")

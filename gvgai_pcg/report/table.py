@@ -1,6 +1,8 @@
 """The results table of one game, shaped like the study's Table 1.
 
-Rows: Max, Random, then one row per training condition (regimen and frames trained), in the
+Rows: Max, Random, then one row per training condition (regimen, frames trained and training
+config: runs of one regimen and frames that differ in another training key, a learning rate say,
+are split into rows named by the differing keys, never averaged as seeds), in the
 order Lv X, Lv 0-3, PCG X (unlimited, then finite sets by their size), PPCG, level sets. Columns:
 the test sets ``pcg0.5``, ``pcg1``, ``lv0`` … ``lv4``, and ``train`` (each run's own training
 levels, marked as trained on) when a run has a training set of its own.
@@ -72,6 +74,49 @@ class RunResults:
     training_sets: tuple[str, ...]
     records: list[LevelRecord]
     path: str = ""
+    config: dict = field(default_factory=dict, repr=False)  # the run's resolved training config
+
+
+# Keys that do not change what a run learns (bookkeeping, where it ran) and the seed, which
+# replicates: runs differing only in these are seeds of one condition.
+NOT_TRAINING = ("seed", "total_frames", "device", "threads", "checkpoint", "log", "out_dir", "run_name")
+
+
+def _flatten(config: dict, prefix: str = "") -> dict[str, object]:
+    flat: dict[str, object] = {}
+    for key, value in config.items():
+        if isinstance(value, dict):
+            flat.update(_flatten(value, f"{prefix}{key}."))
+        else:
+            flat[f"{prefix}{key}"] = value
+    return flat
+
+
+def training_config(config: dict) -> dict[str, object]:
+    """The dotted keys of ``config`` that shape what a run learns (``NOT_TRAINING`` left out;
+    keys added since older runs at their old behaviour's value, so those runs still match)."""
+    from gvgai_pcg.rl.checkpoint import ADDED_KEYS
+
+    flat = {k: v for k, v in _flatten(config).items() if k.split(".")[0] not in NOT_TRAINING}
+    return {**ADDED_KEYS, **flat} if flat else {}
+
+
+def differing_keys(configs: Sequence[dict]) -> list[str]:
+    """The dotted training keys whose values are not the same in every config."""
+    flats = [training_config(c) for c in configs]
+    keys = sorted({k for flat in flats for k in flat})
+    return [k for k in keys if len({repr(flat.get(k, "<missing>")) for flat in flats}) > 1]
+
+
+def split_by_config(runs: Sequence[RunResults]) -> dict[str, list[RunResults]]:
+    """``runs`` (one condition at one frame count) split into groups of one training config each,
+    keyed by the differing keys' values (``""`` when all share one config)."""
+    keys = differing_keys([run.config for run in runs])
+    groups: dict[str, list[RunResults]] = {}
+    for run in runs:
+        flat = training_config(run.config)
+        groups.setdefault(", ".join(f"{k}={flat.get(k, '<missing>')}" for k in keys), []).append(run)
+    return groups
 
 
 @dataclass
@@ -110,8 +155,11 @@ def _condition_order(row: Row) -> tuple:
     return (rank, natural, row.frames)
 
 
-def condition_row(label: str, frames: int, runs: Sequence[RunResults], columns: Sequence[str]) -> Row:
-    """The row of the runs of one condition: mean and std across their per-run means."""
+def condition_row(
+    label: str, frames: int, runs: Sequence[RunResults], columns: Sequence[str], variant: str = ""
+) -> Row:
+    """The row of the runs of one condition: mean and std across their per-run means. ``variant``
+    names the training keys that set these runs apart from others of the same label and frames."""
     per_run = [mean_scores(run.records) for run in runs]
     cells = {}
     for column in columns:
@@ -128,7 +176,7 @@ def condition_row(label: str, frames: int, runs: Sequence[RunResults], columns: 
             seed_means=tuple(values),
             ci95=t_interval(values),
         )
-    name = f"{label} ({format_frames(frames)})"
+    name = f"{label} ({format_frames(frames)}{'; ' + variant if variant else ''})"
     return Row(name, "trained", cells, regimen=label, frames=frames, runs=[run.path for run in runs])
 
 
@@ -164,7 +212,11 @@ def build_table(
     groups: dict[tuple[str, int], list[RunResults]] = {}
     for run in runs:
         groups.setdefault((run.label, run.frames), []).append(run)
-    conditions = [condition_row(label, frames, group, columns) for (label, frames), group in groups.items()]
+    conditions = [
+        condition_row(label, frames, split, columns, variant)
+        for (label, frames), group in groups.items()
+        for variant, split in split_by_config(group).items()
+    ]
     rows += sorted(conditions, key=_condition_order)
     mark_best(rows, columns)
     return GameTable(game, columns, rows)

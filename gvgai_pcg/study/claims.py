@@ -237,8 +237,13 @@ def _missing(table: Table, labels: Iterable[str]) -> list[str]:
     return [label for label in labels if label not in table.cells]
 
 
-def _not_run(claim: Claim, missing: Sequence[str]) -> Claim:
-    claim.status, claim.reason = "not run", f"no {', '.join(missing)} runs evaluated"
+def _not_run(claim: Claim, missing: Sequence[str], table: Table | None = None) -> Claim:
+    split = [v for v in (table.cells if table else ()) if any(v.startswith(f"{m} (") for m in missing)]
+    claim.status, claim.reason = (
+        "not run",
+        f"no {', '.join(missing)} runs evaluated"
+        + (f" as one config (runs of several configs, not pooled: {'; '.join(split)})" if split else ""),
+    )
     return claim
 
 
@@ -261,7 +266,7 @@ def memorises(table: Table) -> Claim:
     )
     present = [label for label in ("Lv 0", "Lv 4") if label in table.cells]
     if not present:
-        return _not_run(claim, ["Lv 0", "Lv 4"])
+        return _not_run(claim, ["Lv 0", "Lv 4"], table)
     for label in present:
         own = f"lv{label.split()[1]}"
         others = [s for s in (*GENERATED_SETS, *HUMAN_SETS) if s != own and s in table.cells[label]]
@@ -286,7 +291,7 @@ def four_levels_marginal(table: Table) -> Claim:
         ("Lv 0-3", "Lv 0"),
     )
     if missing := _missing(table, claim.uses):
-        return _not_run(claim, missing)
+        return _not_run(claim, missing, table)
     trained = ("lv0", "lv1", "lv2", "lv3")
     claim.comparisons.append(
         Comparison(
@@ -326,7 +331,7 @@ def ppcg_beats_pcg05_hard(table: Table) -> Claim:
         ("PPCG", "PCG 0.5"),
     )
     if missing := _missing(table, claim.uses):
-        return _not_run(claim, missing)
+        return _not_run(claim, missing, table)
     reached = table.reached.get("PPCG", [])
     if not reached or min(reached) < 1.0:
         claim.status = "does not apply"
@@ -345,7 +350,7 @@ def pcg1_strong_ppcg_slightly_better(table: Table) -> Claim:
         ("PCG 1", "PPCG"),
     )
     if missing := _missing(table, claim.uses):
-        return _not_run(claim, missing)
+        return _not_run(claim, missing, table)
     better = _higher(table, "PPCG", "PCG 1", "pcg1")
     claim.comparisons = [
         Comparison("PCG 1 on pcg1", tuple(table.seeds("PCG 1", "pcg1")), None, STRONG, True),
@@ -363,7 +368,7 @@ def decent_on_human(table: Table) -> Claim:
     )
     present = [label for label in claim.uses if label in table.cells]
     if not present:
-        return _not_run(claim, claim.uses)
+        return _not_run(claim, claim.uses, table)
     claim.comparisons = [
         Comparison(
             f"{label}, mean over the human levels",
@@ -380,7 +385,7 @@ def decent_on_human(table: Table) -> Claim:
 def frogs_pcg1_learns_nothing(table: Table) -> Claim:
     claim = Claim(table.game, "PCG 1 learns nothing (0.00 at d = 1).", ("PCG 1",))
     if missing := _missing(table, claim.uses):
-        return _not_run(claim, missing)
+        return _not_run(claim, missing, table)
     claim.comparisons = [
         Comparison("PCG 1 on pcg1", tuple(table.seeds("PCG 1", "pcg1")), None, NOTHING, False)
     ]
@@ -390,7 +395,7 @@ def frogs_pcg1_learns_nothing(table: Table) -> Claim:
 def frogs_ppcg_wins_hard(table: Table) -> Claim:
     claim = Claim(table.game, "PPCG wins 57 % of the d = 1 levels (a large share).", ("PPCG",))
     if missing := _missing(table, claim.uses):
-        return _not_run(claim, missing)
+        return _not_run(claim, missing, table)
     claim.comparisons = [
         Comparison("PPCG on pcg1", tuple(table.seeds("PPCG", "pcg1")), None, LARGE_SHARE, True)
     ]
@@ -401,7 +406,7 @@ def frogs_no_human_win(table: Table) -> Claim:
     claim = Claim(table.game, "No generated-level agent wins a human Frogs level.", ("PCG 1", "PPCG"))
     present = [label for label in ("PCG 0.5", "PCG 1", "PPCG") if label in table.cells]
     if not present:
-        return _not_run(claim, claim.uses)
+        return _not_run(claim, claim.uses, table)
     claim.comparisons = [
         Comparison(
             f"{label}, its best human level",
@@ -425,7 +430,7 @@ def ppcg_never_hardest(table: Table) -> Claim:
         ("PPCG",),
     )
     if missing := _missing(table, claim.uses):
-        return _not_run(claim, missing)
+        return _not_run(claim, missing, table)
     reached, frames, study = (
         table.reached.get("PPCG", []),
         min(table.frames["PPCG"]),
@@ -454,7 +459,7 @@ def ppcg_never_hardest(table: Table) -> Claim:
 def pcg1_beats_ppcg_generated(table: Table) -> Claim:
     claim = Claim(table.game, "PCG 1 scores higher than PPCG on the generated sets.", ("PCG 1", "PPCG"))
     if missing := _missing(table, claim.uses):
-        return _not_run(claim, missing)
+        return _not_run(claim, missing, table)
     claim.comparisons = [_higher(table, "PCG 1", "PPCG", s) for s in GENERATED_SETS]
     return claim
 
@@ -462,7 +467,7 @@ def pcg1_beats_ppcg_generated(table: Table) -> Claim:
 def pcg1_beats_ppcg_human(table: Table) -> Claim:
     claim = Claim(table.game, "PCG 1 scores higher than PPCG on the human levels.", ("PCG 1", "PPCG"))
     if missing := _missing(table, claim.uses):
-        return _not_run(claim, missing)
+        return _not_run(claim, missing, table)
     a, b = (tuple(table.per_seed(label, HUMAN_SETS, _mean)) for label in claim.uses)
     claim.comparisons = [Comparison("PCG 1 minus PPCG, mean over the human levels", a, b, 0.0, True)]
     return claim
@@ -473,7 +478,7 @@ def pcg1_human_as_generated(table: Table) -> Claim:
         table.game, "PCG 1 scores about as well on the human levels as on the generated ones.", ("PCG 1",)
     )
     if missing := _missing(table, claim.uses):
-        return _not_run(claim, missing)
+        return _not_run(claim, missing, table)
     human = table.per_seed("PCG 1", HUMAN_SETS, _mean)
     generated = table.per_seed("PCG 1", GENERATED_SETS, _mean)
     difference = tuple(h - g for h, g in zip(human, generated, strict=True))  # paired within each seed
@@ -581,8 +586,9 @@ def collect(
         results_path = run_results_path(info.path, protocol)
         if results_path.is_file():
             evaluated.append((info, read_records(results_path)))
+    labels = _labels_by_config(info for info, _ in evaluated)
     finished = {
-        (info.game, info.label)
+        (info.game, labels[info.path])
         for info, records in evaluated
         if target_frames is not None and int(records[0].frames) >= target_frames
     }
@@ -596,11 +602,12 @@ def collect(
                 info.game, {}, {}, _set_means(baseline, "scores"), _set_means(records, "max_score"), {}
             )
         game = games[info.game]
-        if (info.game, info.label) in finished and frames < target_frames:
-            game.training.setdefault(info.label, []).append(frames)
+        label = labels[info.path]
+        if (info.game, label) in finished and frames < target_frames:
+            game.training.setdefault(label, []).append(frames)
             continue
-        game.frames.setdefault(info.label, []).append(frames)
-        sets = game.conditions.setdefault(info.label, {})
+        game.frames.setdefault(label, []).append(frames)
+        sets = game.conditions.setdefault(label, {})
         for test_set in {record.test_set for record in records}:
             of_set = [record for record in records if record.test_set == test_set]
             scores = [score for record in of_set for score in record.scores]
@@ -612,9 +619,29 @@ def collect(
         if info.regimen["name"] == "ppcg" and (info.path / "log.csv").is_file():
             rows = [row for row in read_log(info.path / "log.csv") if row["frames"] <= frames]
             log = DifficultyLog([row["frames"] for row in rows], [row["difficulty"] for row in rows])
-            game.difficulty.setdefault(info.label, []).append(log)
-            game.max_difficulty.setdefault(info.label, []).append(log.highest)
+            game.difficulty.setdefault(label, []).append(log)
+            game.max_difficulty.setdefault(label, []).append(log.highest)
     return games
+
+
+def _labels_by_config(infos) -> dict[Path, str]:
+    """Each run's condition label; where runs of one game and label differ in a training key (a
+    learning rate, say), each keeps its label with the differing keys' values appended, so runs
+    of different configs are never pooled as seeds (and the rules, which read the plain labels,
+    judge none of them)."""
+    from gvgai_pcg.report.table import differing_keys, training_config
+
+    groups: dict[tuple[str, str], list] = {}
+    for info in infos:
+        groups.setdefault((info.game, info.label), []).append(info)
+    labels = {}
+    for (_, label), group in groups.items():
+        keys = differing_keys([info.config for info in group])
+        for info in group:
+            flat = training_config(info.config)
+            variant = ", ".join(f"{k}={flat.get(k, '<missing>')}" for k in keys)
+            labels[info.path] = f"{label} ({variant})" if variant else label
+    return labels
 
 
 def _set_means(records, attribute: str) -> dict[str, float]:

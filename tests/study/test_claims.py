@@ -200,3 +200,27 @@ def test_a_seed_still_training_is_left_out_where_its_condition_has_finished_runs
     )
     unfinished = collect(runs, None, protocol, target_frames=5000)["zelda"]  # none finished: both count
     assert sorted(unfinished.frames["Lv 0"]) == [100, 1000] and unfinished.training == {}
+
+
+def test_runs_of_two_configs_are_not_judged_as_seeds_of_one_condition():
+    from types import SimpleNamespace
+
+    from gvgai_pcg.study.claims import _labels_by_config
+
+    def info(seed: int, lr: float):
+        return SimpleNamespace(
+            game="zelda", label="PPCG", path=f"p{seed}", config={"algo": {"lr": lr}, "seed": seed}
+        )
+
+    labels = _labels_by_config([info(0, 7e-4), info(1, 7e-4), info(2, 1e-3)])
+    assert labels == {
+        "p0": "PPCG (algo.lr=0.0007)",
+        "p1": "PPCG (algo.lr=0.0007)",
+        "p2": "PPCG (algo.lr=0.001)",
+    }
+    split = table({"PPCG (algo.lr=0.0007)": {"*": [0.5] * 3}, "PCG 1": {"*": [0.1] * 3}}, "boulderdash")
+    claim = pcg1_beats_ppcg_generated(split)
+    assert (
+        claim.status == "not run"
+        and "runs of several configs, not pooled: PPCG (algo.lr=0.0007)" in claim.reason
+    )
