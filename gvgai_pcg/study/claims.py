@@ -142,6 +142,9 @@ class GameResults:
     # runs left out because a run of their condition has reached the target and they have not yet
     training: dict[str, list[int]] = field(default_factory=dict)
     difficulty: dict[str, list[DifficultyLog]] = field(default_factory=dict)
+    # per counted run (as ``frames``), the frames it is to train: its config's total_frames, at
+    # least the target (a budget's conditions may train different frames: medium's Zelda 20M)
+    planned: dict[str, list[int]] = field(default_factory=dict)
 
     def normalised_seeds(self, label: str, test_set: str) -> list[float]:
         """Each seed's normalised mean score of a condition on a set."""
@@ -573,9 +576,9 @@ def collect(
 ) -> dict[str, GameResults]:
     """Every game's results from run directories (their evaluation records for ``protocol``, and
     for PPCG the difficulty in their logs up to the evaluated model); runs without records are
-    left out. With ``target_frames``, a condition with runs at the target is judged on those
-    alone: a later seed still training would otherwise pull its mean back (its frames go to
-    ``training``)."""
+    left out. With ``target_frames``, a run's goal is the larger of it and its config's
+    ``total_frames``, and a condition with runs at their goal is judged on those alone: a later
+    seed still training would otherwise pull its mean back (its frames go to ``training``)."""
     from gvgai_pcg.evaluation.checkpoints import run_info
     from gvgai_pcg.evaluation.evaluator import random_results_path, read_records, run_results_path
     from gvgai_pcg.rl.run_log import read_log
@@ -587,10 +590,14 @@ def collect(
         if results_path.is_file():
             evaluated.append((info, read_records(results_path)))
     labels = _labels_by_config(info for info, _ in evaluated)
+
+    def goal(info) -> int:
+        return max(target_frames or 0, int(info.config.get("total_frames", 0) or 0))
+
     finished = {
         (info.game, labels[info.path])
         for info, records in evaluated
-        if target_frames is not None and int(records[0].frames) >= target_frames
+        if target_frames is not None and int(records[0].frames) >= goal(info)
     }
     games: dict[str, GameResults] = {}
     for info, records in sorted(evaluated, key=lambda item: str(item[0].path)):
@@ -603,10 +610,11 @@ def collect(
             )
         game = games[info.game]
         label = labels[info.path]
-        if (info.game, label) in finished and frames < target_frames:
+        if (info.game, label) in finished and frames < goal(info):
             game.training.setdefault(label, []).append(frames)
             continue
         game.frames.setdefault(label, []).append(frames)
+        game.planned.setdefault(label, []).append(goal(info))
         sets = game.conditions.setdefault(label, {})
         for test_set in {record.test_set for record in records}:
             of_set = [record for record in records if record.test_set == test_set]
@@ -654,12 +662,17 @@ def _set_means(records, attribute: str) -> dict[str, float]:
 
 
 def pending(verdict: Verdict, game: GameResults, uses: Sequence[str], target_frames: int) -> Verdict:
-    """``verdict`` marked pending while a condition it rests on is missing or short of
-    ``target_frames`` (the evidence on the runs there are is kept)."""
+    """``verdict`` marked pending while a condition it rests on is missing or has a run short of
+    its planned frames (``target_frames`` where none are recorded); the evidence so far is kept."""
+
+    def unfinished(label: str) -> bool:
+        planned = game.planned.get(label) or [target_frames] * len(game.frames[label])
+        return any(f < p for f, p in zip(game.frames[label], planned, strict=True))
+
     short = [
         f"{label} {'not evaluated' if label not in game.frames else f'at {min(game.frames[label]):,} frames'}"
         for label in uses
-        if label not in game.frames or min(game.frames[label]) < target_frames
+        if label not in game.frames or unfinished(label)
     ]
     if not short or verdict.verdict in ("not run", "does not apply"):
         return verdict

@@ -224,3 +224,21 @@ def test_runs_of_two_configs_are_not_judged_as_seeds_of_one_condition():
         claim.status == "not run"
         and "runs of several configs, not pooled: PPCG (algo.lr=0.0007)" in claim.reason
     )
+
+
+def test_a_condition_is_pending_until_its_runs_reach_their_own_planned_frames():
+    """medium trains Zelda's PPCG 20M frames and others 10M: at 10M, PPCG is not finished."""
+    sets = {s: result([0.5, 0.6, 0.55]) for s in TEST_SETS}
+    frogs = GameResults(
+        "frogs",
+        {"PCG 1": sets, "PPCG": sets},
+        {"PCG 1": [10_000_000] * 3, "PPCG": [10_000_000] * 3},
+        random={s: 0.0 for s in TEST_SETS},
+        maximum={s: 1.0 for s in TEST_SETS},
+        max_difficulty={},
+        planned={"PCG 1": [10_000_000] * 3, "PPCG": [20_000_000] * 3},
+    )
+    verdicts = dict((v.claim, v) for _, v in study_claims({"frogs": frogs}, target_frames=10_000_000))
+    assert not verdicts["PCG 1 learns nothing (0.00 at d = 1)."].verdict.startswith("pending")
+    ppcg = verdicts["PPCG wins 57 % of the d = 1 levels (a large share)."]
+    assert ppcg.verdict.startswith("pending") and "PPCG at 10,000,000 frames" in ppcg.evidence
