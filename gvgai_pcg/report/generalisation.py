@@ -18,7 +18,7 @@ from gvgai_pcg.evaluation.checkpoints import RunInfo
 from gvgai_pcg.evaluation.protocol import TRAINING_SET
 from gvgai_pcg.levels.test_sets import TEST_DIFFICULTIES, set_name
 from gvgai_pcg.report.curves import save_figure
-from gvgai_pcg.report.table import RunResults, format_frames, mean_scores
+from gvgai_pcg.report.table import RunResults, differing_keys, format_frames, mean_scores, training_config
 
 CURVE_SETS = (TRAINING_SET, *(set_name(d) for d in TEST_DIFFICULTIES))
 LEVEL_COUNT_FIGURE = "generalisation"  # the report's generalisation-<game>.png/.svg
@@ -43,10 +43,12 @@ class LevelCountCurve:
     difficulty: float
     frames: int
     points: list[LevelCountPoint]
+    variant: str = ""  # the training keys that set this sweep apart from another of the same d and frames
 
     @property
     def label(self) -> str:
-        return f"PCG {self.difficulty:g} ({format_frames(self.frames)})"
+        variant = f"; {self.variant}" if self.variant else ""
+        return f"PCG {self.difficulty:g} ({format_frames(self.frames)}{variant})"
 
     def sizes(self) -> list[int]:
         return sorted({p.num_levels for p in self.points if p.num_levels > 0})
@@ -64,16 +66,22 @@ class LevelCountCurve:
 
 def level_count_curves(runs: Sequence[tuple[RunInfo, RunResults]]) -> list[LevelCountCurve]:
     """The curves in ``runs`` (a run's info with its results): one per (game, difficulty,
-    frames) of PCG runs with at least two different finite set sizes."""
-    groups: dict[tuple[str, float, int], dict[int, list[RunResults]]] = {}
-    for info, results in runs:
-        if info.regimen["name"] != "pcg":
-            continue
-        key = (info.game, float(info.regimen["difficulty"]), info.frames)
+    frames, training config but the set size) of PCG runs with at least two different finite set
+    sizes; sweeps that differ in another training key are separate curves named by those keys."""
+    pcg = [(info, results) for info, results in runs if info.regimen["name"] == "pcg"]
+    sweep_configs = [_without_count(info.config) for info, _ in pcg]
+    groups: dict[tuple[str, float, int, str], dict[int, list[RunResults]]] = {}
+    for (info, results), config in zip(pcg, sweep_configs, strict=True):
+        keys = differing_keys(
+            [c for (i, _), c in zip(pcg, sweep_configs, strict=True) if i.game == info.game]
+        )
+        flat = training_config(config)
+        variant = ", ".join(f"{k}={flat.get(k, '<missing>')}" for k in keys)
+        key = (info.game, float(info.regimen["difficulty"]), info.frames, variant)
         count = int(info.regimen.get("num_levels", 0) or 0)
         groups.setdefault(key, {}).setdefault(count, []).append(results)
     curves = []
-    for (game, difficulty, frames), by_count in groups.items():
+    for (game, difficulty, frames, variant), by_count in groups.items():
         if len([count for count in by_count if count > 0]) < 2:
             continue
         points = []
@@ -85,8 +93,15 @@ def level_count_curves(runs: Sequence[tuple[RunInfo, RunResults]]) -> list[Level
                     mean = sum(values) / len(values)
                     std = math.sqrt(sum((v - mean) ** 2 for v in values) / len(values))
                     points.append(LevelCountPoint(count, test_set, mean, std, len(values)))
-        curves.append(LevelCountCurve(game, difficulty, frames, points))
+        curves.append(LevelCountCurve(game, difficulty, frames, points, variant))
     return curves
+
+
+def _without_count(config: dict) -> dict:
+    """``config`` less what a level-count sweep varies: the set size (and the difficulty and
+    frames, which key the curve anyway)."""
+    regimen = {k: v for k, v in config.get("regimen", {}).items() if k not in ("num_levels", "difficulty")}
+    return {**config, "regimen": regimen}
 
 
 def plot_level_counts(curves: Sequence[LevelCountCurve], out_stem: Path) -> list[Path]:

@@ -80,6 +80,7 @@ class RunResults:
 # Keys that do not change what a run learns (bookkeeping, where it ran) and the seed, which
 # replicates: runs differing only in these are seeds of one condition.
 NOT_TRAINING = ("seed", "total_frames", "device", "threads", "checkpoint", "log", "out_dir", "run_name")
+NAMES = ("regimen.tag",)  # a name derived from the regimen's other keys
 
 
 def _flatten(config: dict, prefix: str = "") -> dict[str, object]:
@@ -97,7 +98,9 @@ def training_config(config: dict) -> dict[str, object]:
     keys added since older runs at their old behaviour's value, so those runs still match)."""
     from gvgai_pcg.rl.checkpoint import ADDED_KEYS
 
-    flat = {k: v for k, v in _flatten(config).items() if k.split(".")[0] not in NOT_TRAINING}
+    flat = {
+        k: v for k, v in _flatten(config).items() if k.split(".")[0] not in NOT_TRAINING and k not in NAMES
+    }
     return {**ADDED_KEYS, **flat} if flat else {}
 
 
