@@ -9,11 +9,13 @@ from pathlib import Path
 
 import pytest
 
+from gvgai_pcg.study import BUDGETS
 from gvgai_pcg.study.page import END, START, results_block
 
 ROOT = Path(__file__).resolve().parents[2]
 PAGE = ROOT / "docs" / "results.md"
-PUBLISHED = ROOT / "results" / "small"
+# the folder the page's block was written from (its first line names it): small now, medium later
+PUBLISHED = ROOT / re.search(r"Data: `([^`]+)`", PAGE.read_text()).group(1)
 NUMBER = re.compile(r"(?<![\w.])\d+\.\d+|\d+ of \d+")
 
 pytestmark = pytest.mark.skipif(not (PUBLISHED / "runs").is_dir(), reason="no published small runs")
@@ -38,7 +40,8 @@ def test_every_number_the_prose_states_is_in_the_generated_block():
 def test_the_pages_block_rebuilds_from_the_published_folder(tmp_path):
     page = block_of(PAGE.read_text())
     commit = re.search(r"commit `(\w+)`", page).group(1)
-    rebuilt = results_block(PUBLISHED, tmp_path / "images", "images/results", 5_000_000, commit)
+    frames = BUDGETS[PUBLISHED.name].frames_range[0]
+    rebuilt = results_block(PUBLISHED, tmp_path / "images", "images/results", frames, commit)
     # the first line names the machine that wrote it
     assert rebuilt.splitlines()[2:] == page.splitlines()[2:]
 
@@ -46,13 +49,13 @@ def test_the_pages_block_rebuilds_from_the_published_folder(tmp_path):
 def test_the_published_claims_rebuild_from_the_runs():
     from gvgai_pcg.evaluation.checkpoints import find_runs
     from gvgai_pcg.evaluation.protocol import Protocol
-    from gvgai_pcg.study import BUDGETS
     from gvgai_pcg.study.claims import claims_markdown, collect, study_claims
 
-    budget = BUDGETS["small"]
+    budget = BUDGETS[PUBLISHED.name]
+    target = budget.frames_range[0]  # as the pipeline's write_claims is given
     games = collect(
-        find_runs([PUBLISHED / "runs"]), PUBLISHED / "random", Protocol(**budget.protocol), budget.frames
+        find_runs([PUBLISHED / "runs"]), PUBLISHED / "random", Protocol(**budget.protocol), target
     )
-    rebuilt = claims_markdown(study_claims(games, budget.frames), games)
+    rebuilt = claims_markdown(study_claims(games, target), games)
     assert rebuilt == (PUBLISHED / "report" / "claims.md").read_text()
     assert "Four levels transfer more" not in PAGE.read_text()  # the backwards sentence stays gone
