@@ -74,9 +74,27 @@ def side_by_side_markdown(games: Mapping) -> str:
                 agree, total = agree + same, total + 1
                 texts.append(f"{theirs:.2f} / {ours:.2f}" + ("" if same else " ✗"))
             lines.append(f"| {label} | " + " | ".join(texts) + " |")
-        lines += ["", f"Direction from the random agent agrees on {agree} of {total} cells."]
+        lines += ["", f"Direction from the random agent agrees on {agree} of {total} cells." + _ratios(rows)]
         parts += ["", *lines]
     return "\n".join(parts)
+
+
+def _ratios(rows) -> str:
+    """Ours as a share of the study's normalised score, over the cells where the study is above
+    the random agent (a share of a cell near 0 says nothing)."""
+    ratios = sorted(
+        ours / theirs
+        for cells in rows.values()
+        for theirs, ours, _ in cells.values()
+        if direction(theirs) > 0
+    )
+    if not ratios:
+        return ""
+    median = (ratios[(len(ratios) - 1) // 2] + ratios[len(ratios) // 2]) / 2
+    return (
+        f" Where the study is above it ({len(ratios)} cells), ours reach {median:.2f} of its normalised "
+        f"score at the median (from {ratios[0]:.2f} to {ratios[-1]:.2f})."
+    )
 
 
 def _frames(value: float | None) -> str:

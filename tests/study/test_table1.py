@@ -37,3 +37,16 @@ def test_side_by_side_marks_where_the_directions_from_random_differ():
     assert (direction(0.3), direction(-0.3), direction(0.04)) == (1, -1, 0)
     rows = side_by_side({"PPCG": {"lv0": 0.3, "lv1": 0.02}}, {"PPCG": {"lv0": -0.1, "lv1": 0.0}, "Lv 0": {}})
     assert rows == {"PPCG": {"lv0": (0.3, -0.1, False), "lv1": (0.02, 0.0, True)}}
+
+
+def test_ours_as_a_share_of_the_study_counts_only_cells_above_random():
+    from gvgai_pcg.study.table1_compare import _ratios
+
+    rows = side_by_side(
+        {"PPCG": {"lv0": 0.5, "lv1": 0.01, "lv2": 0.4}}, {"PPCG": {"lv0": 0.25, "lv1": 0.3, "lv2": 0.4}}
+    )
+    text = _ratios(rows)
+    assert (
+        "above it (2 cells), ours reach 0.75 of its normalised score at the median (from 0.50 to 1.00)."
+        in text
+    )
