@@ -13,6 +13,7 @@ d = 0.5 test set, so the training score estimates the test score there; the prot
 of the final models confirms it.
 
     python -m gvgai_pcg.study.pilot results/pilot results/small/runs/zelda-pcg0.5-*
+    python -m gvgai_pcg.study.pilot --page docs/pilot.md results/pilot results/small/runs
 """
 
 from __future__ import annotations
@@ -99,7 +100,7 @@ def pilot_table(runs: list[PilotRun], targets: tuple[float, ...], at_frames: tup
     """A Markdown table: per run, the smoothed training score at ``at_frames`` and the frames and
     CPU hours to reach each of ``targets``."""
     head = ["run", "envs", "lr", "seed", "frames", "CPU ms / 1k frames"]
-    head += [f"score at {f / 1e6:g}M" for f in at_frames]
+    head += [f"training score at {f / 1e6:g}M" for f in at_frames]
     head += [f"to {t:g}: frames (CPU h)" for t in targets]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * 2 + "---:|" * (len(head) - 2)]
     for run in runs:
@@ -110,6 +111,9 @@ def pilot_table(runs: list[PilotRun], targets: tuple[float, ...], at_frames: tup
             score = score_at(run.rows, frames)
             cells.append(f"{score:.2f}" if score is not None else "-")
         for target in targets:
+            if run.condition != TARGET_CONDITION:  # the targets are scores of this condition only
+                cells.append("n/a")
+                continue
             reached = frames_to_reach(run.rows, target)
             if reached is None:
                 cells.append("not reached")
@@ -121,11 +125,34 @@ def pilot_table(runs: list[PilotRun], targets: tuple[float, ...], at_frames: tup
 
 
 TARGETS = (2.0, 2.5, 3.0)  # training scores on PCG 0.5 (the study's d = 0.5 test score is 3.45)
+TARGET_CONDITION = "zelda-pcg0.5"
 AT_FRAMES = (2_000_000, 5_000_000, 10_000_000)
 
 
+START, END = "<!-- pilot:start -->", "<!-- pilot:end -->"
+# what docs/pilot.md compares the pilot with: the small sweep's Zelda PCG 0.5 and PCG 1 runs
+BASELINES = ("zelda-pcg0.5-tiles-compact-seed", "zelda-pcg1.0-tiles-compact-seed")
+
+
+def page_table(pilot: Path, small_runs: Path) -> str:
+    """The table of docs/pilot.md: the ``small`` baselines, then the pilot's runs."""
+    others = sorted(run for run in Path(small_runs).iterdir() if run.name.startswith(BASELINES))
+    return pilot_table([*(read_run(run) for run in others), *read_pilot(pilot)], TARGETS, AT_FRAMES)
+
+
+def write_page(page: Path, table: str) -> None:
+    """Put ``table`` between the page's pilot markers."""
+    text = Path(page).read_text()
+    head, rest = text.split(START, 1)
+    Path(page).write_text(f"{head}{START}\n{table}\n{END}{rest.split(END, 1)[1]}")
+
+
 def main(argv: list[str]) -> int:
-    """``PILOT_FOLDER [RUN_DIR ...]``: the pilot's runs, then single runs to compare them with."""
+    """``PILOT_FOLDER [RUN_DIR ...]``: the pilot's runs, then single runs to compare them with.
+    ``--page PAGE PILOT_FOLDER SMALL_RUNS``: write the page's table."""
+    if argv[:1] == ["--page"]:
+        write_page(Path(argv[1]), page_table(Path(argv[2]), Path(argv[3])))
+        return 0
     folder, others = (Path(argv[0]) if argv else Path("results/pilot")), [Path(a) for a in argv[1:]]
     runs = [*(read_run(run) for run in others), *read_pilot(folder)]
     print(pilot_table(runs, TARGETS, AT_FRAMES))

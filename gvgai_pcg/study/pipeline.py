@@ -59,15 +59,21 @@ def frame_cost(condition: str) -> float:
     return 1.0 if spec is None else spec.frame_cost
 
 
-def share_conditions(conditions: Sequence[str], jobs: int) -> list[list[str]]:
+def share_conditions(conditions: Sequence[str], jobs: int, budget: Budget | None = None) -> list[list[str]]:
     """``conditions`` split into at most ``jobs`` shares of about equal expected cost (greedy,
-    most expensive first); each share keeps the conditions' given order."""
+    most expensive first; with ``budget``, a condition costs its frames and seeds there too); each
+    share keeps the conditions' given order."""
+
+    def cost(condition: str) -> float:
+        runs = 1.0 if budget is None else budget.frames_of(condition) * len(budget.seeds_of(condition))
+        return frame_cost(condition) * runs
+
     shares: list[list[str]] = [[] for _ in range(max(1, min(jobs, len(conditions))))]
     costs = [0.0] * len(shares)
-    for condition in sorted(conditions, key=lambda c: -frame_cost(c)):
+    for condition in sorted(conditions, key=lambda c: -cost(c)):
         lightest = costs.index(min(costs))
         shares[lightest].append(condition)
-        costs[lightest] += frame_cost(condition)
+        costs[lightest] += cost(condition)
     order = {c: i for i, c in enumerate(conditions)}
     return [sorted(share, key=order.__getitem__) for share in shares if share]
 
@@ -140,7 +146,7 @@ def run_sweep(
     if launcher:
         queues = [[entry] for entry in sweep_plan(budget, conditions, skip)]
     else:
-        queues = [sweep_plan(budget, share, skip) for share in share_conditions(conditions, jobs)]
+        queues = [sweep_plan(budget, share, skip) for share in share_conditions(conditions, jobs, budget)]
     start = time.perf_counter()
     failed: list[str] = []
     children: list[subprocess.Popen] = []

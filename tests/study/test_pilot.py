@@ -39,3 +39,14 @@ def test_the_table_reads_a_published_pilot_and_costs_each_run_by_its_cpu_seconds
     assert "| p-e64 | 64 | 0.002 | 0 | 2.0M | 3600 |" in line
     # the average of the last 500k frames: 2 at 750k, 3 from 1M on
     assert line.endswith("| 3.00 | - | - | 0.75M (0.75) | 1.00M (1.00) | 1.00M (1.00) |")
+
+
+def test_the_pilot_page_shows_the_table_its_published_runs_give():
+    from pathlib import Path
+
+    from gvgai_pcg.study.pilot import END, START, page_table
+
+    root = Path(__file__).resolve().parents[2]
+    page = (root / "docs" / "pilot.md").read_text()
+    block = page.split(START, 1)[1].split(END, 1)[0].strip()
+    assert block == page_table(root / "results" / "pilot", root / "results" / "small" / "runs")
