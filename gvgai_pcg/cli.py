@@ -68,22 +68,50 @@ def main(argv: list[str] | None = None) -> int:
 
 def run_reporting_errors(name: str, command: Callable[[], int | None]) -> int:
     """Run ``command``; a ``USER_ERRORS`` exception ends it with one line on stderr and exit 2, an
-    interrupt (Ctrl-C) with one line and exit 130."""
+    interrupt (Ctrl-C) with one line and exit 130. However it ends, a stream whose reader went away
+    is pointed at /dev/null, so that Python's flush at exit adds no second error."""
     try:
         return int(command() or 0)
     except BrokenPipeError:  # the reader went away (`gvgai-pcg generate ... | head`): not an error
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no second error at exit
         return 0
     except USER_ERRORS as error:
         if os.environ.get("GVGAI_PCG_DEBUG"):
             raise
-        sys.stderr.write(f"gvgai-pcg {name}: error: {error}\n")
+        say(f"gvgai-pcg {name}: error: {error}")
         raise SystemExit(2) from None
     except KeyboardInterrupt:
         if os.environ.get("GVGAI_PCG_DEBUG"):
             raise
-        sys.stderr.write(f"gvgai-pcg {name}: interrupted\n")
+        say(f"gvgai-pcg {name}: interrupted")
         raise SystemExit(130) from None
+    finally:
+        silence_closed_streams()
+
+
+def say(line: str) -> bool:
+    """Write ``line`` to stderr, or to stdout when stderr cannot be written (its reader went away,
+    a full disk under it); ``False`` when neither could take it."""
+    for stream in (sys.stderr, sys.stdout):
+        try:
+            stream.write(line + "\n")
+            stream.flush()
+            return True
+        except (OSError, ValueError, AttributeError):  # a closed pipe or file; no stream at all
+            continue
+    return False
+
+
+def silence_closed_streams() -> None:
+    """Point stdout and stderr at /dev/null where they can no longer be written, so that what is
+    left in their buffers does not fail again at exit ("Exception ignored ... BrokenPipeError")."""
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            try:
+                os.dup2(os.open(os.devnull, os.O_WRONLY), stream.fileno())
+            except (OSError, ValueError):
+                pass
 
 
 if __name__ == "__main__":

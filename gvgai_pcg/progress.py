@@ -42,9 +42,16 @@ class NoProgress:
 
 
 class PlainProgress:
-    """``desc: 12,800/1,000,000 frame (1%), 2,345 frame/s, fps=2310 score=0.12`` lines, one
-    at most every ``interval`` seconds, and one at ``close`` if any line was written before (and
-    the count has moved since)."""
+    """``desc: 12,800/1,000,000 frame (1%), 2,345 frame/s, score=0.12`` lines, one at most every
+    ``interval`` seconds, and one at ``close`` if any line was written before (and the count has
+    moved since).
+
+    The speed is the current one: over the units since the previous line (for the first line,
+    since the first ``update``: what came before it is start-up, imports and compilation). The
+    percentage stops at 100% (a run may end a part of a batch past its total). A line that cannot
+    be written (the reader of a pipe went away, a full disk) raises once; the bar then writes
+    nothing more, so that its ``close`` in a cleanup does not hide the first error behind a second.
+    """
 
     def __init__(
         self,
@@ -61,11 +68,15 @@ class PlainProgress:
         self.start = self.last = clock()
         self.postfix = ""
         self.lines, self.written = 0, initial
-        self.closed = False
+        self.closed = self.failed = False
+        self.mark: tuple[float, int] | None = None  # (time, count) the next line's speed is over
 
     def update(self, n: int = 1) -> None:
         self.count += n
-        if self.clock() - self.last >= self.interval:
+        now = self.clock()
+        if self.mark is None:
+            self.mark = (now, self.count)
+        elif now - self.last >= self.interval:
             self._write()
 
     def set_postfix(self, **values: object) -> None:
@@ -77,19 +88,27 @@ class PlainProgress:
         self.closed = True
 
     def _write(self) -> None:
+        if self.failed:
+            return
         now = self.clock()
         done = f"{self.count:,}"
         if self.total:
-            done += f"/{self.total:,} {self.unit} ({100 * self.count / self.total:.0f}%)"
+            done += f"/{self.total:,} {self.unit} ({min(100.0, 100 * self.count / self.total):.0f}%)"
         else:
             done += f" {self.unit}"
-        rate = self.count / max(now - self.start, 1e-9)
-        parts = [f"{self.desc}: {done}" if self.desc else done, f"{rate:,.0f} {self.unit}/s"]
+        parts = [f"{self.desc}: {done}" if self.desc else done]
+        since, counted = self.mark or (self.start, self.written)
+        if self.count > counted and now > since:
+            parts.append(f"{(self.count - counted) / (now - since):,.0f} {self.unit}/s")
         if self.postfix:
             parts.append(self.postfix)
-        stream = self.stream or sys.stderr
-        print(", ".join(parts), file=stream, flush=True)
+        try:
+            print(", ".join(parts), file=self.stream or sys.stderr, flush=True)
+        except (OSError, ValueError):
+            self.failed = True
+            raise
         self.last, self.lines, self.written = now, self.lines + 1, self.count
+        self.mark = (now, self.count)
 
 
 def is_terminal(stream: IO[str] | None = None) -> bool:
@@ -125,7 +144,7 @@ def progress(
             file=stream,
             dynamic_ncols=True,
         )
-    return PlainProgress(total, desc, unit, initial, stream)
+    return PlainProgress(total, desc, unit, initial, stream, interval=PLAIN_INTERVAL_S)
 
 
 def track(

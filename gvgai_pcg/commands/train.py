@@ -11,7 +11,10 @@ A refusal raised while a run starts (a checkpoint of another config, a run direc
 of the CLI's ``USER_ERRORS``) ends like every other command's, in one line and exit 2, even though
 it is raised inside the Hydra app, which would print it as a traceback and exit 1. A run stopped
 by SIGINT or SIGTERM says in one line where it stopped and how to resume, and exits 130 or 143; a
-diverged run says at what frames and which quantity, and exits 3.
+diverged run says at what frames and which quantity, and exits 3. A run stopped by anything else
+(a write to a closed pipe or a full disk, a logger backend that fails, a second Ctrl-C) has its
+last complete update saved by the session; it says so in one line, on whichever of stderr,
+stdout or ``train.log`` can still be written, and exits non-zero (141 for a closed pipe).
 
 Hydra is told not to write ``.hydra/`` itself (``hydra.output_subdir: null``): it would do so
 before the task function runs, so a resume that is then refused would already have overwritten
@@ -21,6 +24,7 @@ files to ``train``, which writes them once the session is accepted.
 
 from __future__ import annotations
 
+import logging
 import os
 import shlex
 import signal
@@ -55,24 +59,32 @@ def _train(cfg) -> None:
 
     from gvgai_pcg.rl import train
     from gvgai_pcg.rl.divergence import DivergenceError
+    from gvgai_pcg.rl.run_session import TrainingStopped
     from gvgai_pcg.rl.stop_signal import StopSignal
 
     files = _hydra_files(cfg)
     # checked again here: a job that check_command_line could not compose (-cd, another sweeper)
     cfg = checked_config(cfg)
     hydra, stop = HydraConfig.get(), _STOP or StopSignal()
+    again = " ".join(["gvgai-pcg train", *map(shlex.quote, hydra.overrides.task)])
     try:
         result = train(cfg, Path(hydra.runtime.output_dir), files=files, stop=stop)
     except DivergenceError as error:
-        sys.stderr.write(f"gvgai-pcg train: {error}\n")
+        _tell(f"gvgai-pcg train: {error}")
         raise SystemExit(3) from None
+    except TrainingStopped as error:
+        if os.environ.get("GVGAI_PCG_DEBUG"):
+            raise
+        after = f" (after {stop.name})" if stop.received else ""
+        _tell(f"gvgai-pcg train: {error}{after}; resume with: {again}")
+        if stop.received:
+            stop.hand_over()
+        raise SystemExit(_stopped_exit_code(error, stop)) from None
     if result.stopped_by:
-        again = " ".join(["gvgai-pcg train", *map(shlex.quote, hydra.overrides.task)])
-        sys.stderr.write(
+        _tell(
             f"gvgai-pcg train: stopped by {result.stopped_by} at {result.frames} frames, checkpoint "
-            f"{result.checkpoint_path}; resume with: {again}\n"
+            f"{result.checkpoint_path}; resume with: {again}"
         )
-        sys.stderr.flush()
         stop.hand_over()  # a launcher's own handlers (submitit requeues the job here)
         raise SystemExit(stop.exit_code)
     print(f"run directory: {result.run_dir}")
@@ -81,6 +93,27 @@ def _train(cfg) -> None:
     print(f"  model:      {result.model_path}")
     if result.curve_path is not None:
         print(f"  curve:      {result.curve_path}")
+
+
+def _tell(line: str) -> None:
+    """``line`` on stderr, else stdout, else only in the run's ``train.log`` (Hydra's file handler):
+    a stop through a pipe whose reader died still says where it stopped."""
+    from gvgai_pcg.cli import say
+
+    if not say(line):
+        logging.getLogger(__name__).error(line)
+
+
+def _stopped_exit_code(error, stop) -> int:
+    """The shell's code of what stopped the run: the signal received (130, 143), a second Ctrl-C
+    (130), a write to a closed pipe (141, as if SIGPIPE had ended it), anything else 1."""
+    if stop.received:
+        return stop.exit_code
+    if isinstance(error.cause, KeyboardInterrupt):
+        return 128 + signal.SIGINT
+    if isinstance(error.cause, BrokenPipeError):
+        return 128 + signal.SIGPIPE
+    return 1
 
 
 def _hydra_files(cfg) -> dict[str, str]:

@@ -179,6 +179,8 @@ def _train(cfg: DictConfig, run_dir: Path, config: dict, session: RunSession) ->
         }
         session.save_checkpoint(state, net, run_log)  # the log on disk first; never a non-finite model
 
+    session.saving_last_state(checkpoint)  # whatever stops the loop, the last complete update is kept
+
     steady_frames, steady_start, steady_cpu = frames, None, 0.0
     for rollout in session.guard.watch(collector if remaining > 0 else [], net):
         rollout = rollout.reshape(-1, rollout.shape[-1])  # [envs, n_steps] (workers stacked)
@@ -220,7 +222,8 @@ def _train(cfg: DictConfig, run_dir: Path, config: dict, session: RunSession) ->
             }
             run_log.write(row)
             bar.set_postfix(
-                fps=f"{row['fps']:.0f}", score=f"{row['mean_score']:.2f}", d=f"{row['difficulty']:.2f}"
+                score=f"{row['mean_score']:.2f}",
+                **({} if difficulty is None else {"d": f"{row['difficulty']:.2f}"}),
             )
             row_frames, row_time = frames, now
 

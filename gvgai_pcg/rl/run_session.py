@@ -17,6 +17,13 @@ nothing of an earlier session lost.
 Any refusal in 1-4 leaves every file of the run as it was. During the session SIGINT/SIGTERM
 are turned into a stop request (``stop_signal``) and the divergence guard watches the updates;
 ``closing`` registers what must be shut down however the session ends (the collector).
+
+Any other stop inside the session (a progress or log write into a closed pipe or a full disk, a
+logger backend that raises, a second Ctrl-C) is not allowed to lose the run: the training loop
+hands the session its ``saving_last_state`` function once it has a state to save, and the
+session saves the last complete update with it before it raises ``TrainingStopped`` (which names
+the cause, the frames and the checkpoint). A diverged run is the exception: it keeps its last
+good checkpoint (``DivergenceError``).
 """
 
 from __future__ import annotations
@@ -25,7 +32,7 @@ import contextlib
 import logging
 import os
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -39,7 +46,7 @@ from gvgai_pcg.rl.checkpoint import (
     load_checkpoint,
     save_checkpoint,
 )
-from gvgai_pcg.rl.divergence import DivergenceGuard
+from gvgai_pcg.rl.divergence import DivergenceError, DivergenceGuard
 from gvgai_pcg.rl.run_lock import LOCK_NAME, FolderLock
 from gvgai_pcg.rl.run_log import LOG_NAME, read_log
 from gvgai_pcg.rl.stop_signal import StopSignal
@@ -55,6 +62,21 @@ STAYS = {LOCK_NAME, ASIDE_DIR, "train.log"}
 BOOKKEEPING = {"config.yaml", ".hydra", "shared", "sessions.csv"}
 
 
+class TrainingStopped(Exception):
+    """The session was stopped by an error (``__cause__``) or a second Ctrl-C after ``frames``
+    frames; the last complete update was saved to ``checkpoint`` (``None``: saving it failed too,
+    and the checkpoint on disk, if any, is the one before)."""
+
+    def __init__(self, cause: BaseException, frames: int | None, checkpoint: Path | None) -> None:
+        self.cause, self.frames, self.checkpoint = cause, frames, checkpoint
+        what = f"{type(cause).__name__}: {cause}" if str(cause) else type(cause).__name__
+        if checkpoint is not None:
+            saved = f"the last complete update ({frames} frames) is saved in {checkpoint}"
+        else:
+            saved = "nothing could be saved"
+        super().__init__(f"training stopped by {what}; {saved}")
+
+
 @dataclass
 class RunSession:
     """What the training loop needs from its session."""
@@ -65,6 +87,14 @@ class RunSession:
     stop: StopSignal
     guard: DivergenceGuard
     exits: contextlib.ExitStack = field(repr=False)
+    save_last_state: Callable[[], None] | None = field(default=None, repr=False)
+    frames_saved: int | None = None  # the frames of the last checkpoint this session wrote
+    stopping: bool = False  # saving after a failure: a log that cannot be synced does not stop it
+
+    def saving_last_state(self, save: Callable[[], None]) -> None:
+        """``save()`` writes the checkpoint of the last complete update; the session calls it when
+        anything stops the loop (see the module docstring)."""
+        self.save_last_state = save
 
     def closing(self, collector):
         """Shut ``collector`` down when the session ends, however it ends (once more after its
@@ -77,11 +107,28 @@ class RunSession:
         already saved (the end of a run that has just checkpointed) is not written again, so that
         ``prev.pt`` stays the checkpoint before it."""
         if int(state["frames"]) == self.guard.checkpoint_frames and self.checkpoint_path.exists():
+            self.frames_saved = int(state["frames"])
             return
-        run_log.sync()
+        try:
+            run_log.sync()
+        except OSError as error:  # the log's own failure stopped the run: the model still counts
+            if not self.stopping:
+                raise
+            log.warning("the log could not be synced before the last checkpoint: %s", error)
         self.guard.check_parameters(net, int(state["frames"]))
         save_checkpoint(self.checkpoint_path, state)
         self.guard.saved(int(state["frames"]))
+        self.frames_saved = int(state["frames"])
+
+    def stopped_by(self, error: BaseException) -> TrainingStopped:
+        """Save the last complete update after ``error`` stopped the loop; the error to raise."""
+        self.stopping = True
+        try:
+            self.save_last_state()
+        except BaseException as failure:  # noqa: BLE001 (the first error is the one to report)
+            log.error("the last complete update could not be saved: %s: %s", type(failure).__name__, failure)
+            return TrainingStopped(error, None, None)
+        return TrainingStopped(error, self.frames_saved, self.checkpoint_path)
 
 
 def _shut_down(collector) -> None:
@@ -118,7 +165,13 @@ def open_run(
             atomic_write_text(run_dir / name, text)
         guard = DivergenceGuard(checkpoint_path, int(saved["frames"]) if saved else 0)
         with (stop or StopSignal()).arming() as armed, contextlib.ExitStack() as exits:
-            yield RunSession(run_dir, checkpoint_path, saved, armed, guard, exits)
+            session = RunSession(run_dir, checkpoint_path, saved, armed, guard, exits)
+            try:
+                yield session
+            except (Exception, KeyboardInterrupt) as error:
+                if session.save_last_state is None or isinstance(error, (DivergenceError, TrainingStopped)):
+                    raise
+                raise session.stopped_by(error) from error
 
 
 def check_writable(run_dir: Path) -> None:

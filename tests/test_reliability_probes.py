@@ -1,0 +1,135 @@
+"""Reliability probes (issue 37): a stop of any kind keeps the run, bad input is one line before
+anything is written, and the small things a new user trips on."""
+
+from __future__ import annotations
+
+import io
+import os
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import torch
+
+from gvgai_pcg.cli import main, say, silence_closed_streams
+from gvgai_pcg.progress import PlainProgress
+from gvgai_pcg.rl.run_log import RunLog
+
+# 8 envs x 5 steps = 40 frames a batch; a row per 8 episodes of at most 10 steps
+TINY = ["regimen=lv", "env.num_envs=8", "env.max_steps=10", "log.every_episodes=8", "log.curve=false"]
+
+
+class ClosedPipe(io.StringIO):
+    """A stream whose reader went away: every write raises BrokenPipeError."""
+
+    def write(self, text: str) -> int:
+        raise BrokenPipeError(32, "Broken pipe")
+
+    def isatty(self) -> bool:
+        return False
+
+
+def _saved_frames(run_dir: Path) -> int:
+    return int(torch.load(run_dir / "checkpoints" / "last.pt", weights_only=True)["frames"])
+
+
+# --- 1. nothing lost on any stop ---
+
+
+def test_a_progress_line_into_a_closed_pipe_raises_once_then_the_bar_is_silent():
+    bar = PlainProgress(100, "train", "frame", stream=ClosedPipe(), interval=0.0)
+    bar.update(10)  # the first update only marks where the speed is measured from
+    with pytest.raises(BrokenPipeError):
+        bar.update(10)
+    bar.update(10)
+    bar.close()  # a cleanup's close does not hide the first error behind a second
+
+
+def test_say_falls_back_to_stdout_when_stderr_is_gone(monkeypatch, capsys):
+    monkeypatch.setattr(sys, "stderr", ClosedPipe())
+    assert say("gvgai-pcg train: one line")
+    assert capsys.readouterr().out == "gvgai-pcg train: one line\n"
+    monkeypatch.setattr(sys, "stdout", ClosedPipe())
+    assert not say("nowhere to go")
+
+
+def test_a_progress_write_into_a_closed_pipe_saves_the_run_and_exits_141(tmp_path, monkeypatch, capsys):
+    """The reader of stderr went away mid-run (``gvgai-pcg train 2>&1 | head``): the last complete
+    update is saved, one line goes to what still works (stdout here), and the exit is 141."""
+    monkeypatch.setattr("gvgai_pcg.progress.PLAIN_INTERVAL_S", 0.0)  # a line at every update
+    monkeypatch.setattr(sys, "stderr", ClosedPipe())
+    argv = ["train", *TINY, "total_frames=4000", "checkpoint.every_frames=1000000"]
+    with pytest.raises(SystemExit) as exit_info:
+        main([*argv, f"out_dir={tmp_path}", "run_name=run"])
+    assert exit_info.value.code == 141
+    out = capsys.readouterr().out.strip().splitlines()
+    assert len(out) == 1 and out[0].startswith("gvgai-pcg train: training stopped by BrokenPipeError"), out
+    assert "the last complete update (80 frames) is saved in" in out[0] and "resume with: " in out[0]
+    assert _saved_frames(tmp_path / "run") == 80  # the second update's line was the one that failed
+
+
+def test_a_logger_backend_that_fails_mid_run_keeps_the_last_update(tmp_path, monkeypatch, capsys):
+    rows = {"written": 0}
+    write = RunLog.write
+
+    def fail_on_the_second_row(self, row):
+        rows["written"] += 1
+        if rows["written"] == 2:
+            raise RuntimeError("wandb: network unreachable")
+        return write(self, row)
+
+    monkeypatch.setattr(RunLog, "write", fail_on_the_second_row)
+    argv = ["train", *TINY, "total_frames=4000", "checkpoint.every_frames=1000000"]
+    with pytest.raises(SystemExit) as exit_info:
+        main([*argv, f"out_dir={tmp_path}", "run_name=run"])
+    assert exit_info.value.code == 1
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "Traceback" not in err, err
+    assert err.startswith("gvgai-pcg train: training stopped by RuntimeError: wandb: network unreachable;")
+    frames = _saved_frames(tmp_path / "run")
+    assert frames > 0 and f"({frames} frames) is saved in " in err
+    saved = torch.load(tmp_path / "run" / "checkpoints" / "last.pt", weights_only=True)
+    assert saved["log_rows"] == 1  # the row that failed is not counted
+    monkeypatch.setattr(RunLog, "write", write)
+    assert main([*argv[:-2], f"total_frames={frames + 40}", f"out_dir={tmp_path}", "run_name=run"]) == 0
+    assert _saved_frames(tmp_path / "run") == frames + 40  # it resumes where it stopped
+
+
+def test_silencing_closed_streams_leaves_working_ones_alone(capsys):
+    silence_closed_streams()
+    print("still here")
+    assert capsys.readouterr().out == "still here\n"
+
+
+@pytest.mark.slow  # a real training process, Ctrl-C to its group while its pipe's reader dies: ~40 s
+def test_ctrl_c_through_a_pipe_whose_reader_died_keeps_the_run(tmp_path):
+    """``gvgai-pcg train 2>&1 | tee log`` and Ctrl-C: the terminal signals the whole group, tee dies
+    first, the next progress write meets a closed pipe. The run is saved and exits 130."""
+    overrides = [*TINY, "checkpoint.every_frames=10000000", "total_frames=10000000"]
+    command = [
+        sys.executable,
+        "-m",
+        "gvgai_pcg.cli",
+        "train",
+        *overrides,
+        f"out_dir={tmp_path}",
+        "run_name=run",
+    ]
+    job = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, start_new_session=True)
+    try:
+        for line in job.stdout:  # up to the first progress line: training is under way
+            if line.startswith(b"train: "):
+                break
+        assert job.poll() is None
+        os.killpg(job.pid, signal.SIGINT)
+        job.stdout.close()  # the reader (tee) is gone
+        assert job.wait(timeout=120) == 130
+    finally:
+        if job.poll() is None:
+            os.killpg(job.pid, signal.SIGKILL)
+    run_dir = tmp_path / "run"
+    assert _saved_frames(run_dir) > 0
+    log = (run_dir / "train.log").read_text()  # the only place left for its line
+    assert "gvgai-pcg train: " in log and "SIGINT" in log and "resume with: gvgai-pcg train" in log
