@@ -14,6 +14,7 @@ import pytest
 import torch
 
 from gvgai_pcg.cli import main, say, silence_closed_streams
+from gvgai_pcg.log_backends import BACKENDS
 from gvgai_pcg.progress import PlainProgress
 from gvgai_pcg.rl.run_log import RunLog
 
@@ -103,6 +104,10 @@ def test_silencing_closed_streams_leaves_working_ones_alone(capsys):
     assert capsys.readouterr().out == "still here\n"
 
 
+def _sigint_by_default() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 @pytest.mark.slow  # a real training process, Ctrl-C to its group while its pipe's reader dies: ~40 s
 def test_ctrl_c_through_a_pipe_whose_reader_died_keeps_the_run(tmp_path):
     """``gvgai-pcg train 2>&1 | tee log`` and Ctrl-C: the terminal signals the whole group, tee dies
@@ -117,7 +122,13 @@ def test_ctrl_c_through_a_pipe_whose_reader_died_keeps_the_run(tmp_path):
         f"out_dir={tmp_path}",
         "run_name=run",
     ]
-    job = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, start_new_session=True)
+    job = subprocess.Popen(
+        command,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        start_new_session=True,
+        preexec_fn=_sigint_by_default,  # a background job inherits SIGINT ignored
+    )
     try:
         for line in job.stdout:  # up to the first progress line: training is under way
             if line.startswith(b"train: "):
@@ -133,3 +144,83 @@ def test_ctrl_c_through_a_pipe_whose_reader_died_keeps_the_run(tmp_path):
     assert _saved_frames(run_dir) > 0
     log = (run_dir / "train.log").read_text()  # the only place left for its line
     assert "gvgai-pcg train: " in log and "SIGINT" in log and "resume with: gvgai-pcg train" in log
+
+
+# --- 2. usage errors: one line, exit 2, before anything is written ---
+
+
+def _one_line_refusal(argv: list[str], capsys, code: int = 2) -> str:
+    with pytest.raises(SystemExit) as exit_info:
+        assert main(argv) == code  # (train returns its code; the others raise it)
+        raise SystemExit(code)
+    assert exit_info.value.code == code
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+    return err.strip()
+
+
+@pytest.fixture
+def no_wandb_no_tensorboard(monkeypatch):
+    """As on a machine without the extras (whether or not this one has them)."""
+    monkeypatch.setitem(BACKENDS, "wandb", ("gvgai_pcg_no_such_package", "wandb"))
+    monkeypatch.setitem(BACKENDS, "tensorboard", ("gvgai_pcg_no_such_package", "tensorboard"))
+
+
+@pytest.mark.parametrize(
+    ("override", "message"),
+    [
+        (
+            "regimen=ppgc",
+            "regimen=ppgc: no such regimen; the choices are human, levels, lv, lv0-3, pcg, ppcg",
+        ),
+        ("game=zeldaa", "game=zeldaa: no such game; the choices are boulderdash, frogs, solarfox, zelda"),
+        ("log.backends=[csv,wandb]", "install it with: pip install 'gvgai-pcg[wandb]'"),
+        ("log.backends=[tensorboard]", "install it with: pip install 'gvgai-pcg[tensorboard]'"),
+    ],
+)
+def test_a_missing_option_or_extra_is_one_line_before_hydra_or_torch(
+    override, message, tmp_path, capsys, no_wandb_no_tensorboard
+):
+    out = tmp_path / "runs"
+    err = _one_line_refusal(["train", override, f"out_dir={out}"], capsys)
+    assert err.startswith("gvgai-pcg train: error: ") and message in err
+    assert not out.exists()  # no config.yaml, .hydra/, sessions.csv
+
+
+def test_a_mistyped_option_in_a_sweep_is_refused_too(tmp_path, capsys):
+    err = _one_line_refusal(["train", "-m", "regimen=pcg,ppgc", f"out_dir={tmp_path / 'runs'}"], capsys)
+    assert "regimen=ppgc: no such regimen" in err
+
+
+def test_the_quick_refusal_imports_neither_torch_nor_hydra():
+    code = (
+        "import sys; from gvgai_pcg.cli import main; code = main(['train', 'game=zeldaa']); "
+        "print(code, 'torch' in sys.modules, 'hydra' in sys.modules)"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert done.stdout.split() == ["2", "False", "False"], done.stderr
+
+
+def test_the_python_api_refuses_a_missing_log_extra_before_writing(tmp_path, no_wandb_no_tensorboard):
+    from gvgai_pcg.config import compose_config
+    from gvgai_pcg.rl import train
+
+    cfg = compose_config([*TINY, "total_frames=40", "log.backends=[csv,wandb]", f"out_dir={tmp_path}"])
+    with pytest.raises(ValueError, match=r"pip install 'gvgai-pcg\[wandb\]'"):
+        train(cfg, tmp_path / "run")
+    assert sorted(path.name for path in (tmp_path / "run").iterdir()) == [".lock"]  # (the lock stays)
+
+
+@pytest.mark.parametrize(
+    ("levels", "message"),
+    [
+        ("/nonexistent", "--levels /nonexistent: no such folder"),
+        ("README.md", "--levels README.md: a file; expected a folder of .txt level files"),
+    ],
+)
+def test_analyze_names_a_missing_or_wrong_levels_path_in_one_line(levels, message, tmp_path, capsys):
+    err = _one_line_refusal(
+        ["analyze", "--game", "zelda", "--levels", levels, "--out", str(tmp_path / "a")], capsys
+    )
+    assert err == f"gvgai-pcg analyze: error: {message}"
+    assert not (tmp_path / "a").exists()

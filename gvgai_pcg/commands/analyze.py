@@ -62,20 +62,40 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", type=Path, default=Path("runs/analysis"), help="output folder")
 
 
+def level_files(folder: Path) -> list[Path]:
+    """The ``.txt`` files of ``--levels``; ``ValueError`` (one line) for a missing path, a file, or
+    a folder without any."""
+    if not folder.exists():
+        raise ValueError(f"--levels {folder}: no such folder")
+    if not folder.is_dir():
+        raise ValueError(f"--levels {folder}: a file; expected a folder of .txt level files")
+    paths = sorted(folder.glob("*.txt"))
+    if not paths:
+        raise ValueError(f"--levels {folder}: no .txt level files in this folder")
+    return paths
+
+
+def check_arguments(args: argparse.Namespace) -> None:
+    """What can be refused before the analysis imports (seconds of scikit-learn and matplotlib)."""
+    if args.levels is not None:
+        level_files(args.levels)
+    elif args.count < 2:
+        raise ValueError(f"--count must be at least 2, got {args.count}")
+    if args.min_samples < 1:
+        raise ValueError(f"--min-samples must be at least 1, got {args.min_samples}")
+
+
 def generated_levels(args: argparse.Namespace) -> tuple[list[Level], list[float | None]]:
     """The levels to analyse against the human ones, with each one's difficulty if known."""
     if args.levels is not None:
-        paths = sorted(args.levels.glob("*.txt"))
-        if not paths:
-            raise SystemExit(f"--levels {args.levels}: no .txt level files there")
+        paths = level_files(args.levels)
         for path in paths:
             check_named_game(path.stem, args.game)
         levels = [Level.load(path, args.game) for path in paths]
         return levels, [_difficulty_in_name(path.stem) for path in paths]
     from gvgai_pcg.generators import generate_level
 
-    if args.count < 2:
-        raise SystemExit(f"--count must be at least 2, got {args.count}")
+    check_arguments(args)
     pairs = [(d, seed) for d in args.difficulty for seed in range(args.seed, args.seed + args.count)]
     return [generate_level(args.game, d, seed) for d, seed in pairs], [d for d, _ in pairs]
 
@@ -86,6 +106,7 @@ def _difficulty_in_name(stem: str) -> float | None:
 
 
 def run(args: argparse.Namespace) -> int:
+    check_arguments(args)
     from gvgai_pcg.analysis import analyze_levels
     from gvgai_pcg.analysis.figures import representatives_figure, scatter_figure
     from gvgai_pcg.analysis.summary import human_status, markdown_summary

@@ -31,7 +31,8 @@ import signal
 import sys
 from pathlib import Path
 
-from gvgai_pcg.config import CONFIG_NAME, ConfigError, check_jobs, checked_config, config_dir, sweep_jobs
+from gvgai_pcg.commands.train_checks import check_argv
+from gvgai_pcg.config import CONFIG_NAME, check_jobs, checked_config, config_dir, sweep_jobs
 
 _STOP = None  # the StopSignal that run_raw installs for the whole command (none in a launcher's job)
 
@@ -171,13 +172,14 @@ def run_raw(argv: list[str]) -> int:
     if original is signal.SIG_DFL:  # torch and Hydra take seconds to import
         signal.signal(signal.SIGTERM, _stopped_while_starting)
     try:
-        import hydra
-
-        from gvgai_pcg.rl.stop_signal import StopSignal
-
         try:
+            check_argv(argv, config_dir())  # a missing option or package: before Hydra and torch
+            import hydra
+
+            from gvgai_pcg.rl.stop_signal import StopSignal
+
             check_command_line(argv)
-        except (ConfigError, FileNotFoundError) as error:  # a bad value; configs not installed
+        except (ValueError, FileNotFoundError) as error:  # a bad value; configs not installed
             if os.environ.get("GVGAI_PCG_DEBUG"):
                 raise
             print(f"gvgai-pcg train: error: {error}", file=sys.stderr)

@@ -5,7 +5,8 @@ nothing of an earlier session lost.
 
 1. lock the run directory (``run_lock``): a second process is refused, naming the holder;
 2. check that the directory, ``checkpoints/`` and the log can be written (a read-only folder is
-   found now, not at the first checkpoint after the training it would discard);
+   found now, not at the first checkpoint after the training it would discard), and that the
+   packages of the log backends are installed;
 3. find the checkpoint to resume from: ``last.pt``, else ``prev.pt`` with a warning when
    ``last.pt`` cannot be used; a checkpoint of another config is refused;
 4. on a resume, check that the log still holds the rows written before the checkpoint; on a fresh
@@ -37,6 +38,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from gvgai_pcg.log_backends import check_installed
 from gvgai_pcg.rl.atomic_files import atomic_write_text, fsync_directory
 from gvgai_pcg.rl.checkpoint import (
     CHECKPOINT_NAME,
@@ -152,6 +154,7 @@ def open_run(
     with lock:
         try:
             check_writable(run_dir)
+            check_installed(config.get("log", {}).get("backends", []))  # not at the first row
             checkpoint_path = run_dir / CHECKPOINT_DIR / CHECKPOINT_NAME
             saved = find_checkpoint(checkpoint_path, config)
             if saved is not None:

@@ -1,0 +1,48 @@
+"""The checks of a ``gvgai-pcg train`` command line that need neither Hydra nor torch.
+
+A config group option that does not exist (``regimen=ppgc``, ``game=zeldaa``) and a log backend
+whose package is not installed are refused here, in one line and well under a second, before
+Hydra is imported or any run directory is written. Everything else (values, keys, sweeps with
+functions or interpolations) is composed and checked by ``gvgai_pcg.config.check_jobs``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from gvgai_pcg.log_backends import check_installed
+
+# Hydra flags after which the configs come from elsewhere, or no run starts: nothing to check here.
+ELSEWHERE = {"-cp", "--config-path", "-cd", "--config-dir", "-h", "--help", "--hydra-help", "--info"}
+# characters of Hydra's override grammar that a plain option or list never holds
+GRAMMAR = set("()${}*:")
+
+
+def check_argv(argv: list[str], conf: Path) -> None:
+    """``ValueError`` for the first override of ``argv`` naming a group option that ``conf`` lacks
+    or a log backend that is not installed."""
+    if any(arg.split("=", 1)[0] in ELSEWHERE for arg in argv):
+        return
+    groups = {path.name: path for path in conf.iterdir() if path.is_dir() and path.name != "hydra"}
+    for arg in argv:
+        if arg.startswith(("-", "~")) or "=" not in arg:
+            continue
+        key, value = arg.lstrip("+").split("=", 1)
+        if GRAMMAR & set(value):
+            continue
+        key = key.split("@", 1)[0]
+        if key in groups:
+            check_group_option(key, value, groups[key])
+        elif key == "log.backends":
+            check_installed(
+                name.strip(" '\"") for name in value.replace("[", ",").replace("]", ",").split(",")
+            )
+
+
+def check_group_option(group: str, value: str, folder: Path) -> None:
+    """Each option of ``value`` (a comma-separated sweep with ``-m``) is a config of ``folder``."""
+    choices = sorted(path.stem for path in folder.glob("*.yaml"))
+    for option in value.split(","):
+        option = option.strip()
+        if option and option != "null" and option not in choices:
+            raise ValueError(f"{group}={option}: no such {group}; the choices are {', '.join(choices)}")
