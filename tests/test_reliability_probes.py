@@ -224,3 +224,48 @@ def test_analyze_names_a_missing_or_wrong_levels_path_in_one_line(levels, messag
     )
     assert err == f"gvgai-pcg analyze: error: {message}"
     assert not (tmp_path / "a").exists()
+
+
+# --- 5. the Gymnasium entry points change no global state ---
+
+
+def test_the_gymnasium_entry_points_leave_the_start_method_unset():
+    code = (
+        "import multiprocessing, gymnasium, gvgai_pcg\n"
+        "gymnasium.make('gvgai_pcg/Zelda-v0'); import gvgai_pcg.envs.gym_vector\n"
+        "import torchrl  # (already imported: its own setting was undone)\n"
+        "print(multiprocessing.get_start_method(allow_none=True))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.stdout.strip() == "None", done.stderr[-2000:]
+
+
+@pytest.mark.slow  # a second interpreter importing torch: several seconds
+def test_a_start_method_set_by_the_user_is_kept():
+    code = (
+        "import multiprocessing; multiprocessing.set_start_method('forkserver')\n"
+        "import gvgai_pcg.envs.gym_adapter\n"
+        "print(multiprocessing.get_start_method(allow_none=True))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.stdout.strip() == "forkserver", done.stderr[-2000:]
+
+
+ASYNC_WITHOUT_MAIN_GUARD = """
+import gymnasium, gvgai_pcg
+envs = gymnasium.make_vec("gvgai_pcg/Zelda-v0", num_envs=2, vectorization_mode="async")
+observations, _ = envs.reset(seed=0)
+envs.step(envs.action_space.sample())
+envs.close()
+print("ok", observations.shape[0])
+"""
+
+
+@pytest.mark.slow  # two Gymnasium worker processes, each building an env: ~20 s
+def test_async_make_vec_works_in_a_script_without_a_main_guard(tmp_path):
+    script = tmp_path / "script.py"
+    script.write_text(ASYNC_WITHOUT_MAIN_GUARD)
+    done = subprocess.run(
+        [sys.executable, str(script)], capture_output=True, text=True, timeout=300, cwd=tmp_path
+    )
+    assert done.returncode == 0 and done.stdout.split() == ["ok", "2"], done.stderr[-3000:]

@@ -23,6 +23,7 @@ import numpy as np
 import torch
 from tensordict import TensorDict, TensorDictBase
 
+import gvgai_pcg.envs.quiet_torchrl  # noqa: F401 (first: torchrl without its global side effect)
 from gvgai_pcg.envs.gvgai_env import OBSERVATION_KINDS, GVGAIEnv
 from gvgai_pcg.envs.level_sources import LevelSource
 from gvgai_pcg.envs.regimens import regimen_curriculum, regimen_kind, regimen_source

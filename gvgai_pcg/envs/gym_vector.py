@@ -19,6 +19,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 from tensordict import TensorDict, TensorDictBase
 
+import gvgai_pcg.envs.quiet_torchrl  # noqa: F401 (first: torchrl without its global side effect)
 from gvgai_pcg.envs.gvgai_env import GVGAIEnv
 from gvgai_pcg.envs.gym_adapter import LevelSetSpec, LevelSpec, Regimen, observation_space
 
