@@ -45,6 +45,19 @@ def available_commands() -> dict[str, str]:
     return found
 
 
+def version() -> str:
+    """The installed distribution's version (the package's own where it is not installed)."""
+    from importlib.metadata import PackageNotFoundError
+    from importlib.metadata import version as installed_version
+
+    try:
+        return installed_version("gvgai-pcg")
+    except PackageNotFoundError:
+        from gvgai_pcg import __version__
+
+        return __version__
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     commands = available_commands()
@@ -54,6 +67,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
         prog="gvgai-pcg", description="Batched GVGAI games, level generators, training and evaluation."
     )
+    parser.add_argument("--version", action="version", version=f"gvgai-pcg {version()}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     # Only the chosen command's module is imported (they pull in torch, hydra, ...); a bare
     # `gvgai-pcg` or an unknown command lists them all without importing any.

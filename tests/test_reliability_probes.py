@@ -269,3 +269,62 @@ def test_async_make_vec_works_in_a_script_without_a_main_guard(tmp_path):
         [sys.executable, str(script)], capture_output=True, text=True, timeout=300, cwd=tmp_path
     )
     assert done.returncode == 0 and done.stdout.split() == ["ok", "2"], done.stderr[-3000:]
+
+
+# --- 6. the small things ---
+
+
+class Clock:
+    def __init__(self) -> None:
+        self.now = 0.0
+
+    def __call__(self) -> float:
+        return self.now
+
+
+def test_a_progress_line_shows_the_current_speed_and_at_most_100_percent():
+    stream, clock = io.StringIO(), Clock()
+    bar = PlainProgress(100, "train", "frame", stream=stream, interval=5.0, clock=clock)
+    clock.now = 60.0  # a minute of imports and compilation before the first batch
+    bar.update(40)
+    clock.now = 65.0
+    bar.update(40)  # 40 frames in the 5 s since the first batch
+    clock.now = 70.0
+    bar.update(40)  # past the total: a run ends a part of a batch beyond it
+    bar.close()
+    assert stream.getvalue().splitlines() == [
+        "train: 80/100 frame (80%), 8 frame/s",
+        "train: 120/100 frame (100%), 8 frame/s",
+    ]
+
+
+def test_a_fixed_level_run_shows_one_speed_and_no_difficulty(tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr("gvgai_pcg.progress.PLAIN_INTERVAL_S", 0.0)
+    argv = ["train", *TINY, "total_frames=300", f"out_dir={tmp_path}", "run_name=run"]
+    assert main(argv) == 0
+    lines = [line for line in capsys.readouterr().err.splitlines() if line.startswith("train: ")]
+    assert lines and lines[-1].startswith("train: 320/300 frame (100%), ")
+    for line in lines:
+        assert line.count("/s") == 1 and "fps=" not in line and "d=" not in line and "nan" not in line, line
+    assert any("score=" in line for line in lines)
+
+
+def test_gvgai_pcg_version(capsys):
+    from gvgai_pcg import __version__
+
+    with pytest.raises(SystemExit) as exit_info:
+        main(["--version"])
+    assert exit_info.value.code == 0 and capsys.readouterr().out == f"gvgai-pcg {__version__}\n"
+
+
+ROOT = Path(__file__).parents[1]
+
+
+def test_the_references_cover_every_command_and_the_evaluation_api():
+    from gvgai_pcg.cli import COMMANDS
+
+    cli = (ROOT / "docs" / "reference" / "cli.md").read_text()
+    assert [name for name in COMMANDS if f"| `{name}` |" not in cli] == []
+    assert "## `gvgai-pcg replay`" in cli and "## `gvgai-pcg reproduce`" in cli
+    assert "::: gvgai_pcg.evaluation.play_episodes" in (ROOT / "docs" / "reference" / "api.md").read_text()
+    assert "GVGAI_PCG_COMPILE=0" in (ROOT / "README.md").read_text()
