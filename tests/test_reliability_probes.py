@@ -32,6 +32,11 @@ class ClosedPipe(io.StringIO):
         return False
 
 
+def _without_progress(err: str) -> str:
+    """stderr but the progress lines (one every few seconds: a slow machine writes some)."""
+    return "\n".join(line for line in err.strip().splitlines() if not line.startswith("train: "))
+
+
 def _saved_frames(run_dir: Path) -> int:
     return int(torch.load(run_dir / "checkpoints" / "last.pt", weights_only=True)["frames"])
 
@@ -86,7 +91,7 @@ def test_a_logger_backend_that_fails_mid_run_keeps_the_last_update(tmp_path, mon
     with pytest.raises(SystemExit) as exit_info:
         main([*argv, f"out_dir={tmp_path}", "run_name=run"])
     assert exit_info.value.code == 1
-    err = capsys.readouterr().err.strip()
+    err = _without_progress(capsys.readouterr().err)
     assert len(err.splitlines()) == 1 and "Traceback" not in err, err
     assert err.startswith("gvgai-pcg train: training stopped by RuntimeError: wandb: network unreachable;")
     frames = _saved_frames(tmp_path / "run")
@@ -328,3 +333,120 @@ def test_the_references_cover_every_command_and_the_evaluation_api():
     assert "## `gvgai-pcg replay`" in cli and "## `gvgai-pcg reproduce`" in cli
     assert "::: gvgai_pcg.evaluation.play_episodes" in (ROOT / "docs" / "reference" / "api.md").read_text()
     assert "GVGAI_PCG_COMPILE=0" in (ROOT / "README.md").read_text()
+
+
+# --- 10, 11. a full disk, killed writers, errors that name their file, bad options ---
+
+
+def test_a_full_disk_at_a_checkpoint_is_one_line_and_the_checkpoint_before_stays(
+    tmp_path, monkeypatch, capsys
+):
+    import errno
+
+    from gvgai_pcg.rl import run_session
+
+    saves = {"count": 0}
+    save = run_session.save_checkpoint
+
+    def full_after_the_first(path, state):
+        saves["count"] += 1
+        if saves["count"] > 1:
+            raise OSError(errno.ENOSPC, "No space left on device")
+        return save(path, state)
+
+    monkeypatch.setattr(run_session, "save_checkpoint", full_after_the_first)
+    argv = ["train", *TINY, "total_frames=4000", "checkpoint.every_frames=40"]
+    with pytest.raises(SystemExit) as exit_info:
+        main([*argv, f"out_dir={tmp_path}", "run_name=run"])
+    assert exit_info.value.code == 1
+    err = _without_progress(capsys.readouterr().err)
+    assert len(err.splitlines()) == 1 and "Traceback" not in err, err
+    assert "training stopped by OSError: [Errno 28] No space left on device (the disk under " in err
+    assert "is full); the last complete update could not be saved; " in err and "(40 frames) is intact" in err
+    assert _saved_frames(tmp_path / "run") == 40
+
+
+def test_temporary_files_of_killed_writers_are_removed_and_live_ones_kept(tmp_path):
+    from gvgai_pcg.rl.atomic_files import remove_stale_temporaries
+
+    dead = tmp_path / f".last.pt.{2**22 + 1}.tmp"  # above Linux's largest PID: no such process
+    mine, other = tmp_path / f".last.pt.{os.getpid()}.tmp", tmp_path / "notes.tmp"
+    for path in (dead, mine, other):
+        path.write_bytes(b"x" * 100)
+    assert remove_stale_temporaries(tmp_path) == [dead]
+    assert not dead.exists() and mine.exists() and other.exists()
+
+
+def test_a_session_removes_what_a_killed_checkpoint_writer_left(tmp_path):
+    from gvgai_pcg.rl.run_session import open_run
+
+    stale = tmp_path / "run" / "checkpoints" / f".last.pt.{2**22 + 1}.tmp"
+    stale.parent.mkdir(parents=True)
+    stale.write_bytes(b"x" * 1000)
+    with open_run(tmp_path / "run", {"log": {"backends": ["csv"]}}, {}):
+        pass
+    assert not stale.exists()
+
+
+def test_a_log_that_is_not_numbers_is_named_with_its_line(tmp_path):
+    from gvgai_pcg.rl.run_log import read_log
+
+    log = tmp_path / "log.csv"
+    log.write_text("frames,episodes,mean_score\n40,8,0.5\n80,abc,0.5\n120,20,0.5\n")
+    with pytest.raises(ValueError, match=rf"^{log}, line 3: episodes='abc' is not a number"):
+        read_log(log)
+
+
+def _usage_error(argv: list[str], capsys) -> str:
+    """An argparse refusal: exit 2, the usage line and one error line."""
+    with pytest.raises(SystemExit) as exit_info:
+        main(argv)
+    assert exit_info.value.code == 2
+    return capsys.readouterr().err
+
+
+def test_a_difficulty_sweep_of_infinities_is_refused_as_such(capsys):
+    err = _usage_error(["generate", "--game", "zelda", "--difficulty", "0:1:inf"], capsys)
+    assert "finite number" in err and "nan" not in err
+
+
+def test_generate_into_a_full_disk_leaves_no_empty_level_file(tmp_path, monkeypatch, capsys):
+    import errno
+
+    def full(self, text, *args, **kwargs):
+        open(self, "w").close()  # the file is created, nothing fits
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(Path, "write_text", full)
+    err = _one_line_refusal(["generate", "--game", "zelda", "--out", str(tmp_path)], capsys)
+    assert err == (
+        f"gvgai-pcg generate: error: [Errno 28] {tmp_path / 'zelda_d1_s0.txt'} could not be written "
+        "(No space left on device)"
+    )
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    ("option", "message"),
+    [
+        (["--seconds", "-1"], "--seconds must be a finite number > 0, got -1.0"),
+        (["--device", "tpu"], "--device 'tpu': expected cpu, cuda or cuda:N"),
+        (["--batch-sizes", "0"], "--batch-sizes must be comma-separated integers >= 1, got '0'"),
+    ],
+)
+def test_bench_refuses_bad_options_in_one_line(option, message, capsys):
+    assert _one_line_refusal(["bench", *option], capsys) == f"gvgai-pcg bench: error: {message}"
+
+
+def test_evaluate_refuses_empty_levels_and_keeps_a_path_with_a_comma_whole(tmp_path, capsys):
+    from gvgai_pcg.commands.evaluate import _levels
+    from gvgai_pcg.levels import human_level
+
+    err = _one_line_refusal(["evaluate", "--game", "zelda", "--levels", "", "--episodes", "1"], capsys)
+    assert err == (
+        "gvgai-pcg evaluate: error: --levels '': no level given; expected 'human' or comma-separated "
+        "names/paths"
+    )
+    path = tmp_path / "zelda_a,b.txt"
+    path.write_text(str(human_level("zelda", 2)))
+    assert [str(level) for level in _levels(str(path), "zelda")] == [str(human_level("zelda", 2))]

@@ -28,7 +28,28 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--no-peers", action="store_true", help="leave out the peers (bench_peers)")
 
 
+def check_arguments(args: argparse.Namespace) -> None:
+    """Bad options in one line, before any measurement (and not as a torch traceback)."""
+    if not args.seconds > 0 or args.seconds == float("inf"):
+        raise ValueError(f"--seconds must be a finite number > 0, got {args.seconds}")
+    if args.threads is not None and args.threads < 1:
+        raise ValueError(f"--threads must be at least 1, got {args.threads}")
+    if args.device is not None:
+        kind = args.device.split(":")[0]
+        if kind not in ("cpu", "cuda"):
+            raise ValueError(f"--device {args.device!r}: expected cpu, cuda or cuda:N")
+        if kind == "cuda" and not torch.cuda.is_available():
+            raise ValueError(f"--device {args.device!r}: CUDA is not available on this machine")
+    try:
+        sizes = [int(b) for b in args.batch_sizes.split(",")]
+    except ValueError:
+        sizes = []
+    if not sizes or min(sizes) < 1:
+        raise ValueError(f"--batch-sizes must be comma-separated integers >= 1, got {args.batch_sizes!r}")
+
+
 def run(args: argparse.Namespace) -> int:
+    check_arguments(args)
     if args.threads:
         torch.set_num_threads(args.threads)
     devices = [args.device] if args.device else ["cpu"] + (["cuda"] if torch.cuda.is_available() else [])

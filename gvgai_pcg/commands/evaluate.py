@@ -61,7 +61,7 @@ def protocol_from(args: argparse.Namespace) -> Protocol:
             seed=args.seed,
         )
     except ValueError as error:
-        raise SystemExit(f"invalid protocol setting: {error}") from None
+        raise ValueError(f"invalid protocol setting: {error}") from None
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -86,21 +86,29 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _levels(spec: str, game: str) -> list[Level]:
+    """``human``, one level file (a comma in its name included), or comma-separated names/paths."""
     if spec == "human":
         return human_levels(game)
-    return [resolve_level(part.strip(), game) for part in spec.split(",") if part.strip()]
+    if Path(spec).is_file():
+        return [resolve_level(spec, game)]
+    names = [part.strip() for part in spec.split(",") if part.strip()]
+    if not names:
+        raise ValueError(
+            f"--levels {spec!r}: no level given; expected 'human' or comma-separated names/paths"
+        )
+    return [resolve_level(name, game) for name in names]
 
 
 def run(args: argparse.Namespace) -> int:
     agent = args.agent or ("trained" if args.runs else "random")
     if agent == "trained" and not args.runs:
-        raise SystemExit("--agent trained needs at least one RUN directory")
+        raise ValueError("--agent trained needs at least one RUN directory")
     if agent == "random" and args.runs:
-        raise SystemExit("RUN directories are for trained agents; leave out --agent random")
+        raise ValueError("RUN directories are for trained agents; leave out --agent random")
     if agent == "random" and not args.game:
-        raise SystemExit("--agent random needs --game")
+        raise ValueError("--agent random needs --game")
     if args.checkpoint and len(args.runs) != 1:
-        raise SystemExit("--checkpoint picks the checkpoint of one run; give exactly one RUN")
+        raise ValueError("--checkpoint picks the checkpoint of one run; give exactly one RUN")
     if agent == "trained" and not args.levels:
         return _run_protocol_trained(args)
     if agent == "random" and args.protocol:
@@ -112,7 +120,7 @@ def _run_protocol_trained(args: argparse.Namespace) -> int:
     protocol = protocol_from(args)
     runs = find_runs(args.runs)
     if not runs:
-        raise SystemExit(
+        raise ValueError(
             f"no run directories (with config.yaml and a model) in {', '.join(map(str, args.runs))}"
         )
     for path in runs:
@@ -135,7 +143,7 @@ def _run_protocol_random(args: argparse.Namespace) -> int:
 
 def _run_levels(args: argparse.Namespace, agent: str) -> int:
     if args.episodes < 1:
-        raise SystemExit(f"--episodes must be at least 1, got {args.episodes}")
+        raise ValueError(f"--episodes must be at least 1, got {args.episodes}")
     if agent == "trained":
         info = run_info(args.runs[0], args.checkpoint)
         game, obs = info.game, info.obs
@@ -145,7 +153,7 @@ def _run_levels(args: argparse.Namespace, agent: str) -> int:
         policy = RandomAgent(get_game(game).num_actions, seed=args.seed, device=args.device)
     summaries = evaluate_levels(
         game,
-        _levels(args.levels or "human", game),
+        _levels("human" if args.levels is None else args.levels, game),
         policy,
         episodes=args.episodes,
         max_steps=args.max_steps,

@@ -8,7 +8,8 @@ written as text files, and with ``--png`` also as pictures drawn with the game's
 from __future__ import annotations
 
 import argparse
-import sys
+import math
+import os
 from pathlib import Path
 
 from gvgai_pcg.generators import check_difficulty, generate_level, registered_generators
@@ -26,6 +27,10 @@ def difficulties(spec: str) -> list[float]:
         raise argparse.ArgumentTypeError(
             f"difficulty must be a number or start:stop:step, got {spec!r}"
         ) from None
+    if not all(math.isfinite(value) for value in values):
+        raise argparse.ArgumentTypeError(
+            f"difficulty must be a finite number or start:stop:step of finite numbers, got {spec!r}"
+        )
     if len(values) == 1:
         sweep = values
     elif len(values) == 3 and values[2] > 0 and values[0] <= values[1]:
@@ -65,20 +70,30 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def write_level(level: Level, out: Path) -> Path:
-    """Write ``level`` as ``<out>/<name>.txt``; returns the path."""
+    """Write ``level`` as ``<out>/<name>.txt`` whole or not at all (a full disk leaves no empty or
+    cut file behind); returns the path. ``OSError`` naming the file when it cannot be written."""
     path = out / f"{level.name}.txt"
-    path.write_text(str(level))
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        tmp.write_text(str(level))
+        os.replace(tmp, path)
+    except OSError as error:
+        tmp.unlink(missing_ok=True)
+        raise OSError(error.errno, f"{path} could not be written ({error.strerror or error})") from error
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
     return path
 
 
 def run(args: argparse.Namespace) -> int:
     if args.count < 1 or args.seed < 0:
-        print("--count must be >= 1 and --seed >= 0", file=sys.stderr)
-        return 2
+        raise ValueError(f"--count must be >= 1 and --seed >= 0, got --count {args.count} --seed {args.seed}")
     if args.png and args.out is None:
-        print("--png needs --out DIR", file=sys.stderr)
-        return 2
+        raise ValueError("--png needs --out DIR")
     if args.out is not None:
+        if args.out.exists() and not args.out.is_dir():
+            raise ValueError(f"--out {args.out}: a file; expected a folder for the level files")
         args.out.mkdir(parents=True, exist_ok=True)
     for difficulty in args.difficulty:
         for seed in range(args.seed, args.seed + args.count):

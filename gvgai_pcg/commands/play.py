@@ -41,7 +41,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def choose_level(args: argparse.Namespace) -> Level:
     if args.difficulty is not None:
         if not 0.0 <= args.difficulty <= 1.0:
-            raise SystemExit(f"--difficulty must be in [0, 1], got {args.difficulty}")
+            raise ValueError(f"--difficulty must be in [0, 1], got {args.difficulty}")
         from gvgai_pcg.generators import generate_level
 
         return generate_level(args.game, args.difficulty, args.seed)

@@ -56,7 +56,7 @@ def run(args: argparse.Namespace) -> int:
     info = run_info(args.run, args.checkpoint)
     level = resolve_any_level(args.level, info.game)
     if level.game != info.game:
-        raise SystemExit(f"{args.level} is a {level.game} level, but {args.run} trained on {info.game}")
+        raise ValueError(f"{args.level} is a {level.game} level, but {args.run} trained on {info.game}")
     policy = load_policy(info, greedy=args.greedy, seed=args.seed, device=args.device)
     episode = record_episode(level, policy, info.obs, args.max_steps, args.seed, args.device)
     write_gif(episode, args.out, fps=args.fps, scale=args.scale)

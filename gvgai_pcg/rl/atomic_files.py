@@ -2,12 +2,15 @@
 
 A reader of ``path`` sees either the old content or the new, never a mix, after a kill at any
 moment (SIGKILL, a crash, a power cut once the fsyncs have returned). Temporary names carry the
-writer's PID, so two processes never write into one temporary file.
+writer's PID, so two processes never write into one temporary file, and the temporary file of a
+writer killed mid-write (SIGKILL leaves no chance to remove it) is recognised as stale by its
+dead PID: ``remove_stale_temporaries`` deletes those.
 """
 
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Callable
 from pathlib import Path
 from typing import BinaryIO
@@ -33,6 +36,34 @@ def fsync_file(path: Path) -> None:
 def temporary_path(path: Path) -> Path:
     """A temporary name beside ``path``, private to this process."""
     return path.with_name(f".{path.name}.{os.getpid()}.tmp")
+
+
+TEMPORARY_NAME = re.compile(r"^\..+\.(\d+)\.tmp$")  # what temporary_path names
+
+
+def remove_stale_temporaries(folder: Path) -> list[Path]:
+    """Delete the temporary files in ``folder`` whose writer (by the PID in the name) is no longer
+    running; returns them. Another process's file is kept while that process lives."""
+    removed = []
+    for path in sorted(folder.iterdir()) if folder.is_dir() else []:
+        match = TEMPORARY_NAME.match(path.name)
+        if match is None or not path.is_file() or _running(int(match.group(1))):
+            continue
+        path.unlink(missing_ok=True)
+        removed.append(path)
+    return removed
+
+
+def _running(pid: int) -> bool:
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except (ProcessLookupError, OverflowError):  # no such process; a number no PID can be
+        return False
+    except PermissionError:  # another user's process
+        return True
+    return True
 
 
 def atomic_write(path: Path, write: Callable[[BinaryIO], object]) -> Path:

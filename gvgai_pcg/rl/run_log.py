@@ -131,7 +131,25 @@ def read_log(path: Path) -> list[dict[str, float]]:
         rows = list(csv.DictReader(f))
     if rows and any(value in (None, "") for value in rows[-1].values()):
         rows.pop()
-    return [{k: float(v) for k, v in row.items()} for row in rows]
+    values = []
+    for line, row in enumerate(rows, start=2):  # line 1 is the header
+        try:
+            values.append({k: float(v) for k, v in row.items()})
+        except (TypeError, ValueError) as error:  # a value not a number; a row with extra fields
+            bad = next((f"{k}={v!r}" for k, v in row.items() if not _is_number(v)), "a malformed row")
+            raise ValueError(
+                f"{path}, line {line}: {bad} is not a number ({error}); the log was changed outside the "
+                "run: restore it, or delete the bad rows"
+            ) from None
+    return values
+
+
+def _is_number(value: object) -> bool:
+    try:
+        float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        return False
+    return True
 
 
 def cut_log(path: Path, frames: int) -> int:

@@ -8,7 +8,8 @@ nothing of an earlier session lost.
    found now, not at the first checkpoint after the training it would discard), and that the
    packages of the log backends are installed;
 3. find the checkpoint to resume from: ``last.pt``, else ``prev.pt`` with a warning when
-   ``last.pt`` cannot be used; a checkpoint of another config is refused;
+   ``last.pt`` cannot be used; a checkpoint of another config is refused; then remove the
+   temporary files of writers killed mid-write (``.last.pt.<pid>.tmp``);
 4. on a resume, check that the log still holds the rows written before the checkpoint; on a fresh
    start over the outputs of an earlier session (no checkpoint to resume), move them aside to
    ``previous-runs/<time>/`` and say so, never delete them;
@@ -30,8 +31,10 @@ good checkpoint (``DivergenceError``).
 from __future__ import annotations
 
 import contextlib
+import errno
 import logging
 import os
+import shutil
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
@@ -39,7 +42,7 @@ from pathlib import Path
 from typing import Any
 
 from gvgai_pcg.log_backends import check_installed
-from gvgai_pcg.rl.atomic_files import atomic_write_text, fsync_directory
+from gvgai_pcg.rl.atomic_files import atomic_write_text, fsync_directory, remove_stale_temporaries
 from gvgai_pcg.rl.checkpoint import (
     CHECKPOINT_NAME,
     PREVIOUS_NAME,
@@ -56,6 +59,7 @@ from gvgai_pcg.rl.stop_signal import StopSignal
 log = logging.getLogger(__name__)
 
 CHECKPOINT_DIR = "checkpoints"
+FULL_DISK_BYTES = 16 * 2**20  # less room than this left: a failed write was most likely for want of it
 ASIDE_DIR = "previous-runs"
 # Left in place when an earlier session's outputs are moved aside: the lock, the folder they go
 # to, and Hydra's log (this session's log is already open there; it tells every session's story).
@@ -65,18 +69,37 @@ BOOKKEEPING = {"config.yaml", ".hydra", "shared", "sessions.csv"}
 
 
 class TrainingStopped(Exception):
-    """The session was stopped by an error (``__cause__``) or a second Ctrl-C after ``frames``
-    frames; the last complete update was saved to ``checkpoint`` (``None``: saving it failed too,
-    and the checkpoint on disk, if any, is the one before)."""
+    """The session was stopped by ``cause`` (an error, or a second Ctrl-C). ``saved``: whether the
+    last complete update was saved; either way ``checkpoint`` then holds ``frames`` frames (the
+    checkpoint before, when saving failed too; ``frames`` is 0 when there is none)."""
 
-    def __init__(self, cause: BaseException, frames: int | None, checkpoint: Path | None) -> None:
-        self.cause, self.frames, self.checkpoint = cause, frames, checkpoint
+    def __init__(
+        self, cause: BaseException, saved: bool, frames: int, checkpoint: Path, full_disk: bool
+    ) -> None:
+        self.cause, self.saved, self.frames, self.checkpoint = cause, saved, frames, checkpoint
         what = f"{type(cause).__name__}: {cause}" if str(cause) else type(cause).__name__
-        if checkpoint is not None:
-            saved = f"the last complete update ({frames} frames) is saved in {checkpoint}"
+        if full_disk:
+            what += f" (the disk under {checkpoint.parent.parent} is full)"
+        if saved:
+            kept = f"the last complete update ({frames} frames) is saved in {checkpoint}"
+        elif checkpoint.exists():
+            kept = f"the last complete update could not be saved; {checkpoint} ({frames} frames) is intact"
         else:
-            saved = "nothing could be saved"
-        super().__init__(f"training stopped by {what}; {saved}")
+            kept = "the last complete update could not be saved, and there is no checkpoint before it"
+        super().__init__(f"training stopped by {what}; {kept}")
+
+
+def disk_is_full(error: BaseException, folder: Path) -> bool:
+    """Whether ``error`` (or what caused it) is a full disk: ENOSPC, or an error of a writer that
+    hides it (torch.save says "unexpected pos") while ``folder``'s disk has almost no room left."""
+    while error is not None:
+        if isinstance(error, OSError) and error.errno in (errno.ENOSPC, errno.EDQUOT):
+            return True
+        error = error.__cause__ or error.__context__
+    try:
+        return shutil.disk_usage(folder).free < FULL_DISK_BYTES
+    except OSError:
+        return False
 
 
 @dataclass
@@ -125,12 +148,14 @@ class RunSession:
     def stopped_by(self, error: BaseException) -> TrainingStopped:
         """Save the last complete update after ``error`` stopped the loop; the error to raise."""
         self.stopping = True
+        full = disk_is_full(error, self.run_dir)
         try:
             self.save_last_state()
         except BaseException as failure:  # noqa: BLE001 (the first error is the one to report)
             log.error("the last complete update could not be saved: %s: %s", type(failure).__name__, failure)
-            return TrainingStopped(error, None, None)
-        return TrainingStopped(error, self.frames_saved, self.checkpoint_path)
+            full = full or disk_is_full(failure, self.run_dir)
+            return TrainingStopped(error, False, self.guard.checkpoint_frames, self.checkpoint_path, full)
+        return TrainingStopped(error, True, self.frames_saved or 0, self.checkpoint_path, full)
 
 
 def _shut_down(collector) -> None:
@@ -157,6 +182,7 @@ def open_run(
             check_installed(config.get("log", {}).get("backends", []))  # not at the first row
             checkpoint_path = run_dir / CHECKPOINT_DIR / CHECKPOINT_NAME
             saved = find_checkpoint(checkpoint_path, config)
+            remove_stale_temporaries_of(run_dir)
             if saved is not None:
                 check_log(run_dir / LOG_NAME, saved)
             else:
@@ -175,6 +201,13 @@ def open_run(
                 if session.save_last_state is None or isinstance(error, (DivergenceError, TrainingStopped)):
                     raise
                 raise session.stopped_by(error) from error
+
+
+def remove_stale_temporaries_of(run_dir: Path) -> None:
+    """The temporary files of writers killed mid-write (``.last.pt.<pid>.tmp``, megabytes each)."""
+    removed = [*remove_stale_temporaries(run_dir), *remove_stale_temporaries(run_dir / CHECKPOINT_DIR)]
+    if removed:
+        log.info("removed the temporary files of killed writers: %s", ", ".join(str(p) for p in removed))
 
 
 def check_writable(run_dir: Path) -> None:
