@@ -450,3 +450,26 @@ def test_evaluate_refuses_empty_levels_and_keeps_a_path_with_a_comma_whole(tmp_p
     path = tmp_path / "zelda_a,b.txt"
     path.write_text(str(human_level("zelda", 2)))
     assert [str(level) for level in _levels(str(path), "zelda")] == [str(human_level("zelda", 2))]
+
+
+def test_play_without_a_terminal_is_one_line(capsys):
+    err = _one_line_refusal(["play", "--game", "zelda"], capsys)  # pytest's stdin is not a terminal
+    assert err.startswith("gvgai-pcg play: error: play needs a terminal, and its stdin is not one")
+
+
+def test_an_out_dir_that_is_a_file_is_refused_before_hydra(tmp_path, capsys):
+    path = tmp_path / "runs"
+    path.write_text("not a folder")
+    err = _one_line_refusal(["train", f"out_dir={path}"], capsys)
+    assert err == f"gvgai-pcg train: error: out_dir={path}: a file; expected a folder for the run directories"
+
+
+def test_a_gymnasium_reset_takes_level_text_and_names_a_bad_level():
+    import gymnasium
+
+    env = gymnasium.make("gvgai_pcg/Zelda-v0", render_mode="ansi")
+    env.reset(seed=0, options={"level": "wwwww\nwA+gw\nwwwww\n"})
+    rows = [line[:5] for line in env.render().splitlines()[:3]]  # (drawn padded to a grid)
+    assert rows[0] == rows[2] == "wwwww" and rows[1][:2] == "wA" and rows[1][3:] == "gw"
+    with pytest.raises(ValueError, match="level 'humans' is neither a zelda level name"):
+        env.reset(options={"level": "humans"})

@@ -7,6 +7,7 @@ level that ``generate_level(game, D, S)`` makes (the same one a training run at 
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from gvgai_pcg.games import registered_games
@@ -50,11 +51,27 @@ def choose_level(args: argparse.Namespace) -> Level:
     return resolve_level(args.level, args.game)
 
 
+def check_terminal() -> None:
+    """``play`` reads keys from a terminal and draws on it: refuse a pipe or a file in one line."""
+    for name, stream in (("stdin", sys.stdin), ("stdout", sys.stdout)):
+        try:
+            interactive = stream.isatty()
+        except (AttributeError, ValueError):
+            interactive = False
+        if not interactive:
+            raise ValueError(
+                f"play needs a terminal, and its {name} is not one; run it in a terminal (for a level as "
+                "text, use gvgai-pcg generate, or Level.load in Python)"
+            )
+
+
 def run(args: argparse.Namespace) -> int:
+    level = choose_level(args)
+    check_terminal()
     from gvgai_pcg.play.session import PlaySession
     from gvgai_pcg.play.terminal import play
 
-    session = PlaySession(choose_level(args), seed=args.seed, max_steps=args.max_steps)
+    session = PlaySession(level, seed=args.seed, max_steps=args.max_steps)
     play(session, args.png if args.render == "pixels" else None, fps=args.fps)
     print(session.summary())
     return 0

@@ -1,9 +1,10 @@
 """The checks of a ``gvgai-pcg train`` command line that need neither Hydra nor torch.
 
-A config group option that does not exist (``regimen=ppgc``, ``game=zeldaa``) and a log backend
-whose package is not installed are refused here, in one line and well under a second, before
-Hydra is imported or any run directory is written. Everything else (values, keys, sweeps with
-functions or interpolations) is composed and checked by ``gvgai_pcg.config.check_jobs``.
+A config group option that does not exist (``regimen=ppgc``, ``game=zeldaa``), a log backend
+whose package is not installed and an ``out_dir`` that is a file are refused here, in one line
+and well under a second, before Hydra is imported or any run directory is written. Everything
+else (values, keys, sweeps with functions or interpolations) is composed and checked by
+``gvgai_pcg.config.check_jobs``.
 """
 
 from __future__ import annotations
@@ -31,6 +32,8 @@ def check_argv(argv: list[str], conf: Path) -> None:
         if GRAMMAR & set(value):
             continue
         key = key.split("@", 1)[0]
+        if key == "out_dir" and Path(value).exists() and not Path(value).is_dir():
+            raise ValueError(f"out_dir={value}: a file; expected a folder for the run directories")
         if key in groups:
             check_group_option(key, value, groups[key])
         elif key == "log.backends":

@@ -39,14 +39,24 @@ LevelSetSpec = str | Path | Sequence[Level | str | Path]
 
 
 def _resolve(game: str, spec: LevelSpec) -> Level:
-    """A level from a Level, a human level index, a name (``zelda_lvl3``) or a file path."""
+    """A level from a Level, a human level index, a name (``zelda_lvl3``), a file path, or the
+    level's text itself (several lines)."""
     if isinstance(spec, Level):
         if spec.game != game:
             raise ValueError(f"level {spec.name or '<unnamed>'} is a {spec.game} level, not a {game} level")
         return spec
     if isinstance(spec, int | np.integer):
         return human_level(game, int(spec))
-    return resolve_level(str(spec), game)
+    text = str(spec)
+    if "\n" in text.strip():
+        return Level.parse(text, game)
+    try:
+        return resolve_level(text, game)
+    except FileNotFoundError:
+        raise ValueError(
+            f"level {text!r} is neither a {game} level name ({game}_lvl0 .. {game}_lvl4), a level file, "
+            "nor a level's text"
+        ) from None
 
 
 def _level_set(game: str, spec: LevelSetSpec) -> list[Level]:
