@@ -197,9 +197,20 @@ def test_a_mistyped_option_in_a_sweep_is_refused_too(tmp_path, capsys):
     assert "regimen=ppgc: no such regimen" in err
 
 
-def test_the_quick_refusal_imports_neither_torch_nor_hydra():
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["train", "game=zeldaa"],
+        ["train", "-m", "regimen=pcg,ppgc"],
+        ["evaluate", "--game", "zelda", "--levels", ""],
+        ["analyze", "--game", "zelda", "--levels", "/nonexistent"],
+    ],
+    ids=["train", "train-sweep", "evaluate", "analyze"],
+)
+def test_the_quick_refusal_imports_neither_torch_nor_hydra(argv):
     code = (
-        "import sys; from gvgai_pcg.cli import main; code = main(['train', 'game=zeldaa']); "
+        "import sys; from gvgai_pcg.cli import main\n"
+        f"try:\n    code = main({argv!r})\nexcept SystemExit as stop:\n    code = stop.code\n"
         "print(code, 'torch' in sys.modules, 'hydra' in sys.modules)"
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)

@@ -9,6 +9,9 @@ Two uses:
   in one batched env; records go to ``<run>/eval/protocol-<key>.jsonl`` (random: the cache).
 * ad-hoc levels: ``--levels human|NAMES|PATHS --episodes N`` plays each listed level N times and
   prints a table; ``--json PATH`` (``-`` for stdout) writes ``{"game", "levels": [...]}``.
+
+The evaluation modules (torch) are imported inside the functions that play, so a bad option is
+refused in one line before they are.
 """
 
 from __future__ import annotations
@@ -17,20 +20,13 @@ import argparse
 import json
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from gvgai_pcg.evaluation import RandomAgent, evaluate_levels, format_table
-from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
-from gvgai_pcg.evaluation.evaluator import (
-    evaluate_random,
-    evaluate_run,
-    random_results_path,
-    run_results_path,
-)
-from gvgai_pcg.evaluation.policy import load_policy
-from gvgai_pcg.evaluation.protocol import Protocol
-from gvgai_pcg.evaluation.summary import format_protocol_table
-from gvgai_pcg.games import get_game, registered_games
+from gvgai_pcg.games import registered_games
 from gvgai_pcg.levels import Level, human_levels, resolve_level
+
+if TYPE_CHECKING:
+    from gvgai_pcg.evaluation.protocol import Protocol
 
 AGENTS = ("random", "trained")
 
@@ -51,6 +47,8 @@ def add_protocol_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def protocol_from(args: argparse.Namespace) -> Protocol:
+    from gvgai_pcg.evaluation.protocol import Protocol
+
     try:
         return Protocol(
             test_levels=args.test_levels,
@@ -117,6 +115,10 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _run_protocol_trained(args: argparse.Namespace) -> int:
+    from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
+    from gvgai_pcg.evaluation.evaluator import evaluate_run, run_results_path
+    from gvgai_pcg.evaluation.summary import format_protocol_table
+
     protocol = protocol_from(args)
     runs = find_runs(args.runs)
     if not runs:
@@ -132,6 +134,9 @@ def _run_protocol_trained(args: argparse.Namespace) -> int:
 
 
 def _run_protocol_random(args: argparse.Namespace) -> int:
+    from gvgai_pcg.evaluation.evaluator import evaluate_random, random_results_path
+    from gvgai_pcg.evaluation.summary import format_protocol_table
+
     protocol = protocol_from(args)
     records = evaluate_random(
         args.game, protocol, args.cache_dir, args.device, not args.no_progress, args.force
@@ -144,6 +149,15 @@ def _run_protocol_random(args: argparse.Namespace) -> int:
 def _run_levels(args: argparse.Namespace, agent: str) -> int:
     if args.episodes < 1:
         raise ValueError(f"--episodes must be at least 1, got {args.episodes}")
+    if args.levels is not None and not args.levels.strip(" ,"):
+        raise ValueError(
+            f"--levels {args.levels!r}: no level given; expected 'human' or comma-separated names/paths"
+        )
+    from gvgai_pcg.evaluation import RandomAgent, evaluate_levels, format_table
+    from gvgai_pcg.evaluation.checkpoints import run_info
+    from gvgai_pcg.evaluation.policy import load_policy
+    from gvgai_pcg.games import get_game
+
     if agent == "trained":
         info = run_info(args.runs[0], args.checkpoint)
         game, obs = info.game, info.obs
