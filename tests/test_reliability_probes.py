@@ -103,6 +103,24 @@ def test_a_logger_backend_that_fails_mid_run_keeps_the_last_update(tmp_path, mon
     assert _saved_frames(tmp_path / "run") == frames + 40  # it resumes where it stopped
 
 
+def test_a_failure_before_the_first_update_saves_no_checkpoint(tmp_path, monkeypatch, capsys):
+    """Nothing was trained: a checkpoint of 0 frames would only make a corrected config a refusal."""
+    from gvgai_pcg.rl.run_log import EpisodeTracker
+
+    def out_of_memory(self, rollout):
+        raise RuntimeError("not enough memory")
+
+    monkeypatch.setattr(EpisodeTracker, "update", out_of_memory)
+    with pytest.raises(SystemExit) as exit_info:
+        main(["train", *TINY, "total_frames=400", f"out_dir={tmp_path}", "run_name=run"])
+    assert exit_info.value.code == 1
+    err = _without_progress(capsys.readouterr().err)
+    assert err.startswith(
+        "gvgai-pcg train: training stopped by RuntimeError: not enough memory; no checkpoint"
+    )
+    assert not (tmp_path / "run" / "checkpoints" / "last.pt").exists()
+
+
 def test_silencing_closed_streams_leaves_working_ones_alone(capsys):
     silence_closed_streams()
     print("still here")

@@ -69,12 +69,12 @@ BOOKKEEPING = {"config.yaml", ".hydra", "shared", "sessions.csv"}
 
 
 class TrainingStopped(Exception):
-    """The session was stopped by ``cause`` (an error, or a second Ctrl-C). ``saved``: whether the
-    last complete update was saved; either way ``checkpoint`` then holds ``frames`` frames (the
-    checkpoint before, when saving failed too; ``frames`` is 0 when there is none)."""
+    """The session was stopped by ``cause`` (an error, or a second Ctrl-C); ``checkpoint`` holds
+    ``frames`` frames: the last complete update when ``saved``, else the checkpoint before (none,
+    with ``frames`` 0, when the run had none)."""
 
     def __init__(
-        self, cause: BaseException, saved: bool, frames: int, checkpoint: Path, full_disk: bool
+        self, cause: BaseException, saved: bool, frames: int, checkpoint: Path, full_disk: bool = False
     ) -> None:
         self.cause, self.saved, self.frames, self.checkpoint = cause, saved, frames, checkpoint
         what = f"{type(cause).__name__}: {cause}" if str(cause) else type(cause).__name__
@@ -85,7 +85,7 @@ class TrainingStopped(Exception):
         elif checkpoint.exists():
             kept = f"the last complete update could not be saved; {checkpoint} ({frames} frames) is intact"
         else:
-            kept = "the last complete update could not be saved, and there is no checkpoint before it"
+            kept = "no checkpoint was saved"
         super().__init__(f"training stopped by {what}; {kept}")
 
 
@@ -149,6 +149,11 @@ class RunSession:
         """Save the last complete update after ``error`` stopped the loop; the error to raise."""
         self.stopping = True
         full = disk_is_full(error, self.run_dir)
+        if self.guard.frames == self.guard.checkpoint_frames:  # no update since the last checkpoint
+            # (a run that fails before its first update leaves no checkpoint, which a changed
+            # config could not start over)
+            on_disk = self.checkpoint_path.exists()
+            return TrainingStopped(error, on_disk, self.guard.checkpoint_frames, self.checkpoint_path, full)
         try:
             self.save_last_state()
         except BaseException as failure:  # noqa: BLE001 (the first error is the one to report)
