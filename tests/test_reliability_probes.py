@@ -189,13 +189,16 @@ def no_wandb_no_tensorboard(monkeypatch):
     monkeypatch.setitem(BACKENDS, "tensorboard", ("gvgai_pcg_no_such_package", "tensorboard"))
 
 
+def _choices(group: str) -> str:
+    from gvgai_pcg.config import config_dir
+
+    return ", ".join(sorted(path.stem for path in (config_dir() / group).glob("*.yaml")))
+
+
 @pytest.mark.parametrize(
     ("override", "message"),
     [
-        (
-            "regimen=ppgc",
-            "regimen=ppgc: no such regimen; the choices are human, levels, lv, lv0-3, pcg, ppcg",
-        ),
+        ("regimen=ppgc", f"regimen=ppgc: no such regimen; the choices are {_choices('regimen')}"),
         ("game=zeldaa", "game=zeldaa: no such game; the choices are boulderdash, frogs, solarfox, zelda"),
         ("log.backends=[csv,wandb]", "install it with: pip install 'gvgai-pcg[wandb]'"),
         ("log.backends=[tensorboard]", "install it with: pip install 'gvgai-pcg[tensorboard]'"),
