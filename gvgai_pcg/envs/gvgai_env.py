@@ -15,13 +15,14 @@ from collections.abc import Sequence
 import numpy as np
 import torch
 from tensordict import TensorDict, TensorDictBase
-from torchrl.data import Binary, Bounded, Categorical, Composite, Unbounded
+from torchrl.data import Bounded, Categorical, Composite, Unbounded
 
 from gvgai_pcg._private_apis import CompleteStepHook, unchecked_tensordict
 from gvgai_pcg.engine.buffers import BufferPool
 from gvgai_pcg.engine.compiled import COMPILED_RENDER, MIN_COMPILED_BATCH, CompiledTick, engine_tick
 from gvgai_pcg.engine.outputs import episode_outputs
 from gvgai_pcg.engine.rows import copy_tensor_rows_, first_rows, select_rows
+from gvgai_pcg.envs.inputs import ActionCheck, checked_count, checked_device, checked_difficulty
 from gvgai_pcg.envs.level_bank import CompiledLevelBank
 from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
 from gvgai_pcg.envs.ready_episodes import ReadyEpisodes
@@ -53,14 +54,28 @@ READY_OBSERVATIONS_MAX_BYTES = 32 << 20
 class GVGAIEnv(CompleteStepHook, RowResetEnv):
     """``num_envs`` copies of ``game`` stepped together (batch size ``[num_envs]``).
 
+    Actions: the ``"action"`` entry of a step holds one action per env, either as an index
+    (``[B]`` or ``[B, 1]``, any integer dtype; the ``action_spec``, ``Categorical``, gives int64
+    ``[B]``) or one-hot (``[B, A]``, any dtype, exactly one 1 per row), A being
+    ``game.num_actions``; indices lie in ``0 .. A - 1`` (``game.actions`` names them). Anything
+    else is refused with a ``ValueError`` that names the actions and their envs (see
+    ``check_actions``).
+
+    Observations: the observation is uint8 and its spec an ``Unbounded`` uint8 (tiles hold 0/1,
+    pixels any value), which TorchRL's transforms rewrite: cast it (``DTypeCastTransform``) before
+    ``ObservationNorm`` or ``VecNorm``. ``difficulty`` is float64, as the generators take it
+    (``DoubleToFloat`` casts it for a model).
+
     Args:
         game: a registered game name (``zelda``, ``solarfox``, ``frogs``, ``boulderdash``).
         num_envs: the batch size B.
-        levels: a ``LevelSource``, a ``Level``, a list of levels or names, ``"human"`` or a name.
+        levels: ``"human"`` (the five human levels, uniformly), a human level's name
+            (``"zelda_lvl3"``), a level file, a folder of level files, a ``Level``, a list of these
+            (one drawn uniformly each episode) or a ``LevelSource``.
         obs: ``"tiles"`` (``[C, H, W]`` uint8, one channel per sprite type) or ``"pixels"``
             (``[3, 10H, 10W]`` uint8 RGB).
         max_steps: the step limit that truncates an episode (the Gym's TimeLimit, 2000).
-        device: where the state and every output tensor live.
+        device: where the state and every output tensor live (one present on this machine).
         seed: an int (per-env seeds are derived from it) or one seed per env. Env i's episode k
             uses the seed ``mix(env_seed[i], k)``, whatever else shares the batch.
         shards: on a CPU shared with other work, a step (and a reset's reset tick) can tick and
@@ -68,6 +83,13 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
             (see ``gvgai_pcg.envs.shards``); the default, 1, uses torch's own intra-op threads,
             the faster choice on a quiet machine. The results do not depend on it. A sharded
             env ticks eagerly (gvgai_pcg.engine.compiled).
+        difficulty: the difficulty (in [0, 1]) of generated levels until a reset asks for another.
+        check_actions: how action indices are range-checked. ``None`` (the default): on every
+            step where the actions are on the CPU (no device sync), and without waiting on an
+            accelerator where they are on one (a bad action stops the process there with a
+            device-side assertion); ``True``: a ``ValueError`` wherever they are (on an
+            accelerator, a host sync each step); ``False``: no range check (the shape and dtype
+            are still checked). See ``gvgai_pcg.envs.inputs.ActionCheck``.
     """
 
     batch_locked = True
@@ -83,15 +105,15 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         seed: int | Sequence[int] = 0,
         difficulty: float = 0.0,
         shards: int = 1,
+        check_actions: bool | None = None,
     ) -> None:
         if obs not in OBSERVATION_KINDS:
             raise ValueError(
                 f"unknown observation kind {obs!r}; valid kinds are: {', '.join(OBSERVATION_KINDS)}"
             )
-        if num_envs < 1:
-            raise ValueError(f"num_envs must be at least 1, got {num_envs}")
-        if max_steps < 1:
-            raise ValueError(f"max_steps must be at least 1, got {max_steps}")
+        num_envs, max_steps = checked_count("num_envs", num_envs), checked_count("max_steps", max_steps)
+        shards, difficulty = checked_count("shards", shards), checked_difficulty(difficulty)
+        device = checked_device(device)
         super().__init__(device=device, batch_size=torch.Size([num_envs]))
         self.game = get_game(game)
         # Compiled where the game allows, on whole states only: on a shard's views of the state,
@@ -132,6 +154,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         self.buffers = BufferPool(keep=8)  # large whole-batch outputs, reused once released
         # Sources whose next levels are known in advance get their partial resets prepared in bulk.
         self._make_specs()
+        self._check_action = ActionCheck(num_envs, tuple(self.game.actions), self.device, check_actions)
         self._ready = None
         # Generated levels depend on the difficulty: their episodes are prepared at it, and count
         # only at it (see ``_difficulty_holds``).
@@ -159,16 +182,16 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
     # --- specs ---
     def _make_specs(self) -> None:
         b, h, w = self.num_envs, self.grid_height, self.grid_width
-        # Neither observation spec is a Bounded: TorchRL builds a Bounded's low and high at full
-        # size and compares them element by element when it takes the batch size (4,096 envs:
-        # 1.4 s for tiles, 30 s for pixels). Tiles are 0/1 (Binary, which stores no bounds);
-        # pixels take every uint8 value, which is what an uint8 Unbounded allows.
+        # Both observation specs are uint8 Unbounded. Not Bounded: TorchRL builds a Bounded's low
+        # and high at full size and compares them element by element when it takes the batch size
+        # (4,096 envs: 1.4 s for tiles, 30 s for pixels). Nor Binary for the 0/1 tiles: TorchRL's
+        # transforms leave a Binary as it is, so after a cast to float ObservationNorm and VecNorm
+        # produce values it refuses (check_env_specs fails); an Unbounded they take as it comes.
         if self.obs_kind == "tiles":
             shape = (b, len(self.game.tile_types), h, w)
-            observation = Binary(shape=shape, dtype=torch.uint8, device=self.device)
         else:
             shape = (b, 3, h * CELL, w * CELL)
-            observation = Unbounded(shape=shape, dtype=torch.uint8, device=self.device)
+        observation = Unbounded(shape=shape, dtype=torch.uint8, device=self.device)
         self.observation_spec = Composite(
             {
                 self.obs_kind: observation,
@@ -414,7 +437,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
 
     def _step(self, tensordict: TensorDictBase) -> TensorDict:
         state = self.state
-        action = tensordict.get("action").reshape(self.num_envs).to(self.device, torch.int64)
+        action = self._check_action(tensordict.get("action"))
         self._steps += 1
         if self._tick_and_draw and isinstance(self._game_tick, CompiledTick):
             fused = self._game_tick.tick_and_draw(state, action, self._steps, self.max_steps)
