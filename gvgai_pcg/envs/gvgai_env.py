@@ -11,6 +11,7 @@ of time (``gvgai_pcg.envs.ready_episodes``), with the same result.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from os import PathLike
 
 import numpy as np
 import torch
@@ -98,7 +99,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         self,
         game: str,
         num_envs: int = 1,
-        levels: LevelSource | Level | Sequence[Level | str] | str = "human",
+        levels: LevelSource | Level | Sequence[Level | str | PathLike] | str | PathLike = "human",
         obs: str = "tiles",
         max_steps: int = 2000,
         device: torch.device | str = "cpu",

@@ -17,6 +17,8 @@ import torch
 from gvgai_pcg._private_apis import assert_async
 
 SHOWN = 8  # bad actions (and their envs) named in an error; the count says how many more
+# The integer dtypes of action indices (torch's wider unsigned ones lack the ops of the check).
+INTEGER_DTYPES = frozenset((torch.uint8, torch.int8, torch.int16, torch.int32, torch.int64))
 
 
 def checked_count(name: str, value: object, minimum: int = 1) -> int:
@@ -60,7 +62,9 @@ def checked_device(device: object) -> torch.device:
     if parsed.type == "mps":
         missing = not torch.backends.mps.is_available()
     if missing:
-        raise ValueError(f"device {device!r} is not available on this machine; valid devices here are: {choices}")
+        raise ValueError(
+            f"device {device!r} is not available on this machine; valid devices here are: {choices}"
+        )
     return parsed
 
 
@@ -68,7 +72,7 @@ class ActionCheck:
     """Turns a step's ``"action"`` entry into the ``[B]`` int64 action indices the tick takes,
     refusing anything else with one ``ValueError``.
 
-    An action is given per env as an index (``[B]`` or ``[B, 1]``, of an integer dtype) or one-hot
+    An action is given per env as an index (``[B]`` or ``[B, 1]``, of dtype int8 to int64 or uint8) or one-hot
     (``[B, A]`` of any dtype, exactly one 1 per row; A is the game's number of actions). Indices
     must lie in ``0 .. A - 1``. Where the actions are on the CPU, whatever the env's device, the
     range is checked on every step (a few small ops, no device sync). Actions already on an
@@ -89,7 +93,7 @@ class ActionCheck:
         b, a = self.num_envs, self.num_actions
         return (
             f"an action index per env in 0..{a - 1} ({', '.join(self.names)}), of shape [{b}] or [{b}, 1] "
-            f"and an integer dtype, or one-hot of shape [{b}, {a}]"
+            f"and dtype int8..int64 or uint8, or one-hot of shape [{b}, {a}]"
         )
 
     def __call__(self, action: torch.Tensor) -> torch.Tensor:
@@ -97,25 +101,30 @@ class ActionCheck:
         if not isinstance(action, torch.Tensor):
             raise ValueError(f"actions must be a tensor: {self.expected}; got {type(action).__name__}")
         b, a = self.num_envs, self.num_actions
-        shape = tuple(action.shape)
-        if shape in ((b,), (b, 1)) and _is_integer(action.dtype):
-            index = action.reshape(b)
+        shape = action.shape
+        if (shape == (b,) or shape == (b, 1)) and action.dtype in INTEGER_DTYPES:
+            index = action if action.ndim == 1 else action.reshape(b)  # a view costs a few us
             self._check_range(index)
         elif shape == (b, a) and a > 1:
             index = self._one_hot_index(action)
         else:
-            raise ValueError(f"actions of shape {list(shape)} and dtype {action.dtype}; expected {self.expected}")
+            raise ValueError(
+                f"actions of shape {list(shape)} and dtype {action.dtype}; expected {self.expected}"
+            )
         return index.to(self.device, torch.int64)
 
     def _check_range(self, index: torch.Tensor) -> None:
+        """One reduction (``aminmax``) and, on the CPU or where ``strict``, two reads of its result."""
         if self.strict is False:
             return
-        bad = (index < 0) | (index >= self.num_actions)
+        low, high = torch.aminmax(index)
         if index.device.type == "cpu" or self.strict:
-            if bool(bad.any()):
-                self._refuse(index, bad)
+            if low.item() < 0 or high.item() >= self.num_actions:
+                self._refuse(index)
         else:
-            assert_async(~bad.any(), f"an action outside 0..{self.num_actions - 1}; {self.expected}")
+            assert_async(
+                (low >= 0) & (high < self.num_actions), f"an action outside 0..{self.num_actions - 1}"
+            )
 
     def _one_hot_index(self, action: torch.Tensor) -> torch.Tensor:
         if action.dtype.is_complex:
@@ -130,16 +139,12 @@ class ActionCheck:
             )
         return ones.to(torch.uint8).argmax(-1)
 
-    def _refuse(self, index: torch.Tensor, bad: torch.Tensor) -> None:
-        envs = bad.nonzero().flatten()
+    def _refuse(self, index: torch.Tensor) -> None:
+        envs = ((index < 0) | (index >= self.num_actions)).nonzero().flatten()
         raise ValueError(
             f"invalid actions {_listed(index[envs].tolist())} in envs {_listed(envs.tolist())} "
             f"(of {self.num_envs}); expected {self.expected}"
         )
-
-
-def _is_integer(dtype: torch.dtype) -> bool:
-    return not (dtype.is_floating_point or dtype.is_complex or dtype == torch.bool)
 
 
 def _listed(values: list) -> str:

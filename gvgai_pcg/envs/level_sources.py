@@ -19,12 +19,15 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from functools import lru_cache
+from os import PathLike
+from pathlib import Path
 from typing import Protocol, runtime_checkable
 
 import torch
 
 from gvgai_pcg.levels import Level, human_levels, resolve_level
 from gvgai_pcg.levels.seeds import TRAINING_SEED_SPACE
+from gvgai_pcg.levels.sets import load_level_set
 
 
 @runtime_checkable
@@ -101,28 +104,54 @@ class LevelPerEnv:
         return [self.levels[i] for i in env_indices.tolist()]
 
 
-def as_level_source(game: str, levels: LevelSource | Level | Sequence[Level | str] | str) -> LevelSource:
-    """Interpret the ``levels`` argument of ``GVGAIEnv``.
+LEVELS_ACCEPTED = (
+    '"human" (the five human levels), a human level\'s name such as zelda_lvl3, a level file, a folder '
+    "of level files, a Level, a list of these, or a LevelSource"
+)
 
-    Accepts a source, a Level, a list of Levels or names/paths, ``"human"`` (the five human
-    levels, uniformly), or one name/path (``"zelda_lvl3"``).
-    """
+
+def as_level_source(
+    game: str, levels: LevelSource | Level | Sequence[Level | str | PathLike] | str | PathLike
+) -> LevelSource:
+    """Interpret the ``levels`` argument of ``GVGAIEnv``: a source, a Level, ``"human"`` (the five
+    human levels, uniformly), a human level's name (``"zelda_lvl3"``), a level file, a folder of
+    level files, or a list of these. One level is played every episode; several, one drawn
+    uniformly each episode. Anything else is refused with a ``ValueError`` naming ``levels``."""
     if isinstance(levels, LevelSource):
         source = levels
     elif isinstance(levels, Level):
         source = FixedLevel(levels)
-    elif isinstance(levels, str):
-        source = (
-            UniformLevels(human_levels(game))
-            if levels == "human"
-            else FixedLevel(resolve_level(levels, game))
-        )
-    else:
-        resolved = [lv if isinstance(lv, Level) else resolve_level(lv, game) for lv in levels]
+    elif isinstance(levels, str) and levels == "human":
+        source = UniformLevels(human_levels(game))
+    elif isinstance(levels, str | PathLike | list | tuple):
+        items = [levels] if isinstance(levels, str | PathLike) else levels
+        if not items:
+            raise ValueError(f"levels is an empty list; levels takes {LEVELS_ACCEPTED}")
+        resolved = [lv for item in items for lv in _levels_named(game, item)]
         source = FixedLevel(resolved[0]) if len(resolved) == 1 else UniformLevels(resolved)
+    else:
+        raise ValueError(f"levels={levels!r} is not a choice of levels; levels takes {LEVELS_ACCEPTED}")
     if source.game != game:
         raise ValueError(f"level source is for {source.game!r}, but the env plays {game!r}")
     return source
+
+
+def _levels_named(game: str, item: Level | str | PathLike) -> list[Level]:
+    """The levels one item of ``levels`` stands for: a Level, or the file, folder or human level a
+    string names."""
+    if isinstance(item, Level):
+        return [item]
+    if not isinstance(item, str | PathLike):
+        raise ValueError(f"levels holds {item!r}, not a level; levels takes {LEVELS_ACCEPTED}")
+    if Path(item).exists():
+        return load_level_set(game, item)
+    try:
+        return [resolve_level(str(item), game)]
+    except FileNotFoundError:
+        raise ValueError(
+            f"levels: {str(item)!r} is no level file or folder, nor a level name; "
+            f"levels takes {LEVELS_ACCEPTED}"
+        ) from None
 
 
 class GeneratedLevels:

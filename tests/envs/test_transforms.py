@@ -71,7 +71,9 @@ def test_pixels_to_a_float_image():
 
 def test_pixels_resized():
     pytest.importorskip("torchvision")  # TorchRL's Resize needs it; gvgai_pcg does not
-    env = pixels_env(ToTensorImage(in_keys=["pixels"], shape_tolerant=True), Resize(32, 48, in_keys=["pixels"]))
+    env = pixels_env(
+        ToTensorImage(in_keys=["pixels"], shape_tolerant=True), Resize(32, 48, in_keys=["pixels"])
+    )
     check_env_specs(env)
     assert env.rollout(2).get("pixels").shape[-3:] == (3, 32, 48)
 
