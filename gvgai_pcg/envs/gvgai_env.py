@@ -23,7 +23,7 @@ from gvgai_pcg.engine.buffers import BufferPool
 from gvgai_pcg.engine.compiled import COMPILED_RENDER, MIN_COMPILED_BATCH, CompiledTick, engine_tick
 from gvgai_pcg.engine.outputs import episode_outputs
 from gvgai_pcg.engine.rows import copy_tensor_rows_, first_rows, select_rows
-from gvgai_pcg.envs.inputs import ActionCheck, checked_count, checked_device, checked_difficulty
+from gvgai_pcg.envs.inputs import ActionCheck, checked_count, checked_device, checked_difficulty, is_integer
 from gvgai_pcg.envs.level_bank import CompiledLevelBank
 from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
 from gvgai_pcg.envs.ready_episodes import ReadyEpisodes
@@ -217,12 +217,15 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         )
 
     def _seeds_from(self, seed: int | Sequence[int]) -> torch.Tensor:
-        if isinstance(seed, int | np.integer):
+        if isinstance(seed, torch.Tensor | np.ndarray):
+            seed = seed.tolist()
+        if is_integer(seed):
             return derive_seeds(int(seed), self.num_envs)
-        seeds = torch.as_tensor(list(seed), dtype=torch.int64)
-        if seeds.shape != (self.num_envs,):
-            raise ValueError(f"got {seeds.numel()} seeds for {self.num_envs} envs")
-        return seeds
+        if not isinstance(seed, Sequence) or isinstance(seed, str) or not all(map(is_integer, seed)):
+            raise ValueError(f"seed must be an int or a list of {self.num_envs} ints, got {seed!r}")
+        if len(seed) != self.num_envs:
+            raise ValueError(f"got {len(seed)} seeds for {self.num_envs} envs")
+        return torch.as_tensor(seed, dtype=torch.int64)
 
     @property
     def env_seeds(self) -> torch.Tensor:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numbers
 
+import numpy as np
 import torch
 
 from gvgai_pcg._private_apis import assert_async
@@ -21,9 +22,14 @@ SHOWN = 8  # bad actions (and their envs) named in an error; the count says how 
 INTEGER_DTYPES = frozenset((torch.uint8, torch.int8, torch.int16, torch.int32, torch.int64))
 
 
+def is_integer(value: object) -> bool:
+    """Whether ``value`` is an integer (Python's or NumPy's), not a bool."""
+    return isinstance(value, numbers.Integral) and not isinstance(value, bool | np.bool_)
+
+
 def checked_count(name: str, value: object, minimum: int = 1) -> int:
     """An integer argument (``num_envs``, ``max_steps``, ``shards``) of at least ``minimum``."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < minimum:
+    if not is_integer(value) or value < minimum:
         raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
     return int(value)
 
@@ -76,7 +82,7 @@ class ActionCheck:
     (``[B, A]`` of any dtype, exactly one 1 per row; A is the game's number of actions). Indices
     must lie in ``0 .. A - 1``. Where the actions are on the CPU, whatever the env's device, the
     range is checked on every step (a few small ops, no device sync). Actions already on an
-    accelerator are checked there without waiting for it (``torch._assert_async``): a bad one stops
+    accelerator are checked there without waiting for it (``_private_apis.assert_async``): a bad one stops
     the process with a device-side assertion, since reading the result back would cost a host
     sync each step; ``strict=True`` reads it back and raises the ``ValueError`` there too, and
     ``strict=False`` skips the range check wherever the actions are.

@@ -102,6 +102,8 @@ def test_boulderdash_out_of_range_raises_where_it_aborted_the_interpreter(num_en
         ({"levels": "humans"}, "levels: 'humans' is no level file or folder, nor a level name; levels takes"),
         ({"levels": []}, "levels is an empty list; levels takes"),
         ({"levels": 3}, "levels=3 is not a choice of levels; levels takes"),
+        ({"seed": 1.5}, "seed must be an int or a list of 1 ints, got 1.5"),
+        ({"num_envs": 2, "seed": [1]}, "got 1 seeds for 2 envs"),
     ],
 )
 def test_a_bad_argument_is_one_value_error_naming_it(kwargs, message):
