@@ -78,14 +78,14 @@ class ActionCheck:
     """Turns a step's ``"action"`` entry into the ``[B]`` int64 action indices the tick takes,
     refusing anything else with one ``ValueError``.
 
-    An action is given per env as an index (``[B]`` or ``[B, 1]``, of dtype int8 to int64 or uint8) or one-hot
-    (``[B, A]`` of any dtype, exactly one 1 per row; A is the game's number of actions). Indices
-    must lie in ``0 .. A - 1``. Where the actions are on the CPU, whatever the env's device, the
-    range is checked on every step (a few small ops, no device sync). Actions already on an
-    accelerator are checked there without waiting for it (``_private_apis.assert_async``): a bad one stops
-    the process with a device-side assertion, since reading the result back would cost a host
-    sync each step; ``strict=True`` reads it back and raises the ``ValueError`` there too, and
-    ``strict=False`` skips the range check wherever the actions are.
+    An action is given per env as an index (``[B]`` or ``[B, 1]``, of dtype int8 to int64 or
+    uint8) or one-hot (``[B, A]`` of any dtype, exactly one 1 per row; A is the game's number of
+    actions). Indices must lie in ``0 .. A - 1``. Where the actions are on the CPU, whatever the
+    env's device, their values are checked on every step (one ``aminmax``, no device sync).
+    Actions already on an accelerator are checked there without waiting for it
+    (``_private_apis.assert_async``): a bad one stops the process with a device-side assertion,
+    since reading the result back would cost a host sync each step. ``strict=True`` reads it back
+    and raises the ``ValueError`` there too; ``strict=False`` checks only the shape and dtype.
     """
 
     def __init__(
@@ -136,8 +136,12 @@ class ActionCheck:
         if action.dtype.is_complex:
             raise ValueError(f"one-hot actions of dtype {action.dtype}; expected {self.expected}")
         ones, zeros = action == 1, action == 0
+        if self.strict is False:
+            return ones.to(torch.uint8).argmax(-1)
         bad = (ones.sum(-1) != 1) | ~(ones | zeros).all(-1)
-        if self.strict is not False and bool(bad.any()):
+        if action.device.type != "cpu" and not self.strict:
+            assert_async(~bad.any(), "a one-hot action without exactly one 1")
+        elif bool(bad.any()):
             envs = bad.nonzero().flatten().tolist()
             raise ValueError(
                 f"one-hot actions in envs {_listed(envs)} (of {self.num_envs}) do not hold exactly one 1 "
