@@ -68,7 +68,19 @@ def level_set_tag(path: Any) -> str:
     return name + (f"+{len(paths) - 1}" if len(paths) > 1 else "")
 
 
+def learner_tag(name: Any) -> str:
+    """What a run name adds for the learner: ``""`` for A2C (the study's learner, so that the
+    published runs keep their names), ``-ppo`` for PPO, the spec's ``run_tag`` for a plug-in."""
+    from gvgai_pcg.rl.learners import get_learner_spec
+
+    try:
+        return get_learner_spec(str(name)).tag
+    except ValueError:  # refused with the registered names by the config check
+        return f"-{name}"
+
+
 for _name, _resolver in (
+    ("gvgai_pcg.learner_tag", learner_tag),
     ("gvgai_pcg.level_count", level_count_tag),
     ("gvgai_pcg.level_set", level_set_tag),
 ):
@@ -263,21 +275,27 @@ class Variants:
     key: str = "name"
 
 
+@dataclass(frozen=True)
+class LearnerKeys:
+    """The ``algo`` keys of one learner, as ``Variants`` reads them: ``name`` and its spec's schema."""
+
+    schema: Mapping[str, Any]
+    optional: frozenset[str] = frozenset()
+
+
+def _learners() -> dict[str, LearnerKeys]:
+    from gvgai_pcg.rl.learners import get_learner_spec, registered_learners
+
+    return {
+        name: LearnerKeys({"name": Text(), **get_learner_spec(name).schema}) for name in registered_learners()
+    }
+
+
 SCHEMA: dict[str, Any] = {
     "game": {"name": OneOf(_games)},
     "regimen": Variants(_regimens),
     "model": {"name": OneOf(_models), "hidden": Integer(1)},
-    "algo": {
-        "name": OneOf(("a2c",)),
-        "n_steps": Integer(1),
-        "gamma": Number(0.0, 1.0),
-        "lr": Number(0.0, low_open=True),
-        "entropy_coef": Number(0.0),
-        "value_coef": Number(0.0),
-        "max_grad_norm": Number(0.0, low_open=True),
-        "rmsprop_alpha": Number(0.0, 1.0),
-        "rmsprop_eps": Number(0.0, low_open=True),
-    },
+    "algo": Variants(_learners),  # each learner declares its keys (gvgai_pcg.rl.learners)
     "seed": Integer(0, 2**32 - 1),  # numpy's seed range
     "total_frames": Integer(1),
     "device": Device(),
@@ -287,6 +305,7 @@ SCHEMA: dict[str, Any] = {
     "checkpoint": {"every_frames": Integer(1), "keep_every_frames": Integer(0)},
     "log": {
         "every_episodes": Integer(1),
+        "every_update_frames": Integer(1),
         "backends": ListOf(OneOf(LOG_BACKENDS), unique=True, min_items=0),
         "curve": Flag(),
     },

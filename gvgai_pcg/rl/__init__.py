@@ -1,9 +1,10 @@
-"""Reinforcement learning: actor-critic networks, the A2C loss, the training loop, checkpoints."""
+"""Reinforcement learning: actor-critic networks, the learners (A2C, PPO; ``gvgai_pcg.rl.learners``),
+the training loop shared by them, checkpoints."""
 
-from gvgai_pcg.rl.a2c import TrainResult, train
 from gvgai_pcg.rl.a2c_loss import A2CLoss, nstep_returns
 from gvgai_pcg.rl.checkpoint import CheckpointError
 from gvgai_pcg.rl.models import MODELS, ActorCritic, make_actor_critic
+from gvgai_pcg.rl.training import TrainResult, train
 
 __all__ = [
     "MODELS",

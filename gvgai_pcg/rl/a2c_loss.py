@@ -61,7 +61,8 @@ class A2CLoss(LossModule):
 
     The output holds ``loss_objective`` (policy), ``loss_critic`` (weighted value loss),
     ``loss_entropy`` (``-entropy_coef * entropy``) and, detached for logging, ``entropy``,
-    ``value_loss`` (unweighted) and ``returns_mean``.
+    ``value_loss`` (unweighted) and ``returns_mean``; and, detached, the per-step ``[B, T]``
+    ``advantage`` (``R - V``), ``value_target`` (``R``) and ``state_value`` (``V``).
     """
 
     def __init__(
@@ -144,6 +145,10 @@ class A2CLoss(LossModule):
                 "entropy": entropy.detach(),
                 "value_loss": value_loss.detach(),
                 "returns_mean": returns.mean(),
+                # per step [B, T], for a curriculum's scores (PLR's value loss, GAE)
+                "advantage": advantages,
+                "value_target": returns,
+                "state_value": values.detach(),
             },
             batch_size=[],
         )

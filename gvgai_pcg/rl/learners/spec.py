@@ -1,0 +1,37 @@
+"""What a learner declares without importing torch: its name, its config schema, its run-name tag
+and where its ``Learner`` class lives.
+
+A ``LearnerSpec`` is to a learner what a ``GameSpec`` is to a game: ``gvgai-pcg train`` checks the
+``algo`` section against ``schema`` (rules of ``gvgai_pcg.config``) before any heavy import, and
+only a run builds the class (``load_object("module:Class")``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+
+@dataclass(frozen=True)
+class LearnerSpec:
+    """A registered learner.
+
+    Args:
+        name: the ``algo.name`` that selects it (and its ``conf/algo/<name>.yaml``).
+        learner: the ``Learner`` subclass, or its import path ``"package.module:Class"``.
+        schema: the rules of its ``algo`` keys other than ``name`` (``gvgai_pcg.config`` rules).
+        run_tag: what ``run_name`` adds for it: ``""`` for A2C (the study's learner: the published
+            runs' names stay as they were), ``"-<name>"`` by default.
+        description: one line for error messages and docs.
+    """
+
+    name: str
+    learner: str | type
+    schema: Mapping[str, Any] = field(default_factory=dict)
+    run_tag: str | None = None
+    description: str = ""
+
+    @property
+    def tag(self) -> str:
+        return f"-{self.name}" if self.run_tag is None else self.run_tag

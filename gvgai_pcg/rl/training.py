@@ -1,0 +1,346 @@
+"""The training loop shared by every learner, on one natively batched env (or a collector's
+workers).
+
+The loop reads like the algorithm: collect a rollout of ``n_steps`` steps of all envs, hand it to
+the learner (``gvgai_pcg.rl.learners``: A2C, PPO, a plug-in's), which takes its update, then log
+and checkpoint. Everything around the update is here and the same for every learner: the env and
+its level source, the network, the episode log (``log.csv``) and the update log
+(``updates.csv``, from the first update on), checkpoints, snapshots, and after each update the
+curriculum hook (``observe``). A run lives in one directory and continues from its checkpoint
+when started again: same frame count, same difficulty, the logs cut back to the checkpoint.
+
+The session around the loop (``run_session``) makes the run lose nothing: one process per run
+directory, every check before the first frame, a stop on SIGINT/SIGTERM after the current
+update with a checkpoint, and the divergence guard between the gradient and the optimizer step
+(the learner calls it before each step).
+"""
+
+from __future__ import annotations
+
+import functools
+import logging
+import math
+import random
+import sys
+import time
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+import torch
+from omegaconf import DictConfig, OmegaConf
+from tensordict import TensorDictBase
+from torchrl.collectors import MultiSyncCollector
+from torchrl.modules import ProbabilisticActor
+
+from gvgai_pcg.progress import progress
+from gvgai_pcg.rl.checkpoint import restore, save_model
+from gvgai_pcg.rl.curves import plot_curve
+from gvgai_pcg.rl.environment import EnvFactory, make_difficulty
+from gvgai_pcg.rl.learners import learner_class
+from gvgai_pcg.rl.learners.base import Learner, Update
+from gvgai_pcg.rl.models import as_tensordict_module, make_actor_critic
+from gvgai_pcg.rl.provenance import record_session
+from gvgai_pcg.rl.rollout import ActingRollouts
+from gvgai_pcg.rl.run_log import EpisodeTracker, RunLog
+from gvgai_pcg.rl.run_session import RunSession, open_run
+from gvgai_pcg.rl.snapshots import Snapshots
+from gvgai_pcg.rl.stop_signal import StopSignal, ignoring_stop_signals
+from gvgai_pcg.rl.update_log import UpdateLog
+
+log = logging.getLogger(__name__)
+
+UPDATE_ROWS_EVERY_FRAMES = 10_000  # log.every_update_frames when a config has none
+
+
+@dataclass
+class TrainResult:
+    """Where a finished run left its outputs."""
+
+    run_dir: Path
+    frames: int
+    log_path: Path
+    checkpoint_path: Path
+    model_path: Path | None  # None when the session was stopped before the end
+    curve_path: Path | None
+    fps: float  # steady-state frames/s of this session (from the end of its first batch)
+    cpu_fps: float  # the same per second of this process's CPU time (robust to a loaded machine)
+    stopped_by: str | None = None  # "SIGINT"/"SIGTERM" when a signal stopped it early
+    updates_path: Path | None = None  # updates.csv: the update statistics from the first update
+
+
+def seed_everything(seed: int) -> None:
+    random.seed(seed)
+    np.random.seed(seed)
+    torch.manual_seed(seed)
+
+
+def train(
+    cfg: DictConfig, run_dir: Path, files: dict[str, str] | None = None, stop: StopSignal | None = None
+) -> TrainResult:
+    """Train (or continue training) the run described by ``cfg`` in ``run_dir``, with the learner
+    ``cfg.algo.name``.
+
+    ``files`` (name -> text, e.g. Hydra's ``.hydra/*.yaml``) are written with ``config.yaml`` once
+    the session is accepted; ``stop`` receives SIGINT/SIGTERM during it (default: a new one).
+    Raises ``DivergenceError`` when an update is not finite."""
+    if cfg.threads:
+        torch.set_num_threads(int(cfg.threads))
+    config = OmegaConf.to_container(cfg, resolve=True)
+    files = {"config.yaml": OmegaConf.to_yaml(cfg, resolve=True), **(files or {})}
+    with open_run(run_dir, config, files, stop) as session:
+        start = int(session.saved["frames"]) if session.saved else 0
+        if start < int(cfg.total_frames):  # a finished run started again trains nothing: no row
+            record_session(run_dir, start)
+        return _train(cfg, run_dir, config, session)
+
+
+def observer_of(level_state: object):
+    """The curriculum hook: ``observe(rollout)`` of the run's shared level state (the object
+    collector workers share, e.g. PPCG's difficulty) when it has one, else ``None``.
+
+    After each update the loop calls it with the rollout ``[B, T]`` (observations, actions,
+    ``("next", reward | done | terminated | truncated | score | won | level entries)``) and the
+    learner's detached per-step signals added to it: ``advantage``, ``value_target`` and
+    ``state_value`` (``Update.signals``)."""
+    observe = getattr(level_state, "observe", None)
+    return observe if callable(observe) else None
+
+
+def _train(cfg: DictConfig, run_dir: Path, config: dict, session: RunSession) -> TrainResult:
+    checkpoint_path, saved = session.checkpoint_path, session.saved
+    frames = saved["frames"] if saved else 0
+    seed_everything(cfg.seed)
+
+    # --- env: one batched GVGAIEnv per collector worker, one shared difficulty ---
+    workers = int(cfg.collector.workers)
+    difficulty = make_difficulty(cfg.regimen, cfg.game.name)
+    make_env = EnvFactory(
+        game=cfg.game.name,
+        regimen=cfg.regimen,
+        num_envs=int(cfg.env.num_envs),
+        obs=cfg.env.obs,
+        max_steps=int(cfg.env.max_steps),
+        device=cfg.device,
+        seed=int(cfg.seed) * 1_000_003 + frames,  # a resumed run plays new episodes
+        difficulty=difficulty,
+    )
+    # worker processes attach the shared transform themselves; the main process probes the specs
+    # on an env of its own so that the shared transform reaches them without a parent
+    env = (
+        make_env()
+        if workers == 1
+        else replace(make_env, difficulty=make_difficulty(cfg.regimen, cfg.game.name))()
+    )
+    obs_key = cfg.env.obs
+
+    # --- agent: shared-torso actor-critic; the policy samples actions; the learner updates it ---
+    net = make_actor_critic(
+        cfg.model.name,
+        obs_key,
+        tuple(env.observation_spec[obs_key].shape[-3:]),
+        env.action_spec.space.n,
+        int(cfg.model.hidden),
+    ).to(cfg.device)
+    actor_critic = as_tensordict_module(net, obs_key)
+    policy = ProbabilisticActor(
+        actor_critic,
+        in_keys=["logits"],
+        out_keys=["action"],
+        distribution_class=torch.distributions.Categorical,
+        distribution_kwargs={"validate_args": False},  # the checks cost ~25% of an acting step
+        spec=env.action_spec,
+    )
+    learner: Learner = learner_class(cfg.algo.name)(cfg.algo, net, actor_critic)
+    episodes, elapsed = 0, 0.0
+    if saved:
+        restore(saved, net, learner, difficulty)  # the checkpoint's "optimizer" is the learner's state
+        episodes, elapsed = saved["episodes"], saved["elapsed"]
+        log.info("resuming %s at %d frames (difficulty %s)", run_dir, frames, _difficulty_of(difficulty))
+
+    # --- collector: frames per batch = envs x n_steps ---
+    frames_per_batch = workers * int(cfg.env.num_envs) * learner.n_steps
+    remaining = max(0, int(cfg.total_frames) - frames)
+    remaining = math.ceil(remaining / frames_per_batch) * frames_per_batch
+    if workers == 1:
+        # from 24 envs A2C's acting passes keep their graph for the update (gvgai_pcg.rl.rollout)
+        collector = session.closing(
+            ActingRollouts(env, net, obs_key, learner.n_steps, keep_graph=learner.keep_acting_graph)
+        )
+    else:
+        env.close()
+        if difficulty is not None:
+            difficulty.share_through(run_dir / "shared")
+        collector = MultiSyncCollector(
+            [ignoring_stop_signals(functools.partial(make_env, worker=i)) for i in range(workers)],
+            policy,
+            frames_per_batch=frames_per_batch,
+            total_frames=max(remaining, frames_per_batch),  # a finished run collects nothing
+        )
+        session.closing(collector)
+
+    run_log = RunLog(run_dir, list(cfg.log.backends), resume_frames=frames if saved else None)
+    update_log = UpdateLog(run_dir, run_log.loggers, resume_frames=frames if saved else None)
+    update_every = int(cfg.log.get("every_update_frames", UPDATE_ROWS_EVERY_FRAMES))
+    next_update_row = frames  # the first update of a session writes a row
+    rows_every = int(cfg.log.every_episodes)
+    tracker = EpisodeTracker(workers * int(cfg.env.num_envs))
+    losses_since_row: list[torch.Tensor] = []
+    losses_since_update_row: list[torch.Tensor] = []
+    observe = observer_of(difficulty)
+    every = int(cfg.checkpoint.every_frames)
+    next_checkpoint = (frames // every + 1) * every
+    snapshots = Snapshots(run_dir, int(cfg.checkpoint.get("keep_every_frames", 0)), frames)
+    bar = progress(int(cfg.total_frames), "train", "frame", initial=frames)
+    row_frames, row_time, start = frames, time.perf_counter(), time.perf_counter()
+    start -= elapsed
+    update_row_frames, update_row_time, updates = frames, row_time, 0
+
+    def checkpoint() -> None:
+        state = {
+            "frames": frames,
+            "episodes": episodes,
+            "elapsed": time.perf_counter() - start,
+            "model": net.state_dict(),
+            "optimizer": learner.state_dict(),
+            "difficulty": difficulty.state_dict() if difficulty is not None else None,
+            "config": config,
+            "log_rows": run_log.rows,
+        }
+        update_log.sync()
+        session.save_checkpoint(state, net, run_log)  # the log on disk first; never a non-finite model
+
+    session.saving_last_state(checkpoint)  # whatever stops the loop, the last complete update is kept
+
+    steady_frames, steady_start, steady_cpu = frames, None, 0.0
+    for rollout in session.guard.watch(collector if remaining > 0 else [], net):
+        rollout = rollout.reshape(-1, rollout.shape[-1])  # [envs, n_steps] (workers stacked)
+        tracker.update(rollout)
+
+        # --- update: the learner's, checked by the divergence guard before each step ---
+        reached = frames + rollout.numel()
+        update = learner.update(rollout, lambda loss, norm: session.guard.check_update(loss, norm, reached))
+        if workers > 1:
+            collector.update_policy_weights_()
+        frames += rollout.numel()
+        updates += 1
+        bar.update(rollout.numel())
+        stacked = update.stacked()
+        losses_since_row.append(stacked)
+        losses_since_update_row.append(stacked)
+        if observe is not None:
+            observe(_with_signals(rollout, update))
+
+        # --- update log: the first update, then every log.every_update_frames ---
+        if frames >= next_update_row:
+            now = time.perf_counter()
+            policy_loss, value_loss, entropy = torch.stack(losses_since_update_row).mean(0).tolist()
+            losses_since_update_row.clear()
+            update_log.write(
+                {
+                    "frames": frames,
+                    "updates": updates,
+                    "policy_loss": policy_loss,
+                    "value_loss": value_loss,
+                    "entropy": entropy,
+                    "fps": (frames - update_row_frames) / max(now - update_row_time, 1e-9),
+                    "time": now - start,
+                }
+            )
+            update_row_frames, update_row_time = frames, now
+            next_update_row = (frames // update_every + 1) * update_every
+
+        # --- episode log: a row when enough episodes have finished ---
+        if len(tracker) >= rows_every:
+            now = time.perf_counter()
+            stats = tracker.take()
+            episodes += stats["episodes"]
+            policy_loss, value_loss, entropy = torch.stack(losses_since_row).mean(0).tolist()
+            losses_since_row.clear()
+            row = {
+                **stats,
+                "frames": frames,
+                "episodes": episodes,
+                "difficulty": _difficulty_of(difficulty),
+                "policy_loss": policy_loss,
+                "value_loss": value_loss,
+                "entropy": entropy,
+                "fps": (frames - row_frames) / max(now - row_time, 1e-9),
+                "time": now - start,
+            }
+            run_log.write(row)
+            bar.set_postfix(
+                score=f"{row['mean_score']:.2f}",
+                **({} if difficulty is None else {"d": f"{row['difficulty']:.2f}"}),
+            )
+            row_frames, row_time = frames, now
+
+        if steady_start is None:
+            steady_frames, steady_start, steady_cpu = frames, time.perf_counter(), time.process_time()
+        snapshots.maybe_keep(frames, net, config)  # before a checkpoint past it: a resume redoes it
+        if frames >= next_checkpoint:
+            checkpoint()
+            next_checkpoint = (frames // every + 1) * every
+        if frames >= cfg.total_frames or session.stop.received:
+            break
+
+    fps = cpu_fps = math.nan
+    if steady_start is not None and frames > steady_frames:
+        fps = (frames - steady_frames) / (time.perf_counter() - steady_start)
+        cpu_fps = (frames - steady_frames) / (time.process_time() - steady_cpu)
+    bar.close()
+    collector.shutdown()
+    run_log.close()
+    checkpoint()
+    update_log.close()
+    if run_log.rows == 0 and updates > 0:
+        sys.stderr.write(
+            f"gvgai-pcg train: {frames} frames and no row in {run_log.path.name} yet (a row needs "
+            f"log.every_episodes={rows_every} finished episodes); the update statistics are in "
+            f"{update_log.path}\n"
+        )
+    stopped_by = session.stop.name if session.stop.received and frames < cfg.total_frames else None
+    if stopped_by:  # an unfinished run: the checkpoint is all it needs
+        return TrainResult(
+            run_dir,
+            frames,
+            run_log.path,
+            checkpoint_path,
+            None,
+            None,
+            fps,
+            cpu_fps,
+            stopped_by,
+            update_log.path,
+        )
+    model_path = run_dir / "model.pt"
+    save_model(model_path, net.state_dict(), config, frames)
+    curve_path = None
+    if cfg.log.curve:
+        curve_path = plot_curve(run_log.path, run_dir / "curve.png", title=cfg.run_name)
+    return TrainResult(
+        run_dir,
+        frames,
+        run_log.path,
+        checkpoint_path,
+        model_path,
+        curve_path,
+        fps,
+        cpu_fps,
+        None,
+        update_log.path,
+    )
+
+
+def _with_signals(rollout: TensorDictBase, update: Update) -> TensorDictBase:
+    """``rollout`` with the learner's per-step signals beside its entries (for ``observe``)."""
+    if not update.signals:
+        return rollout
+    extended = rollout.copy()  # shallow: the rollout's own tensors are not copied
+    for key, value in update.signals.items():
+        extended.set(key, value)
+    return extended
+
+
+def _difficulty_of(difficulty) -> float:
+    return difficulty.difficulty if difficulty is not None else math.nan
