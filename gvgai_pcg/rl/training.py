@@ -218,8 +218,8 @@ def _train(cfg: DictConfig, run_dir: Path, config: dict, session: RunSession) ->
         tracker.update(rollout)
 
         # --- update: the learner's, checked by the divergence guard before each step ---
-        reached = frames + rollout.numel()
-        update = learner.update(rollout, lambda loss, norm: session.guard.check_update(loss, norm, reached))
+        check = functools.partial(session.guard.check_update, frames=frames + rollout.numel())
+        update = learner.update(rollout, check)
         if workers > 1:
             collector.update_policy_weights_()
         frames += rollout.numel()

@@ -1,0 +1,190 @@
+"""Learners are plug-ins: the registry, each learner's own config keys, a learner registered from
+outside the package training through the shared loop, PPO's update, and run names that tell the
+learners apart while A2C's stay those of the published runs."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+import torch
+import yaml
+from omegaconf import OmegaConf
+from tensordict import TensorDict
+
+from gvgai_pcg.config import ConfigError, checked_config, compose_config, config_dir
+from gvgai_pcg.rl import train
+from gvgai_pcg.rl.learners import get_learner_spec, learner_class, register_learner, registered_learners
+from gvgai_pcg.rl.learners import registry as learner_registry
+from gvgai_pcg.rl.learners.ppo import PPO
+from gvgai_pcg.rl.models import as_tensordict_module, make_actor_critic
+from gvgai_pcg.rl.run_log import read_log
+from gvgai_pcg.rl.update_log import read_updates
+from tests.rl import toy_learner
+
+REPO = Path(__file__).resolve().parents[2]
+TINY = ["regimen=lv", "env.num_envs=4", "env.max_steps=20", "log.backends=[csv]", "log.curve=false"]
+
+
+@pytest.fixture
+def toy():
+    saved = dict(learner_registry._SPECS)
+    register_learner(toy_learner.SPEC)
+    yield toy_learner.SPEC.name
+    learner_registry._SPECS.clear()
+    learner_registry._SPECS.update(saved)
+
+
+class FakeEntryPoint:
+    name, value = "toysgd", "toy_pkg:SPEC"
+
+    def load(self):
+        return toy_learner.SPEC
+
+
+def test_the_built_in_learners_and_an_unknown_name():
+    assert {"a2c", "ppo"} <= set(registered_learners())
+    with pytest.raises(ValueError, match="unknown learner 'sac' .*registered learners are: a2c, ppo"):
+        get_learner_spec("sac")
+    with pytest.raises(ConfigError, match=r"^algo.name='sac': expected one of a2c, ppo"):
+        compose_config(["algo.name=sac"])
+
+
+def test_each_learner_checks_its_own_keys():
+    with pytest.raises(ConfigError, match="algo.epochs=0: expected an integer >= 1"):
+        compose_config(["algo=ppo", "algo.epochs=0"])
+    with pytest.raises(
+        ConfigError,
+        match=r"algo.rmsprop_alpha=0.99: unknown key; the keys of algo are name, n_steps, gamma, gae_lambda",
+    ):
+        compose_config(["algo=ppo", "+algo.rmsprop_alpha=0.99"])
+    assert compose_config(["algo=ppo"]).algo.lr == 5e-4
+
+
+def test_a_learner_from_an_entry_point(monkeypatch):
+    saved = dict(learner_registry._SPECS)
+    monkeypatch.setattr(
+        learner_registry,
+        "entry_points",
+        lambda group: [FakeEntryPoint()] if group == learner_registry.LEARNER_ENTRY_POINT_GROUP else [],
+    )
+    try:
+        assert "toysgd" in registered_learners() and learner_class("toysgd") is toy_learner.SgdA2C
+    finally:
+        learner_registry._SPECS.clear()
+        learner_registry._SPECS.update(saved)
+
+
+def test_a_learner_registered_from_outside_trains_and_resumes(toy, tmp_path, make_config):
+    cfg = make_config([*TINY, "total_frames=16", f"out_dir={tmp_path}"])
+    cfg.algo = {"name": toy, "n_steps": 2, "lr": 0.01}  # what its conf/algo/toysgd.yaml would hold
+    cfg = checked_config(cfg)
+    assert cfg.run_name.endswith("-compact-toysgd-seed0")  # a learner's run directory of its own
+    result = train(cfg, tmp_path / cfg.run_name)
+    checkpoint = torch.load(result.checkpoint_path, weights_only=False)
+    assert checkpoint["optimizer"]["updates"] == 2  # what the learner's checkpoint holds
+    cfg.total_frames = 32
+    result = train(cfg, tmp_path / cfg.run_name)
+    assert torch.load(result.checkpoint_path, weights_only=False)["optimizer"]["updates"] == 4
+
+
+def _rollout(batch: int, steps: int, obs_shape: tuple[int, int, int], actions: int) -> TensorDict:
+    generator = torch.Generator().manual_seed(0)
+    obs = torch.randint(0, 2, (batch, steps + 1, *obs_shape), generator=generator, dtype=torch.uint8)
+    done = torch.zeros(batch, steps, 1, dtype=torch.bool)
+    done[0, 1] = True
+    truncated = torch.zeros_like(done)
+    truncated[1, 2] = True
+    done |= truncated
+    return TensorDict(
+        {
+            "tiles": obs[:, :-1],
+            "action": torch.randint(0, actions, (batch, steps), generator=generator),
+            "logits": torch.randn(batch, steps, actions, generator=generator),
+            "state_value": torch.zeros(batch, steps, 1),
+            "next": {
+                "tiles": obs[:, 1:],
+                "reward": torch.randn(batch, steps, 1, generator=generator),
+                "done": done,
+                "terminated": done & ~truncated,
+                "truncated": truncated,
+            },
+        },
+        batch_size=(batch, steps),
+    )
+
+
+def test_one_ppo_update():
+    torch.manual_seed(0)
+    net = make_actor_critic("compact", "tiles", (5, 7, 9), 6, 32)
+    algo = dict(compose_config(["algo=ppo"]).algo, epochs=2, minibatches=3)
+    learner = PPO(algo, net, as_tensordict_module(net, "tiles"))
+    before = [p.detach().clone() for p in net.parameters()]
+    checks = []
+    update = learner.update(_rollout(4, 6, (5, 7, 9), 6), lambda loss, norm: checks.append((loss, norm)))
+    assert len(checks) == 2 * 3  # the divergence guard sees every optimizer step
+    assert all(torch.isfinite(loss) and torch.isfinite(norm) for loss, norm in checks)
+    assert any(not torch.equal(a, b) for a, b in zip(before, net.parameters(), strict=True))
+    assert update.stacked().shape == (3,) and bool(update.stacked().isfinite().all())
+    assert 0 < update.entropy <= torch.log(torch.tensor(6.0)) + 1e-5
+    for key in ("advantage", "value_target", "state_value"):
+        assert update.signals[key].shape == (4, 6)
+    assert "exp_avg" in next(iter(learner.state_dict()["state"].values()))  # Adam's state
+
+
+def test_run_names_tell_learners_apart_and_keep_a2cs():
+    for condition in sorted((REPO / "conf" / "condition").glob("*.yaml")):
+        a2c = compose_config([f"condition={condition.stem}"]).run_name
+        ppo = compose_config([f"condition={condition.stem}", "algo=ppo"]).run_name
+        assert "a2c" not in a2c and ppo == a2c.replace("-seed0", "-ppo-seed0") and ppo != a2c
+
+
+def test_published_runs_keep_their_names():
+    """Each published run's saved config gives its directory's name under today's run_name."""
+    template = yaml.safe_load((Path(config_dir()) / "config.yaml").read_text())["run_name"]
+    runs = sorted((REPO / "results" / "small" / "runs").glob("*/config.yaml"))
+    assert runs, "no published runs to check"
+    for path in runs:
+        saved = yaml.safe_load(path.read_text())
+        saved["run_name"] = template
+        assert OmegaConf.create(saved).run_name == path.parent.name
+
+
+class Curriculum:
+    """A level state with an ``observe`` hook, standing in for a curriculum's."""
+
+    difficulty = float("nan")
+
+    def __init__(self) -> None:
+        self.seen: list[TensorDict] = []
+
+    def observe(self, rollout) -> None:
+        self.seen.append(rollout)
+
+    def state_dict(self) -> dict:
+        return {}
+
+    def load_state_dict(self, state) -> None:
+        pass
+
+
+def test_a_short_ppo_run_logs_its_updates_and_feeds_the_curriculum(tmp_path, monkeypatch, capsys):
+    curriculum = Curriculum()
+    monkeypatch.setattr("gvgai_pcg.rl.training.make_difficulty", lambda regimen, game: curriculum)
+    overrides = [*TINY, "algo=ppo", "algo.n_steps=8", "algo.minibatches=2", f"out_dir={tmp_path}"]
+    cfg = compose_config([*overrides, "total_frames=64", "log.every_update_frames=64"])
+    result = train(cfg, tmp_path / cfg.run_name)
+    assert result.run_dir.name == "zelda-lv0-tiles-compact-ppo-seed0"
+    assert read_log(result.log_path) == []  # no episode has ended in 64 frames of 20-step episodes
+    assert "64 frames and no row in log.csv yet" in capsys.readouterr().err
+    rows = read_updates(result.updates_path)
+    assert [row["frames"] for row in rows] == [32, 64]  # the first update, then every 64 frames
+    assert all(row["entropy"] > 0 for row in rows)
+    assert len(curriculum.seen) == 2
+    seen = curriculum.seen[0]
+    assert seen.batch_size == (4, 8) and seen["advantage"].shape == (4, 8)
+    assert {"value_target", "state_value", ("next", "won")} <= set(seen.keys(True))
+
+    cfg = compose_config([*overrides, "total_frames=128", "log.every_update_frames=64"])
+    result = train(cfg, tmp_path / cfg.run_name)  # resumes at 64 frames
+    assert [row["frames"] for row in read_updates(result.updates_path)] == [32, 64, 96, 128]
