@@ -90,6 +90,7 @@ def _train(cfg) -> None:
         raise SystemExit(stop.exit_code)
     print(f"run directory: {result.run_dir}")
     print(f"  log:        {result.log_path}")
+    print(f"  updates:    {result.updates_path}")
     print(f"  checkpoint: {result.checkpoint_path} ({result.frames} frames)")
     print(f"  model:      {result.model_path}")
     if result.curve_path is not None:

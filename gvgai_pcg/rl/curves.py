@@ -1,4 +1,5 @@
-"""The training curve of a run: mean episode score and difficulty over frames, from ``log.csv``."""
+"""The training curve of a run: mean episode score and difficulty over frames, from ``log.csv``
+(a run without a row there yet: the policy's entropy from ``updates.csv``)."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from gvgai_pcg.rl.run_log import read_log
+from gvgai_pcg.rl.update_log import UPDATES_NAME, read_updates
 
 
 def smooth(values: np.ndarray, window: int) -> np.ndarray:
@@ -33,6 +35,11 @@ def plot_curve(log_path: Path, out_path: Path, title: str = "") -> Path:
         ax.plot(frames, smooth(score, max(1, len(rows) // 20)), color="tab:blue", label="mean score")
     ax.set_xlabel("frames")
     ax.set_ylabel("mean episode score", color="tab:blue")
+    updates_path = log_path.parent / UPDATES_NAME
+    if not rows and updates_path.is_file():  # a short run: no episode row yet, the updates' entropy
+        updates = read_updates(updates_path)
+        ax.plot([row["frames"] for row in updates], [row["entropy"] for row in updates], color="tab:green")
+        ax.set_ylabel("policy entropy (no episode row yet)", color="tab:green")
     if len(rows) and not np.isnan(difficulty).all():
         ax2 = ax.twinx()
         ax2.plot(frames, difficulty, color="tab:red", label="difficulty")
