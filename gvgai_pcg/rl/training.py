@@ -6,8 +6,11 @@ the learner (``gvgai_pcg.rl.learners``: A2C, PPO, a plug-in's), which takes its 
 and checkpoint. Everything around the update is here and the same for every learner: the env and
 its level source, the network, the episode log (``log.csv``) and the update log
 (``updates.csv``, from the first update on), checkpoints, snapshots, and after each update the
-curriculum hook (``observe``). A run lives in one directory and continues from its checkpoint
-when started again: same frame count, same difficulty, the logs cut back to the checkpoint.
+curriculum hook: a level source with ``observe`` gets the batch's per-level signals
+(``gvgai_pcg.curricula.signals``), with the learner's per-step ``advantage``, ``state_value`` and
+``value_target`` (``Update.signals``) averaged over each level's steps. A run lives in one
+directory and continues from its checkpoint when started again: same frame count, same
+difficulty, the logs cut back to the checkpoint.
 
 The session around the loop (``run_session``) makes the run lose nothing: one process per run
 directory, every check before the first frame, a stop on SIGINT/SIGTERM after the current
@@ -29,16 +32,16 @@ from pathlib import Path
 import numpy as np
 import torch
 from omegaconf import DictConfig, OmegaConf
-from tensordict import TensorDictBase
 from torchrl.collectors import MultiSyncCollector
 from torchrl.modules import ProbabilisticActor
 
+from gvgai_pcg.curricula.signals import feedback_for
 from gvgai_pcg.progress import progress
 from gvgai_pcg.rl.checkpoint import restore, save_model
 from gvgai_pcg.rl.curves import plot_curve
 from gvgai_pcg.rl.environment import EnvFactory, make_difficulty
 from gvgai_pcg.rl.learners import learner_class
-from gvgai_pcg.rl.learners.base import Learner, Update
+from gvgai_pcg.rl.learners.base import Learner
 from gvgai_pcg.rl.models import as_tensordict_module, make_actor_critic
 from gvgai_pcg.rl.provenance import record_session
 from gvgai_pcg.rl.rollout import ActingRollouts
@@ -93,18 +96,6 @@ def train(
         if start < int(cfg.total_frames):  # a finished run started again trains nothing: no row
             record_session(run_dir, start)
         return _train(cfg, run_dir, config, session)
-
-
-def observer_of(level_state: object):
-    """The curriculum hook: ``observe(rollout)`` of the run's shared level state (the object
-    collector workers share, e.g. PPCG's difficulty) when it has one, else ``None``.
-
-    After each update the loop calls it with the rollout ``[B, T]`` (observations, actions,
-    ``("next", reward | done | terminated | truncated | score | won | level entries)``) and the
-    learner's detached per-step signals added to it: ``advantage``, ``value_target`` and
-    ``state_value`` (``Update.signals``)."""
-    observe = getattr(level_state, "observe", None)
-    return observe if callable(observe) else None
 
 
 def _train(cfg: DictConfig, run_dir: Path, config: dict, session: RunSession) -> TrainResult:
@@ -187,7 +178,8 @@ def _train(cfg: DictConfig, run_dir: Path, config: dict, session: RunSession) ->
     tracker = EpisodeTracker(workers * int(cfg.env.num_envs))
     losses_since_row: list[torch.Tensor] = []
     losses_since_update_row: list[torch.Tensor] = []
-    observe = observer_of(difficulty)
+    # the curriculum hook: a level source with observe() gets each batch's per-level signals
+    feedback = feedback_for(make_env.level_source())
     every = int(cfg.checkpoint.every_frames)
     next_checkpoint = (frames // every + 1) * every
     snapshots = Snapshots(run_dir, int(cfg.checkpoint.get("keep_every_frames", 0)), frames)
@@ -228,8 +220,11 @@ def _train(cfg: DictConfig, run_dir: Path, config: dict, session: RunSession) ->
         stacked = update.stacked()
         losses_since_row.append(stacked)
         losses_since_update_row.append(stacked)
-        if observe is not None:
-            observe(_with_signals(rollout, update))
+        if feedback is not None:
+            signals = update.signals or {}
+            feedback(
+                rollout, **{key: signals.get(key) for key in ("advantage", "state_value", "value_target")}
+            )
 
         # --- update log: the first update, then every log.every_update_frames ---
         if frames >= next_update_row:
@@ -330,16 +325,6 @@ def _train(cfg: DictConfig, run_dir: Path, config: dict, session: RunSession) ->
         None,
         update_log.path,
     )
-
-
-def _with_signals(rollout: TensorDictBase, update: Update) -> TensorDictBase:
-    """``rollout`` with the learner's per-step signals beside its entries (for ``observe``)."""
-    if not update.signals:
-        return rollout
-    extended = rollout.copy()  # shallow: the rollout's own tensors are not copied
-    for key, value in update.signals.items():
-        extended.set(key, value)
-    return extended
 
 
 def _difficulty_of(difficulty) -> float:

@@ -14,6 +14,7 @@ from tensordict import TensorDict
 
 from gvgai_pcg.config import ConfigError, checked_config, compose_config, config_dir
 from gvgai_pcg.rl import train
+from gvgai_pcg.rl.environment import EnvFactory
 from gvgai_pcg.rl.learners import get_learner_spec, learner_class, register_learner, registered_learners
 from gvgai_pcg.rl.learners import registry as learner_registry
 from gvgai_pcg.rl.learners.ppo import PPO
@@ -150,27 +151,28 @@ def test_published_runs_keep_their_names():
         assert OmegaConf.create(saved).run_name == path.parent.name
 
 
-class Curriculum:
-    """A level state with an ``observe`` hook, standing in for a curriculum's."""
+class LearningSource:
+    """A level source with an ``observe`` hook, standing in for a curriculum's."""
 
-    difficulty = float("nan")
+    def __init__(self, source) -> None:
+        self.source, self.seen = source, []
 
-    def __init__(self) -> None:
-        self.seen: list[TensorDict] = []
+    def __getattr__(self, name):
+        return getattr(self.source, name)
 
-    def observe(self, rollout) -> None:
-        self.seen.append(rollout)
-
-    def state_dict(self) -> dict:
-        return {}
-
-    def load_state_dict(self, state) -> None:
-        pass
+    def observe(self, signals) -> None:
+        self.seen.append(signals)
 
 
 def test_a_short_ppo_run_logs_its_updates_and_feeds_the_curriculum(tmp_path, monkeypatch, capsys):
-    curriculum = Curriculum()
-    monkeypatch.setattr("gvgai_pcg.rl.training.make_difficulty", lambda regimen, game: curriculum)
+    sources = []
+    level_source = EnvFactory.level_source
+
+    def learning_source(self):
+        sources.append(LearningSource(level_source(self)))
+        return sources[-1]
+
+    monkeypatch.setattr(EnvFactory, "level_source", learning_source)
     overrides = [
         *TINY,
         "algo=ppo",
@@ -188,10 +190,12 @@ def test_a_short_ppo_run_logs_its_updates_and_feeds_the_curriculum(tmp_path, mon
     assert [row["frames"] for row in rows] == [32, 64]  # the first update, then every 64 frames
     assert all(row["entropy"] > 0 for row in rows)
     assert result.curve_path.read_bytes()[:4] == b"\x89PNG"  # the updates' entropy, not a blank plot
-    assert len(curriculum.seen) == 2
-    seen = curriculum.seen[0]
-    assert seen.batch_size == (4, 8) and seen["advantage"].shape == (4, 8)
-    assert {"value_target", "state_value", ("next", "won")} <= set(seen.keys(True))
+    seen = [signals for source in sources for signals in source.seen]
+    assert len(seen) == 2  # one batch of per-level signals after each update
+    assert seen[0]["env"].tolist() == [0, 1, 2, 3]  # one level segment per env: no episode ended
+    for key in ("advantage", "advantage_positive", "state_value", "value_loss", "level_seed", "return"):
+        assert seen[0][key].shape == (4,)
+    assert bool(seen[0]["value_loss"].isfinite().all())
 
     cfg = compose_config([*overrides, "total_frames=128", "log.every_update_frames=64"])
     result = train(cfg, tmp_path / cfg.run_name)  # resumes at 64 frames
