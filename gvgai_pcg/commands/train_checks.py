@@ -43,9 +43,27 @@ def check_argv(argv: list[str], conf: Path) -> None:
 
 
 def check_group_option(group: str, value: str, folder: Path) -> None:
-    """Each option of ``value`` (a comma-separated sweep with ``-m``) is a config of ``folder``."""
+    """Each option of ``value`` (a comma-separated sweep with ``-m``) is a config of ``folder``, or
+    of a registered plug-in (a curriculum or a learner from outside the package, whose yaml is in
+    no folder): the registry is only read for a name the folder lacks, so built-in names stay fast."""
     choices = sorted(path.stem for path in folder.glob("*.yaml"))
     for option in value.split(","):
         option = option.strip()
-        if option and option != "null" and option not in choices:
+        if not option or option == "null" or option in choices:
+            continue
+        choices = sorted(set(choices) | set(_plugins(group)))
+        if option not in choices:
             raise ValueError(f"{group}={option}: no such {group}; the choices are {', '.join(choices)}")
+
+
+def _plugins(group: str) -> list[str]:
+    """The registered plug-ins of a config group (``regimen``: curricula, ``algo``: learners)."""
+    if group == "regimen":
+        from gvgai_pcg.curricula.registry import registered_curricula
+
+        return list(registered_curricula())
+    if group == "algo":
+        from gvgai_pcg.rl.learners.registry import registered_learners
+
+        return list(registered_learners())
+    return []
