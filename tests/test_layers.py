@@ -8,6 +8,8 @@ import is still a dependency), but not those under ``if TYPE_CHECKING:`` (annota
 The layers, lowest first. A module may import its own layer and the layers below it:
 
 1. ``progress``: terminal progress bars, imports nothing of gvgai_pcg.
+   ``config rules``: the config schema's rules and the log backends' names, nothing of gvgai_pcg
+   either, so that a curriculum or a learner declares its schema without the config checks.
 2. ``registry``: ``games`` (the package's ``__init__``), ``games.spec`` and ``games.registry``:
    the game specs and the one registry. Built-in games are found by scanning the game folders
    and loading them by name on first use (like entry points), so parsing a level can ask for
@@ -19,7 +21,8 @@ The layers, lowest first. A module may import its own layer and the layers below
 5. ``game``: the game folders ``games/<name>/`` (rules, generator, checks, spec). A game folder
    never imports another game folder (checked apart).
 6. ``readers``: ``generators`` and ``analysis``: the registry's readers.
-7. ``envs``: the TorchRL env, level sources, transforms, Gymnasium.
+7. ``envs``: the TorchRL env, level sources, transforms, Gymnasium, and the curricula that hand
+   the env its levels (``gvgai_pcg.curricula``).
 8. ``rl``: models, A2C, the training loop, checkpoints, and ``config``, the training config's
    checks (they ask the models for their names; the training benchmark reads the config).
 9. ``evaluation``.
@@ -46,6 +49,7 @@ PACKAGE = "gvgai_pcg"
 
 LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("progress", ("gvgai_pcg.progress",)),
+    ("config rules", ("gvgai_pcg.config_rules", "gvgai_pcg.log_backends")),
     ("private APIs", ("gvgai_pcg._private_apis",)),
     ("registry", ("gvgai_pcg.games:", "gvgai_pcg.games.spec", "gvgai_pcg.games.registry")),
     ("levels", ("gvgai_pcg.levels",)),
@@ -65,7 +69,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ),
     ("game", ("gvgai_pcg.games",)),
     ("readers", ("gvgai_pcg.generators", "gvgai_pcg.analysis")),
-    ("envs", ("gvgai_pcg.envs",)),
+    ("envs", ("gvgai_pcg.envs", "gvgai_pcg.curricula")),
     ("rl", ("gvgai_pcg.rl", "gvgai_pcg.config")),
     ("evaluation", ("gvgai_pcg.evaluation",)),
     (

@@ -8,7 +8,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from gvgai_pcg.config import (
+from gvgai_pcg.config_rules import (
     DIFFICULTY,
     HUMAN_LEVEL,
     WIN_RULES,

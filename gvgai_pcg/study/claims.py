@@ -32,6 +32,7 @@ from gvgai_pcg.study.intervals import ALPHA, LEVEL, Estimate, estimate, holm
 from gvgai_pcg.study.table1 import (
     GENERATED_SETS,
     HUMAN_SETS,
+    LATE_FRAMES,
     STUDY_EPISODES,
     STUDY_FRAMES,
     STUDY_REACHED,
@@ -86,7 +87,6 @@ THRESHOLDS: dict[str, tuple[float, str]] = {
     ),
 }
 CLOSE, POOR, MARGINAL, STRONG, DECENT, NOTHING, LARGE_SHARE, SAME = (v for v, _ in THRESHOLDS.values())
-LATE_FRAMES = 500_000  # PPCG's difficulty "at the end" of a run: its mean over the last 0.5M frames
 
 
 @dataclass

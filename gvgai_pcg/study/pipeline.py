@@ -367,7 +367,8 @@ def reproduce(
     seconds = run_sweep(budget, conditions, out, jobs, launcher, overrides, skip) if train else 0.0
     report_dir = out / "report"
     report_dir.mkdir(parents=True, exist_ok=True)
-    here = _trained_here(out / "runs", finished_only, {p.name for p in elsewhere})
+    fewest = budget.frames_range[0] if finished_only else None
+    here = _trained_here(out / "runs", fewest, {p.name for p in elsewhere})
     build_report([*here, *elsewhere], report_dir, protocol, cache_dir=out / "random", progress=progress)
     target = budget.frames_range[0]
     write_claims([*here, *elsewhere], out / "random", protocol, report_dir / "claims.md", target)
@@ -375,14 +376,16 @@ def reproduce(
     return Outcome(out, out / "runs", report_dir, published, seconds)
 
 
-def _trained_here(runs_dir: Path, finished_only: bool, leave_out: set[str]) -> list[Path]:
-    """The runs under ``runs_dir`` (with ``finished_only``, those that have trained their config's
-    ``total_frames``), but those named in ``leave_out`` (their published copies are reported
-    instead)."""
+def _trained_here(runs_dir: Path, finished_only: int | None, leave_out: set[str]) -> list[Path]:
+    """The runs under ``runs_dir`` (with ``finished_only``, the budget's fewest frames, those that
+    have trained their config's ``total_frames`` and at least that many), but those named in
+    ``leave_out`` (their published copies are reported instead)."""
     from gvgai_pcg.evaluation.checkpoints import find_runs, read_run_config
 
     def wanted(run: Path) -> bool:
-        frames = int((read_run_config(run) or {}).get("total_frames", 0)) if finished_only else 0
+        frames = 0
+        if finished_only is not None:
+            frames = max(int((read_run_config(run) or {}).get("total_frames", 0)), finished_only)
         return run.name not in leave_out and _finished(run, frames)
 
     if not runs_dir.is_dir():

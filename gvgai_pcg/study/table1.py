@@ -92,3 +92,6 @@ def study_normalised(game: str) -> dict[str, dict[str, float]]:
     if game not in TABLE1:
         raise ValueError(f"no study table for game {game!r}; the study's games are {', '.join(TABLE1)}")
     return normalise(TABLE1[game])
+
+
+LATE_FRAMES = 500_000  # PPCG's difficulty "at the end" of a run: its mean over the last 0.5M frames

@@ -9,7 +9,14 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from gvgai_pcg.study.table1 import STUDY_FRAMES, STUDY_REACHED, TABLE1, TEST_SETS, study_normalised
+from gvgai_pcg.study.table1 import (
+    LATE_FRAMES,
+    STUDY_FRAMES,
+    STUDY_REACHED,
+    TABLE1,
+    TEST_SETS,
+    study_normalised,
+)
 
 AT_RANDOM = 0.05  # a normalised score within 0.05 of 0 counts as "at the random agent"
 COLUMNS = {s: s.replace("pcg", "PCG ").replace("lv", "Lv ") for s in TEST_SETS}
@@ -105,7 +112,6 @@ def difficulty_markdown(games: Mapping) -> str:
     """PPCG's difficulty per run, from its log up to the evaluated model: the highest d, when it
     first reached d = 0.5 and d = 1, and its mean over the last 0.5M frames; beside what the study
     reports of its own PPCG runs."""
-    from gvgai_pcg.study.claims import LATE_FRAMES
 
     lines = [
         "### PPCG's difficulty in training",

@@ -10,7 +10,12 @@ from pathlib import Path
 import pytest
 
 RESULTS = Path(__file__).resolve().parents[2] / "results"
-PUBLISHED = sorted(path for path in RESULTS.glob("*") if (path / "runs").is_dir()) if RESULTS.is_dir() else []
+# a published study (reproduce --publish: runs and their report); results/pilot has runs only
+PUBLISHED = (
+    sorted(path for path in RESULTS.glob("*") if (path / "runs").is_dir() and (path / "report").is_dir())
+    if RESULTS.is_dir()
+    else []
+)
 
 
 @pytest.mark.parametrize("published", PUBLISHED, ids=lambda path: path.name)

@@ -16,7 +16,7 @@ from tensordict import TensorDictBase
 from tensordict.nn import TensorDictModule
 from torch import nn
 
-from gvgai_pcg.config import Integer, Number
+from gvgai_pcg.config_rules import Integer, Number
 from gvgai_pcg.rl.a2c_loss import A2CLoss
 from gvgai_pcg.rl.learners.base import Learner, Update, UpdateCheck
 from gvgai_pcg.rl.learners.spec import LearnerSpec

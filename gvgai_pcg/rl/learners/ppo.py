@@ -24,7 +24,7 @@ from torchrl.modules import ProbabilisticActor
 from torchrl.objectives import ClipPPOLoss
 from torchrl.objectives.value import GAE
 
-from gvgai_pcg.config import Flag, Integer, Number
+from gvgai_pcg.config_rules import Flag, Integer, Number
 from gvgai_pcg.rl.learners.base import Learner, Update, UpdateCheck
 from gvgai_pcg.rl.learners.spec import LearnerSpec
 
