@@ -91,6 +91,9 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
             device-side assertion); ``True``: a ``ValueError`` wherever they are (on an
             accelerator, a host sync each step); ``False``: no range check (the shape and dtype
             are still checked). See ``gvgai_pcg.envs.inputs.ActionCheck``.
+        compile_tick: ``False`` ticks and draws eagerly whatever ``GVGAI_PCG_COMPILE`` says, for a job
+            too short to pay back compiling (``gvgai_pcg.evaluation.runner``). Same results. (Not
+            ``compile``: TorchRL's env constructor takes that one for itself.)
     """
 
     batch_locked = True
@@ -107,6 +110,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         difficulty: float = 0.0,
         shards: int = 1,
         check_actions: bool | None = None,
+        compile_tick: bool = True,
     ) -> None:
         if obs not in OBSERVATION_KINDS:
             raise ValueError(
@@ -120,14 +124,15 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         # Compiled where the game allows, on whole states only: on a shard's views of the state,
         # inductor (torch 2.13) miscompiled Boulderdash's tick (its monsters' moves came out
         # differently from run to run), so a sharded env ticks eagerly.
-        self._game_tick = engine_tick(self.game) if shards == 1 else self.game.tick
+        compiled = compile_tick and shards == 1
+        self._game_tick = engine_tick(self.game) if compiled else self.game.tick
         # Small whole batches draw their tiles compiled (gvgai_pcg.engine.compiled.CompiledRender).
         self._compiled_render = (
-            shards == 1 and obs == "tiles" and COMPILED_RENDER.applies(self.game, num_envs, self.device)
+            compiled and obs == "tiles" and COMPILED_RENDER.applies(self.game, num_envs, self.device)
         )
         # Somewhat larger ones tick and draw in one compiled call (CompiledTick.tick_and_draw).
         self._tick_and_draw = (
-            shards == 1
+            compiled
             and obs == "tiles"
             and COMPILED_RENDER.applies(self.game, num_envs, self.device, COMPILED_RENDER.FUSED_MAX_BYTES)
         )

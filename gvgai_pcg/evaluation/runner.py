@@ -2,7 +2,15 @@
 
 Every env of the batch is given its own level (``LevelPerEnv``) and plays exactly one episode;
 an env that finishes keeps being stepped with the others but is no longer recorded, so the
-results are those of the first episode of each env.
+results are those of the first episode of each env. The policy is asked only for the envs still
+playing, so its cost follows the episodes left, not the batch.
+
+What an evaluation costs was mostly not playing (docs/benchmarks.md, "Evaluation"): on a shared
+CPU, torch's two intra-op threads wait on each other (the protocol on one Zelda run took about
+175 s of CPU with two threads and compiling, 13-14 s on one thread eagerly, at a load of 8-10 on 2
+cores), and compiling the tick costs more than it saves in a job of 2,000 batched steps. So an
+evaluation runs on one torch thread and ticks eagerly unless it can make
+``COMPILE_PAYS_BACK_STEPS`` batched steps or more.
 
 An episode's outcome depends only on the seed, its level and how many copies of that level come
 before it, never on the rest of the batch: its env's seed is made from those three, and at every
@@ -14,7 +22,8 @@ from __future__ import annotations
 
 import hashlib
 from collections import Counter
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import torch
@@ -29,6 +38,16 @@ from gvgai_pcg.progress import progress as progress_display
 Policy = Callable[[TensorDictBase], torch.Tensor]
 SAMPLE_KEY = "action_uniform"  # [B] float64 U[0, 1): the env's own random number for this step
 STREAM_ACTIONS = 1
+# Compiling the tick pays back only past this many batched steps. The protocol on one Zelda run
+# (210 envs, 2,000 steps, one thread, 2026-11-28): compiling cost about 7.7 s of CPU with a warm
+# inductor cache (about 30 s cold) and saved 0.85 ms a batched step (2.7 s of ticking against
+# 4.4 s eagerly), so it breaks even near 9,000 steps warm; every evaluation of 2,000 steps ticks
+# eagerly.
+COMPILE_PAYS_BACK_STEPS = 10_000
+# Torch intra-op threads while playing: with two on a 2-core machine where other work holds a
+# core, a step of 210 Zelda envs took 133-193 ms and the policy 155-248 ms, against 5-7 ms and
+# 16-21 ms on one thread (load 9-11, 2026-11-28).
+EVALUATION_THREADS = 1
 
 
 def episode_seeds(levels: Sequence[Level], seed: int) -> torch.Tensor:
@@ -51,6 +70,33 @@ def sample_actions(probabilities: torch.Tensor, uniform_draws: torch.Tensor) -> 
     cdf = probabilities.to(torch.float64).cumsum(-1)
     below = (cdf < uniform_draws.to(cdf.device).unsqueeze(-1) * cdf[:, -1:]).sum(-1)
     return below.clamp(max=probabilities.shape[-1] - 1)
+
+
+def compile_pays_back(max_steps: int, device: torch.device | str) -> bool:
+    """Whether a job of at most ``max_steps`` batched steps should tick compiled (the CPU's
+    measurement, ``COMPILE_PAYS_BACK_STEPS``; another device keeps the engine's own choice)."""
+    return torch.device(device).type != "cpu" or max_steps >= COMPILE_PAYS_BACK_STEPS
+
+
+@contextmanager
+def torch_threads(count: int) -> Iterator[None]:
+    """Run the block on ``count`` torch intra-op threads, then restore the caller's setting."""
+    before = torch.get_num_threads()
+    torch.set_num_threads(count)
+    try:
+        yield
+    finally:
+        torch.set_num_threads(before)
+
+
+def act(policy: Policy, td: TensorDictBase, finished: torch.Tensor, nil: torch.Tensor) -> torch.Tensor:
+    """``[B]`` actions: the policy's for the envs still playing, asked of those rows alone (its
+    cost follows the episodes left, not the batch), and NIL for the finished ones, whose steps
+    are never recorded."""
+    if not bool(finished.any()):
+        return policy(td)
+    playing = (~finished).nonzero().squeeze(-1)
+    return nil.index_put((playing,), policy(td[playing]).to(nil.device, nil.dtype))
 
 
 @dataclass
@@ -83,19 +129,28 @@ def play_episodes(
         max_steps=max_steps,
         device=device,
         seed=episode_seeds(levels, seed).tolist(),
+        compile_tick=compile_pays_back(max_steps, device),
     )
+    with torch_threads(EVALUATION_THREADS):
+        return _play(env, policy, max_steps, progress)
+
+
+def _play(env: GVGAIEnv, policy: Policy, max_steps: int, progress: bool) -> EpisodeResults:
+    """Step every env of ``env`` until each has finished its first episode (or ``max_steps``)."""
+    game = env.game.name
     env_seeds = env.env_seeds
-    n = len(levels)
+    n = env.num_envs
     scores = torch.zeros(n, device=env.device)
     lengths = torch.zeros(n, dtype=torch.int64, device=env.device)
     wins = torch.zeros(n, dtype=torch.bool, device=env.device)
     finished = torch.zeros(n, dtype=torch.bool, device=env.device)
     td = env.reset()
     bar = progress_display(max_steps, f"{game}: {n} episodes", "step", enabled=progress, leave=False)
+    nil = torch.zeros(n, dtype=torch.int64, device=env.device)
     for step in range(1, max_steps + 1):
         draws = uniform(env_seeds, torch.full_like(env_seeds, step), 0, STREAM_ACTIONS)
         td.set(SAMPLE_KEY, draws.to(env.device))
-        td.set("action", policy(td))
+        td.set("action", act(policy, td, finished, nil))
         td = env.step(td).get("next")
         done = td.get("done").squeeze(-1) & ~finished
         scores = torch.where(done, td.get("score").squeeze(-1), scores)
