@@ -8,8 +8,9 @@ import is still a dependency), but not those under ``if TYPE_CHECKING:`` (annota
 The layers, lowest first. A module may import its own layer and the layers below it:
 
 1. ``progress``: terminal progress bars, imports nothing of gvgai_pcg.
-   ``config rules``: the config schema's rules and the log backends' names, nothing of gvgai_pcg
-   either, so that a curriculum or a learner declares its schema without the config checks.
+   ``config rules``: the config schema's rules, the log backends' names and the entry-point loop
+   of every registry (``plugins``), nothing of gvgai_pcg either, so that a curriculum or a learner
+   declares its schema without the config checks.
 2. ``registry``: ``games`` (the package's ``__init__``), ``games.spec`` and ``games.registry``:
    the game specs and the one registry. Built-in games are found by scanning the game folders
    and loading them by name on first use (like entry points), so parsing a level can ask for
@@ -49,7 +50,7 @@ PACKAGE = "gvgai_pcg"
 
 LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("progress", ("gvgai_pcg.progress",)),
-    ("config rules", ("gvgai_pcg.config_rules", "gvgai_pcg.log_backends")),
+    ("config rules", ("gvgai_pcg.config_rules", "gvgai_pcg.log_backends", "gvgai_pcg.plugins")),
     ("private APIs", ("gvgai_pcg._private_apis",)),
     ("registry", ("gvgai_pcg.games:", "gvgai_pcg.games.spec", "gvgai_pcg.games.registry")),
     ("levels", ("gvgai_pcg.levels",)),

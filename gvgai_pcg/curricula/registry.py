@@ -12,12 +12,11 @@ finds it without a file in ``conf/regimen/``.
 from __future__ import annotations
 
 import pkgutil
-import warnings
 from importlib import import_module
-from importlib.metadata import entry_points
 from pathlib import Path
 
 from gvgai_pcg.curricula.base import Curriculum
+from gvgai_pcg.plugins import load_entry_points
 
 ENTRY_POINT_GROUP = "gvgai_pcg.curricula"
 CONFIG_GROUP = "regimen"  # the config group a curriculum is chosen by (kept: runs name it)
@@ -68,22 +67,7 @@ def _discover(again: bool = False) -> None:
         return
     _read_entry_points = True
     _builtins()
-    for entry_point in entry_points(group=ENTRY_POINT_GROUP):
-        if entry_point.name in _CURRICULA:
-            if _CURRICULA[entry_point.name] is not entry_point.load():
-                warnings.warn(
-                    f"curriculum plugin {entry_point.value!r} ignored: "
-                    f"{entry_point.name!r} is already registered",
-                    stacklevel=3,
-                )
-            continue
-        curriculum = entry_point.load()
-        if not isinstance(curriculum, Curriculum) or curriculum.name != entry_point.name:
-            raise ValueError(
-                f"curriculum plugin {entry_point.value!r}: the entry point {entry_point.name!r} must load "
-                f"the Curriculum of that name, got {curriculum!r}"
-            )
-        register_curriculum(curriculum)
+    load_entry_points(ENTRY_POINT_GROUP, "curriculum", Curriculum, _CURRICULA, register_curriculum)
 
 
 def registered_curricula() -> dict[str, Curriculum]:

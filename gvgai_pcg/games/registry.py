@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import operator
 import pkgutil
 import warnings
 from collections.abc import Callable
@@ -32,6 +33,7 @@ from importlib.metadata import entry_points
 from typing import TYPE_CHECKING
 
 from gvgai_pcg.games.spec import GameSpec, Generator, load_object
+from gvgai_pcg.plugins import load_entry_points
 
 if TYPE_CHECKING:
     from gvgai_pcg.games.base import Game
@@ -90,21 +92,7 @@ def _discover_games(again: bool = False) -> None:
     if _read_game_entry_points and not again:
         return
     _read_game_entry_points = True
-    for entry_point in entry_points(group=GAME_ENTRY_POINT_GROUP):
-        if entry_point.name in _SPECS:
-            if _SPECS[entry_point.name] != entry_point.load():
-                warnings.warn(
-                    f"game plugin {entry_point.value!r} ignored: {entry_point.name!r} is already registered",
-                    stacklevel=3,
-                )
-            continue
-        spec = entry_point.load()
-        if not isinstance(spec, GameSpec) or spec.name != entry_point.name:
-            raise ValueError(
-                f"game plugin {entry_point.value!r}: the entry point {entry_point.name!r} must load the "
-                f"GameSpec of that game, got {spec!r}"
-            )
-        register_game_spec(spec)
+    load_entry_points(GAME_ENTRY_POINT_GROUP, "game", GameSpec, _SPECS, register_game_spec, same=operator.eq)
 
 
 def registered_games() -> list[str]:

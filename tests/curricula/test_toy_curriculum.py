@@ -9,6 +9,7 @@ import pytest
 import torch
 from torch import nn
 
+import gvgai_pcg.plugins as plugins_module
 from gvgai_pcg.config import ConfigError, compose_config
 from gvgai_pcg.curricula import get_curriculum, register_curriculum, registered_curricula, registry
 from gvgai_pcg.curricula.signals import LevelSignals, observe
@@ -37,7 +38,7 @@ class FakeEntryPoint:
 
 
 def test_a_curriculum_from_an_entry_point(monkeypatch):
-    monkeypatch.setattr(registry, "entry_points", lambda group: [FakeEntryPoint()])
+    monkeypatch.setattr(plugins_module, "entry_points", lambda group: [FakeEntryPoint()])
     try:
         assert get_curriculum("toyreplay") is toy_curriculum.CURRICULUM
         assert "toyreplay" in registered_curricula()

@@ -11,6 +11,7 @@ import pytest
 import torch
 from torchrl.envs.utils import check_env_specs
 
+import gvgai_pcg.plugins as plugins_module
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.difficulty import DifficultyTransform
 from gvgai_pcg.envs.gym_registration import env_id, register_envs
@@ -74,7 +75,9 @@ def test_a_second_game_of_the_same_name_is_refused(toy):
 def test_a_game_from_an_entry_point(toy, monkeypatch):
     plugins = [FakeEntryPoint("toyagain", "toy_pkg:SPEC", toy_game.PLUGIN_SPEC)]
     monkeypatch.setattr(
-        registry, "entry_points", lambda group: plugins if group == registry.GAME_ENTRY_POINT_GROUP else []
+        plugins_module,
+        "entry_points",
+        lambda group: plugins if group == registry.GAME_ENTRY_POINT_GROUP else [],
     )
     monkeypatch.setattr(registry, "_read_game_entry_points", False)  # as in a fresh process
     assert "toyagain" in registered_games()

@@ -12,6 +12,7 @@ import yaml
 from omegaconf import OmegaConf
 from tensordict import TensorDict
 
+import gvgai_pcg.plugins as plugins_module
 from gvgai_pcg.config import ConfigError, checked_config, compose_config, config_dir
 from gvgai_pcg.rl import train
 from gvgai_pcg.rl.environment import EnvFactory
@@ -65,7 +66,7 @@ def test_each_learner_checks_its_own_keys():
 def test_a_learner_from_an_entry_point(monkeypatch):
     saved = dict(learner_registry._SPECS)
     monkeypatch.setattr(
-        learner_registry,
+        plugins_module,
         "entry_points",
         lambda group: [FakeEntryPoint()] if group == learner_registry.LEARNER_ENTRY_POINT_GROUP else [],
     )

@@ -8,9 +8,10 @@ module imports neither torch nor a learner's code: ``learner_class`` imports it 
 
 from __future__ import annotations
 
-from importlib.metadata import entry_points
+import operator
 
 from gvgai_pcg.games.spec import load_object
+from gvgai_pcg.plugins import load_entry_points
 from gvgai_pcg.rl.learners.spec import LearnerSpec
 
 LEARNER_ENTRY_POINT_GROUP = "gvgai_pcg.learners"
@@ -40,16 +41,11 @@ def register_learner(spec: LearnerSpec) -> LearnerSpec:
 
 
 def _discover() -> None:
-    for entry_point in entry_points(group=LEARNER_ENTRY_POINT_GROUP):
-        if entry_point.name in _SPECS:
-            continue
-        spec = entry_point.load()
-        if not isinstance(spec, LearnerSpec) or spec.name != entry_point.name:
-            raise ValueError(
-                f"learner plugin {entry_point.value!r}: the entry point {entry_point.name!r} must load "
-                f"the LearnerSpec of that learner, got {spec!r}"
-            )
-        _SPECS[spec.name] = spec
+    load_entry_points(LEARNER_ENTRY_POINT_GROUP, "learner", LearnerSpec, _SPECS, _add, same=operator.eq)
+
+
+def _add(spec: LearnerSpec) -> None:
+    _SPECS[spec.name] = spec
 
 
 def registered_learners() -> list[str]:
