@@ -50,3 +50,20 @@ def test_the_pilot_page_shows_the_table_its_published_runs_give():
     page = (root / "docs" / "pilot.md").read_text()
     block = page.split(START, 1)[1].split(END, 1)[0].strip()
     assert block == page_table(root / "results" / "pilot", root / "results" / "small" / "runs")
+
+
+def test_the_pilot_pages_protocol_rows_are_the_published_records():
+    from pathlib import Path
+
+    from gvgai_pcg.evaluation.evaluator import read_records
+
+    root = Path(__file__).resolve().parents[2]
+    page = (root / "docs" / "pilot.md").read_text()
+    sets = ("pcg0.5", "pcg1", "lv0", "lv1", "lv2", "lv3", "lv4")
+    for run, label in (("p-e64-lr2e-3-s0", "PCG 0.5, lr 2e-3"), ("p-e64-lr2e-3-pcg1-s0", "PCG 1, lr 2e-3")):
+        [path] = (root / "results" / "pilot" / "runs" / run / "eval").glob("protocol-*.jsonl")
+        scores: dict[str, list[float]] = {}
+        for record in read_records(path):
+            scores.setdefault(record.test_set, []).extend(record.scores)
+        cells = " | ".join(f"{sum(scores[s]) / len(scores[s]):.2f}" for s in sets)
+        assert f"| {label} | {cells} |" in page
