@@ -83,12 +83,10 @@ def run(args: argparse.Namespace) -> int:
         if outcome.published is None:
             raise ValueError("--page needs --publish (the page is written from the published data)")
         from gvgai_pcg.rl.provenance import code_commit
-        from gvgai_pcg.study.page import write_results_page
+        from gvgai_pcg.study.page import page_images, write_results_page
 
-        images = args.page.parent / "images" / "results"
+        images, prefix = page_images(args.page)
         commit = args.trained_at or code_commit()
-        write_results_page(
-            args.page, outcome.published, images, "images/results", budget.frames_range[0], commit
-        )
+        write_results_page(args.page, outcome.published, images, prefix, budget.frames_range[0], commit)
         print(f"page: {args.page}")
     return 0

@@ -8,6 +8,7 @@ page says exactly what the data under ``results/`` says, and which runs it holds
 from __future__ import annotations
 
 import json
+import os
 import platform
 import re
 import shutil
@@ -57,7 +58,7 @@ def results_block(published: Path, images: Path, image_prefix: str, target_frame
     report = report.replace("# Results\n", "", 1).replace("\n## ", "\n### ")
     claims_path = published / "report" / "claims.md"
     claims = claims_path.read_text() if claims_path.is_file() else "No claims evaluated yet.\n"
-    machine = f"{platform.machine()} Linux, 2 cores, torch CPU, one torch thread per run"
+    machine = f"{platform.machine()} Linux, {os.cpu_count()} cores, torch CPU, one torch thread per run"
     return "\n".join(
         [
             START,
@@ -80,6 +81,12 @@ def results_block(published: Path, images: Path, image_prefix: str, target_frame
             END,
         ]
     )
+
+
+def page_images(page: Path) -> tuple[Path, str]:
+    """The folder of ``page``'s figures and the prefix its links use: ``images/<page's stem>``
+    beside it (``docs/results.md``: ``docs/images/results``), so two budgets' pages keep their own."""
+    return page.parent / "images" / page.stem, f"images/{page.stem}"
 
 
 def write_results_page(

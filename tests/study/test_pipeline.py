@@ -252,3 +252,11 @@ def test_the_medium_budget_trains_what_issue_35_asks_and_keeps_models_along_the_
     assert all(len(medium.seeds_of(c)) >= 4 for c in medium.conditions)
     assert all(len(medium.seeds_of(c)) >= 5 for c in ("zelda-pcg0.5", "zelda-pcg1", "zelda-ppcg"))
     assert "checkpoint.keep_every_frames=1000000" in medium.overrides
+
+
+def test_each_results_page_keeps_its_own_figures():
+    from gvgai_pcg.study.page import page_images
+
+    assert page_images(Path("docs/results.md")) == (Path("docs/images/results"), "images/results")
+    medium, prefix = page_images(Path("docs/results-medium.md"))
+    assert medium == Path("docs/images/results-medium") and prefix == "images/results-medium"
