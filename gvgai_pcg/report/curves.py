@@ -1,5 +1,6 @@
 """Training curves of pooled runs (the study's Figure 2): per condition, the smoothed mean episode
-score of its runs with a ±1 std band across runs, and the mean difficulty on a second axis.
+score of its runs with a ±1 std band across runs, and the mean difficulty on a second axis, with
+the highest d the study's text says its PPCG reached (``STUDY_REACHED``) dashed beside ours.
 
 Each run's ``log.csv`` (``gvgai_pcg.rl.run_log``) is smoothed with a trailing mean over its rows,
 then all runs of a condition are interpolated onto one frame grid, up to the shortest run's last
@@ -61,6 +62,7 @@ def plot_curves(game: str, curves: Sequence[PooledCurve], out_stem: Path) -> lis
     from matplotlib.ticker import FuncFormatter
 
     from gvgai_pcg.report.table import format_frames
+    from gvgai_pcg.study.table1 import STUDY_REACHED
 
     fig, axes = plt.subplots(1, max(1, len(curves)), figsize=(4.5 * max(1, len(curves)), 3.6), squeeze=False)
     for ax, curve in zip(axes[0], curves, strict=False):
@@ -79,6 +81,18 @@ def plot_curves(game: str, curves: Sequence[PooledCurve], out_stem: Path) -> lis
             twin.plot(curve.frames, curve.difficulty, color="tab:red", marker=marker)
             twin.set_ylim(0.0, 1.0)
             twin.set_ylabel("difficulty", color="tab:red")
+            reached = STUDY_REACHED.get(game) if curve.label.startswith("PPCG") else None
+            if reached is not None:  # the study's Figure 2, as its text states it
+                twin.axhline(reached, color="tab:red", linestyle="--", alpha=0.6)
+                twin.annotate(
+                    f"the study's highest d ({reached:g})",
+                    (0.02, reached),
+                    xycoords=("axes fraction", "data"),
+                    textcoords="offset points",
+                    xytext=(0, -10 if reached > 0.9 else 3),
+                    color="tab:red",
+                    fontsize=8,
+                )
     return save_figure(fig, out_stem)
 
 

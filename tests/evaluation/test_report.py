@@ -165,3 +165,22 @@ def test_a_run_named_twice_counts_once(multirun, tmp_path, monkeypatch):
 )
 def test_frame_counts_are_written_short(frames, text):
     assert format_frames(frames) == text
+
+
+def test_ppcg_curve_shows_the_studys_highest_difficulty(monkeypatch, tmp_path):
+    import numpy as np
+
+    from gvgai_pcg.report import curves
+
+    figures = []
+    monkeypatch.setattr(curves, "save_figure", lambda fig, out: figures.append(fig) or [])
+    grid = np.linspace(0, 1e6, 5)
+    ppcg = curves.PooledCurve("PPCG (1M)", 2, grid, grid * 0, grid * 0, np.linspace(0, 0.3, 5))
+    pcg = curves.PooledCurve("PCG 1 (1M)", 2, grid, grid * 0, grid * 0, np.full(5, 1.0))
+    curves.plot_curves("boulderdash", [ppcg, pcg], tmp_path / "c")
+    twins = [ax for ax in figures[0].axes if ax.get_ylabel() == "difficulty"]
+
+    def dashed(ax) -> list[float]:
+        return [line.get_ydata()[0] for line in ax.get_lines() if line.get_linestyle() == "--"]
+
+    assert dashed(twins[0]) == [0.2] and dashed(twins[1]) == []  # only PPCG, at the study's d
