@@ -20,16 +20,6 @@ from pathlib import Path
 FINAL_MODEL = "model.pt"
 LAST_CHECKPOINT = Path("checkpoints") / "last.pt"
 
-# The report's row names of each regimen (the study's Table 1).
-REGIMEN_LABELS = {
-    "lv": "Lv {level}",
-    "lv0-3": "Lv 0-3",
-    "human": "Lv 0-4",
-    "levels": "Levels {set}",
-    "pcg": "PCG {difficulty:g}",
-    "ppcg": "PPCG",
-}
-
 
 @dataclass
 class RunInfo:
@@ -63,29 +53,31 @@ class RunInfo:
         return self.config["env"]["obs"]
 
     @property
+    def curriculum(self):
+        """The run's registered curriculum (``gvgai_pcg.curricula``); ``None`` when its plug-in is
+        not installed here (the run is then labelled by its regimen's name and has no training
+        set of its own)."""
+        from gvgai_pcg.curricula.registry import get_curriculum
+
+        try:
+            return get_curriculum(self.regimen["name"])
+        except ValueError:
+            return None
+
+    @property
     def label(self) -> str:
         """The regimen as the study names it: ``Lv 0``, ``Lv 0-3``, ``PCG 1``, ``PPCG``; a finite
-        generated set ``PCG 1, 100 levels``, a level set ``Levels mine``."""
-        from gvgai_pcg.config import level_set_tag
-
-        regimen = self.regimen
-        template = REGIMEN_LABELS.get(regimen["name"], regimen["name"])
-        label = template.format(
-            level=regimen.get("level", ""),
-            difficulty=float(regimen.get("difficulty", 0)),
-            set=level_set_tag(regimen.get("path", "")),
-        )
-        count = int(regimen.get("num_levels", 0) or 0)
-        return f"{label}, {count} level{'s' if count != 1 else ''}" if count else label
+        generated set ``PCG 1, 100 levels``, a level set ``Levels mine``: the curriculum's
+        ``row_label``."""
+        curriculum = self.curriculum
+        return self.regimen["name"] if curriculum is None else curriculum.row_label(self.regimen)
 
     @property
     def has_training_set(self) -> bool:
         """Whether the run trained on a set of levels of its own (a level set, a finite generated
         set): the evaluation plays it as the run's ``train`` test set."""
-        regimen = self.regimen
-        return regimen["name"] == "levels" or (
-            regimen["name"] == "pcg" and int(regimen.get("num_levels", 0) or 0) > 0
-        )
+        curriculum = self.curriculum
+        return curriculum is not None and curriculum.has_training_set(self.regimen)
 
     def training_levels(self, limit: int | None = None) -> list:
         """The first ``limit`` (default: all) levels of the run's own training set."""
@@ -100,20 +92,19 @@ class RunInfo:
         """The test sets this run trained on: its own human levels, its ``train`` set, and any
         test set with a level that is also in a level set of its own (generated training levels
         are held out by their seeds)."""
-        regimen = self.regimen
-        if regimen["name"] == "lv":
-            return (f"lv{int(regimen['level'])}",)
-        if regimen["name"] == "lv0-3":
-            return tuple(f"lv{int(i)}" for i in regimen["levels"])
-        if regimen["name"] == "human":
-            return tuple(f"lv{i}" for i in range(5))
+        curriculum = self.curriculum
+        human = () if curriculum is None else tuple(curriculum.human_levels_trained(self.regimen))
+        if human:
+            return human
+        if not self.has_training_set:
+            return ()
         from gvgai_pcg.evaluation.protocol import TRAINING_SET, Protocol, protocol_test_sets
 
-        if regimen["name"] == "levels":
-            own = set(self.training_levels())
-            shared = [s.name for s in protocol_test_sets(self.game, Protocol()) if own & set(s.levels)]
-            return (TRAINING_SET, *shared)
-        return (TRAINING_SET,) if self.has_training_set else ()
+        if curriculum.generated:  # generated training levels are held out by their seeds
+            return (TRAINING_SET,)
+        own = set(self.training_levels())
+        shared = [s.name for s in protocol_test_sets(self.game, Protocol()) if own & set(s.levels)]
+        return (TRAINING_SET, *shared)
 
 
 # A published run (``gvgai_pcg.study.pipeline.publish``) names its model here instead of holding
