@@ -25,6 +25,7 @@ SPEC = GameSpec(
     level_format=LEVEL_FORMAT,
     rules="gvgai_pcg.games.boulderdash.rules:Boulderdash",
     generator="gvgai_pcg.games.boulderdash.generator:generate",
+    editor="gvgai_pcg.games.boulderdash.editor:edit",
     counts=checks.counts,
     playability_problems=checks.playability_problems,
     study_tileset="wxoc-be",

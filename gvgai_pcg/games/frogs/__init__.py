@@ -20,6 +20,7 @@ SPEC = GameSpec(
     level_format=LEVEL_FORMAT,
     rules="gvgai_pcg.games.frogs.rules:Frogs",
     generator="gvgai_pcg.games.frogs.generator:generate",
+    editor="gvgai_pcg.games.frogs.editor:edit",
     counts=checks.counts,
     playability_problems=checks.playability_problems,
     study_tileset="wAg+x0=-4321l",

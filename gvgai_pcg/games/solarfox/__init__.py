@@ -20,6 +20,7 @@ SPEC = GameSpec(
     level_format=LEVEL_FORMAT,
     rules="gvgai_pcg.games.solarfox.rules:Solarfox",
     generator="gvgai_pcg.games.solarfox.generator:generate",
+    editor="gvgai_pcg.games.solarfox.editor:edit",
     counts=checks.counts,
     playability_problems=checks.playability_problems,
     study_tileset="wAp+b12",

@@ -25,6 +25,7 @@ SPEC = GameSpec(
     level_format=LEVEL_FORMAT,
     rules="gvgai_pcg.games.zelda.rules:Zelda",
     generator="gvgai_pcg.games.zelda.generator:generate",
+    editor="gvgai_pcg.games.zelda.editor:edit",
     counts=checks.counts,
     playability_problems=checks.playability_problems,
     study_tileset="wAg+123",
