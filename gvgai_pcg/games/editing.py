@@ -5,8 +5,8 @@ An editor is ``edit(level, seed) -> Level`` (``GameSpec.editor``). Each game lis
 functions that change a ``Grid`` in place with a ``numpy`` generator and say whether they found
 somewhere to act; ``apply_edit`` draws a kind with the seed, applies it and keeps the result only
 if it is still valid (``still_valid``). A draw that fails is followed by another, up to
-``ATTEMPTS``; when none succeeds the level comes back unchanged. Editing is cheap (a parse and
-the game's checks, tens of microseconds on a 13x9 level), so a curriculum can edit at every replay.
+``ATTEMPTS``; when none succeeds the level comes back unchanged. An edit costs about a parse and
+two runs of the game's checks (a millisecond or less; docs/generators.md, "Level editors").
 """
 
 from __future__ import annotations
@@ -109,11 +109,11 @@ def far_from(cells: Iterable[Cell], more_than: int) -> Callable[[Cell], bool]:
     return lambda cell: all(distance(cell, other) > more_than for other in cells)
 
 
-def still_valid(parent: Level, child: Level) -> bool:
+def still_valid(parent: Level, child: Level, parent_problems: set[str] | None = None) -> bool:
     """Whether ``child`` is as valid as ``parent``: it parses as a level of its game (one avatar,
     legal characters, the size limits), is the same size, keeps what the win condition needs
     (never fewer than needed where the parent had enough), and has no playability problem that
-    the parent did not have."""
+    the parent did not have (``parent_problems``: the parent's, if known)."""
     if (child.game, child.height, child.width) != (parent.game, parent.height, parent.width):
         return False
     try:
@@ -128,7 +128,9 @@ def still_valid(parent: Level, child: Level) -> bool:
             return False
     if spec.playability_problems is None:
         return True
-    return set(spec.playability_problems(child)) <= set(spec.playability_problems(parent))
+    if parent_problems is None:
+        parent_problems = set(spec.playability_problems(parent))
+    return set(spec.playability_problems(child)) <= parent_problems
 
 
 def apply_edit(level: Level, seed: int, kinds: dict[str, EditKind], game: str) -> tuple[str | None, Level]:
@@ -141,11 +143,13 @@ def apply_edit(level: Level, seed: int, kinds: dict[str, EditKind], game: str) -
         )
     rng = np.random.default_rng(check_seed(seed))
     names = list(kinds)
+    check = get_game_spec(game).playability_problems
+    parent_problems = set(check(level)) if check is not None else set()
     for _ in range(ATTEMPTS):
         name = names[int(rng.integers(len(names)))]
         grid = Grid(level)
         if kinds[name](grid, rng):
             edited = grid.level()
-            if edited != level and still_valid(level, edited):
+            if edited != level and still_valid(level, edited, parent_problems):
                 return name, edited
     return None, Level(level.game, level.rows)
