@@ -198,3 +198,8 @@ def test_the_env_plays_edited_levels(game, monkeypatch):
     assert bool(torch.isfinite(out["score"].float()).all())
     assert all(level in edited for level in env.current_levels)
     env.close()
+
+
+def test_frogs_checks_read_a_frog_that_starts_on_a_log():
+    """Human level 4 starts the frog on a log (B): its checks name the start row, not crash."""
+    assert playability_problems(human_level("frogs", 4)) == ["the start row is not grass"]
