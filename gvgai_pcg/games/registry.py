@@ -16,6 +16,9 @@ change here, and a plugin never replaces a registered name. ``generate_level`` i
 front door of generation: it refuses a difficulty outside [0, 1] and a seed that is not a
 non-negative integer before a generator runs.
 
+A game may also name an editor (``GameSpec.editor``): ``level_editor(game)`` imports it on first
+use, for curricula that edit the levels they replay (ACCEL).
+
 Importing this module imports neither torch nor any game: the rules are imported when
 ``get_game`` first asks for them.
 """
@@ -32,7 +35,7 @@ from importlib import import_module
 from importlib.metadata import entry_points
 from typing import TYPE_CHECKING
 
-from gvgai_pcg.games.spec import GameSpec, Generator, load_object
+from gvgai_pcg.games.spec import Editor, GameSpec, Generator, load_object
 from gvgai_pcg.plugins import load_entry_points
 
 if TYPE_CHECKING:
@@ -47,6 +50,7 @@ _SPECS: dict[str, GameSpec] = {}
 _GAMES: dict[str, Game] = {}  # the rules of each game, made on first use
 _RULES: dict[str, type] = {}  # classes named by @register_game
 _GENERATORS: dict[str, Generator] = {}  # generators by name: the games' own (once loaded) and others
+_EDITORS: dict[str, Editor] = {}  # the games' editors, imported on first use
 _found_builtins = False
 _read_game_entry_points = False
 
@@ -245,3 +249,21 @@ def generate_level(game: str, difficulty: float, seed: int) -> Level:
     """A level of ``game`` at ``difficulty`` in [0, 1]; the same (game, d, seed) gives the same level."""
     generate = get_generator(game)
     return generate(check_difficulty(difficulty), check_seed(seed))
+
+
+# --- editors ----------------------------------------------------------------------------------
+
+
+def level_editor(game: str) -> Editor:
+    """The editor of ``game`` (``edit(level, seed) -> Level``), imported once; a game without one
+    is refused with the games that have one."""
+    edit = _EDITORS.get(game)
+    if edit is None:
+        spec = find_game_spec(game)
+        if spec is None or spec.editor is None:
+            having = [name for name in registered_games() if _SPECS[name].editor is not None]
+            raise ValueError(
+                f"no level editor for game {game!r}; games with an editor are: {', '.join(having) or 'none'}"
+            )
+        edit = _EDITORS[game] = load_object(spec.editor)
+    return edit

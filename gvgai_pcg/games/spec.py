@@ -23,6 +23,9 @@ if TYPE_CHECKING:
     from gvgai_pcg.levels.level import Level
 
 Generator = Callable[[float, int], "Level"]
+# ``edit(level, seed) -> Level``: a new level of the same game and size with one small random edit
+# chosen by ``seed``, still valid for the game's format and checks (ACCEL's level editor).
+Editor = Callable[["Level", int], "Level"]
 
 
 @dataclass(frozen=True)
@@ -60,6 +63,9 @@ class GameSpec:
         rules: the ``Game`` subclass, or its import path ``"package.module:Class"``.
         generator: ``generate(difficulty, seed) -> Level``, or its import path; registered as
             the generator named ``name``. ``None``: the game has no generator.
+        editor: ``edit(level, seed) -> Level``, or its import path: one small random edit of a
+            level that keeps it valid (ACCEL's editor, ``registry.level_editor``). ``None``: the
+            game has no editor.
         counts: what a level contains (``{"keys": 1, ...}``), for the generator tests and docs.
         playability_problems: what keeps a generated level from being playable as the generator
             promises (an empty list when nothing does).
@@ -83,6 +89,7 @@ class GameSpec:
     level_format: LevelFormat
     rules: str | type
     generator: str | Generator | None = None
+    editor: str | Editor | None = None
     counts: Callable[[Level], dict[str, int]] | None = None
     playability_problems: Callable[[Level], list[str]] | None = None
     study_tileset: str | None = None

@@ -1,9 +1,10 @@
 """Boulderdash: collect nine diamonds, reach the exit; boulders fall (RULES.md §7, GENERATORS.md §1.5).
 
 The game is this folder: ``rules`` (the ``Game``), ``generator`` (its constructive level
-generator), ``checks`` (what a generated level contains and must hold), ``human_levels/`` (the
-study's five human-designed levels) and ``test_sets/`` (the frozen evaluation levels, with their
-manifest). ``SPEC`` names them for the registry (``gvgai_pcg.games.registry``).
+generator), ``editor`` (its small level edits, for ACCEL), ``checks`` (what a generated level
+contains and must hold), ``human_levels/`` (the study's five human-designed levels) and
+``test_sets/`` (the frozen evaluation levels, with their manifest). ``SPEC`` names them for the
+registry (``gvgai_pcg.games.registry``).
 """
 
 from gvgai_pcg.games.boulderdash import checks
@@ -25,6 +26,7 @@ SPEC = GameSpec(
     level_format=LEVEL_FORMAT,
     rules="gvgai_pcg.games.boulderdash.rules:Boulderdash",
     generator="gvgai_pcg.games.boulderdash.generator:generate",
+    editor="gvgai_pcg.games.boulderdash.editor:edit",
     counts=checks.counts,
     playability_problems=checks.playability_problems,
     study_tileset="wxoc-be",

@@ -1,9 +1,10 @@
 """Frogs: cross the road and the river to the goal (RULES.md §6, GENERATORS.md §1.4).
 
 The game is this folder: ``rules`` (the ``Game``), ``generator`` (its constructive level
-generator), ``checks`` (what a generated level contains and must hold), ``human_levels/`` (the
-study's five human-designed levels) and ``test_sets/`` (the frozen evaluation levels, with their
-manifest). ``SPEC`` names them for the registry (``gvgai_pcg.games.registry``).
+generator), ``editor`` (its small level edits, for ACCEL), ``checks`` (what a generated level
+contains and must hold), ``human_levels/`` (the study's five human-designed levels) and
+``test_sets/`` (the frozen evaluation levels, with their manifest). ``SPEC`` names them for the
+registry (``gvgai_pcg.games.registry``).
 """
 
 from gvgai_pcg.games.frogs import checks
@@ -20,6 +21,7 @@ SPEC = GameSpec(
     level_format=LEVEL_FORMAT,
     rules="gvgai_pcg.games.frogs.rules:Frogs",
     generator="gvgai_pcg.games.frogs.generator:generate",
+    editor="gvgai_pcg.games.frogs.editor:edit",
     counts=checks.counts,
     playability_problems=checks.playability_problems,
     study_tileset="wAg+x0=-4321l",

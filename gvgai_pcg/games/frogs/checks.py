@@ -31,7 +31,7 @@ def playability_problems(level: Level) -> list[str]:
     if len(goal_rows) != 1 or level.count("g") != 1:
         return [f"expected one goal 'g', found {level.count('g')}"]
     top = goal_rows[0]
-    bottom = level.find("A")[0][0]
+    bottom = (level.find("A") or level.find("B"))[0][0]  # B: a frog that starts on a log (human level 4)
     rows = level.rows
     problems = []
     goal = rows[top].index("g")

@@ -1,0 +1,54 @@
+"""Solarfox's level editor (ACCEL, issue 36): add or remove a pill, move an enemy along its lane,
+move the avatar. The generator's checks want exactly one top enemy (2) and one bottom enemy (1),
+so an enemy is moved, never added or removed. The ship never stops once it flies (RULES.md §5.3)
+and walls and the enemy lanes kill it, so the avatar only moves to a floor cell with a cell of
+floor between it and them, as the generator's start (columns 4-5, rows 4-6) has."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from gvgai_pcg.games.editing import Cell, EditKind, Grid, apply_edit, choose, move, place
+from gvgai_pcg.levels.level import Level
+
+PILLS = "bp"
+
+
+def add_pill(grid: Grid, rng: np.random.Generator) -> bool:
+    """A pill of a kind the level already has (a blib in a level without any)."""
+    kinds = "".join(kind for kind in PILLS if grid.find(kind)) or "b"
+    return place(grid, rng, choose(rng, kinds), on="+")
+
+
+def remove_pill(grid: Grid, rng: np.random.Generator) -> bool:
+    return place(grid, rng, "+", on=PILLS)
+
+
+def move_enemy(grid: Grid, rng: np.random.Generator) -> bool:
+    """The top (2) or the bottom (1) enemy to another cell of its own lane."""
+    enemy = choose(rng, "21")
+    cells = grid.find(enemy)
+    if not cells:
+        return False
+    row = cells[0][0]
+    return move(grid, rng, enemy, on=".", leave=".", where=lambda cell: cell[0] == row)
+
+
+def move_avatar(grid: Grid, rng: np.random.Generator) -> bool:
+    def clear(cell: Cell) -> bool:
+        return 2 <= cell[0] <= grid.height - 3 and 2 <= cell[1] <= grid.width - 3
+
+    return move(grid, rng, "A", on="+", leave="+", where=clear)
+
+
+KINDS: dict[str, EditKind] = {
+    "add_pill": add_pill,
+    "remove_pill": remove_pill,
+    "move_enemy": move_enemy,
+    "move_avatar": move_avatar,
+}
+
+
+def edit(level: Level, seed: int) -> Level:
+    """``level`` with one of ``KINDS`` applied, drawn by ``seed`` (gvgai_pcg.games.editing)."""
+    return apply_edit(level, seed, KINDS, "solarfox")[1]
