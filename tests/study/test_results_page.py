@@ -37,11 +37,21 @@ def test_every_number_the_prose_states_is_in_the_generated_block():
     assert sorted(set(stated) - block) == []
 
 
-def test_the_pages_block_rebuilds_from_the_published_folder(tmp_path):
-    page = block_of(PAGE.read_text())
+def published_pages() -> list[Path]:
+    """Every results page with a generated block (docs/results.md, docs/results-medium.md)."""
+    return sorted(page for page in PAGE.parent.glob("results*.md") if START in page.read_text())
+
+
+@pytest.mark.parametrize("page_path", published_pages(), ids=lambda path: path.name)
+def test_the_pages_block_rebuilds_from_the_published_folder(page_path, tmp_path):
+    from gvgai_pcg.study.page import page_images
+
+    page = block_of(page_path.read_text())
+    published = ROOT / re.search(r"Data: `([^`]+)`", page).group(1)
     commit = re.search(r"commit `(\w+)`", page).group(1)
-    frames = BUDGETS[PUBLISHED.name].frames_range[0]
-    rebuilt = results_block(PUBLISHED, tmp_path / "images", "images/results", frames, commit)
+    frames = BUDGETS[published.name].frames_range[0]
+    prefix = page_images(page_path)[1]
+    rebuilt = results_block(published, tmp_path / "images", prefix, frames, commit)
     # the first line names the machine that wrote it
     assert rebuilt.splitlines()[2:] == page.splitlines()[2:]
 
