@@ -132,6 +132,16 @@ def test_protocol_on_a_tiny_run_writes_its_csv_and_reuses_it(tiny_run, monkeypat
     assert again == summary
 
 
+def test_publishing_a_run_publishes_its_ued_records(tiny_run, tmp_path):
+    from gvgai_pcg.study.pipeline import publish
+
+    _, table = evaluate_run_ued(run_info(tiny_run), TINY, progress=False)
+    dest = publish(tmp_path / "out", tmp_path / "published", runs=[tiny_run])
+    copied = dest / "runs" / tiny_run.name / "eval"
+    assert (copied / table.name).read_text() == table.read_text()
+    assert (copied / table.with_suffix(".json").name).is_file()
+
+
 def test_the_random_agent_is_cached_per_game_and_settings(tmp_path, monkeypatch):
     first, table = evaluate_random_ued("zelda", TINY, cache_dir=tmp_path, progress=False)
     assert table == tmp_path / "random" / f"ued-zelda-{TINY.key}.csv" and first.levels == TINY.levels
