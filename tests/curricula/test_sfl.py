@@ -118,3 +118,24 @@ def test_it_trains_and_resumes_with_its_buffer(tmp_path, monkeypatch):
     second = train(cfg, tmp_path / cfg.run_name)
     resumed = read_file(second.checkpoint_path)["difficulty"]
     assert int(resumed["refreshes"][0]) > int(saved["refreshes"][0])  # it went on from the saved buffer
+
+
+def test_a_worker_process_sees_the_buffer_the_trainer_refreshes(tmp_path):
+    """Collector workers get a pickled copy of their source; the buffer, shared through files,
+    is the trainer's own."""
+    import pickle
+
+    buffer = LearnabilityBuffer(2)
+    buffer.share_through(tmp_path / "shared")
+    worker_copy = pickle.loads(pickle.dumps(get_curriculum("sfl").make_source("zelda", TINY_POOL, buffer)))
+    assert worker_copy.state.size == 0
+    buffer.replace(torch.tensor([0.3, 0.6], dtype=torch.float64), torch.tensor([21, 22]), torch.ones(2), 5)
+    assert worker_copy.state.size == 2 and worker_copy.state.seeds.tolist() == [21, 22]
+    n = 64
+    seeds, envs, d = (
+        torch.arange(n, dtype=torch.int64) + 3,
+        torch.arange(n),
+        torch.zeros(n, dtype=torch.float64),
+    )
+    buffered = {generate_level("zelda", 0.3, 21), generate_level("zelda", 0.6, 22)}
+    assert any(level in buffered for level in worker_copy.next_levels(envs, seeds, d))
