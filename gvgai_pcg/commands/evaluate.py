@@ -7,6 +7,10 @@ Two uses:
   ``gvgai-pcg evaluate --agent random --game G --protocol`` the random baseline. Every frozen test
   level is played ``--test-episodes`` times and every human level ``--human-episodes`` times, all
   in one batched env; records go to ``<run>/eval/protocol-<key>.jsonl`` (random: the cache).
+* the UED protocol (``gvgai_pcg.evaluation.ued``): ``gvgai-pcg evaluate RUN --ued`` (and
+  ``--agent random --game G --ued``) plays ``--ued-levels`` newly generated levels over d in
+  [0, 1], once per evaluation seed (``--ued-seeds``), and reports the solved rate, the mean score
+  and the bias-corrected alpha-CVaRs (``--alphas``); per-level CSV in ``<run>/eval/ued-<key>.csv``.
 * ad-hoc levels: ``--levels human|NAMES|PATHS --episodes N`` plays each listed level N times and
   prints a table; ``--json PATH`` (``-`` for stdout) writes ``{"game", "levels": [...]}``.
 
@@ -27,6 +31,7 @@ from gvgai_pcg.levels import Level, human_levels, resolve_level
 
 if TYPE_CHECKING:
     from gvgai_pcg.evaluation.protocol import Protocol
+    from gvgai_pcg.evaluation.ued import UEDProtocol
 
 AGENTS = ("random", "trained")
 
@@ -81,6 +86,36 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--json", metavar="PATH", help="ad-hoc levels: write the results as JSON ('-': stdout)"
     )
     add_protocol_arguments(parser)
+    group = parser.add_argument_group("UED protocol (--ued)")
+    group.add_argument(
+        "--ued", action="store_true", help="the UED protocol: many new generated levels, solved rate, CVaR"
+    )
+    group.add_argument("--ued-levels", type=int, default=1000, help="generated levels, d evenly in [0, 1]")
+    group.add_argument("--ued-seeds", type=int, default=2, help="evaluation seeds (episodes per level)")
+    group.add_argument(
+        "--alphas", default="0.01,0.1", help="CVaR fractions in (0, 1], comma-separated (default 0.01,0.1)"
+    )
+
+
+def ued_protocol_from(args: argparse.Namespace) -> tuple[UEDProtocol, tuple[float, ...]]:
+    """The UED protocol's settings and CVaR fractions, or one ValueError naming the bad one."""
+    from gvgai_pcg.evaluation.ued import UEDProtocol, check_alphas
+
+    try:
+        alphas = tuple(float(part) for part in args.alphas.split(",") if part.strip())
+    except ValueError:
+        raise ValueError(f"--alphas {args.alphas!r}: expected comma-separated numbers in (0, 1]") from None
+    try:
+        protocol = UEDProtocol(
+            levels=args.ued_levels,
+            seeds=args.ued_seeds,
+            max_steps=args.max_steps,
+            greedy=args.greedy,
+            seed=args.seed,
+        )
+        return protocol, check_alphas(alphas)
+    except ValueError as error:
+        raise ValueError(f"invalid UED protocol setting: {error}") from None
 
 
 def _levels(spec: str, game: str) -> list[Level]:
@@ -107,6 +142,10 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError("--agent random needs --game")
     if args.checkpoint and len(args.runs) != 1:
         raise ValueError("--checkpoint picks the checkpoint of one run; give exactly one RUN")
+    if args.ued and (args.levels or args.protocol):
+        raise ValueError("--ued is a protocol of its own; leave out --levels and --protocol")
+    if args.ued:
+        return _run_ued(args, agent)
     if agent == "trained" and not args.levels:
         return _run_protocol_trained(args)
     if agent == "random" and args.protocol:
@@ -143,6 +182,33 @@ def _run_protocol_random(args: argparse.Namespace) -> int:
     )
     print(format_protocol_table(f"{args.game}: random agent", records))
     print(f"  -> {random_results_path(args.game, protocol, args.cache_dir)}")
+    return 0
+
+
+def _run_ued(args: argparse.Namespace, agent: str) -> int:
+    protocol, alphas = ued_protocol_from(args)
+    from gvgai_pcg.evaluation.ued import evaluate_random_ued, evaluate_run_ued, format_ued_summary
+
+    progress = not args.no_progress
+    if agent == "random":
+        summary, table = evaluate_random_ued(
+            args.game, protocol, alphas, args.cache_dir, args.device, progress, args.force
+        )
+        print(format_ued_summary(f"{args.game}: random agent, UED protocol", summary))
+        print(f"  -> {table}")
+        return 0
+    from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
+
+    runs = find_runs(args.runs)
+    if not runs:
+        raise ValueError(
+            f"no run directories (with config.yaml and a model) in {', '.join(map(str, args.runs))}"
+        )
+    for path in runs:
+        info = run_info(path, args.checkpoint)
+        summary, table = evaluate_run_ued(info, protocol, alphas, args.device, progress, args.force)
+        print(format_ued_summary(f"{info.game}: {path} ({info.label}, {info.frames} frames), UED", summary))
+        print(f"  -> {table}\n")
     return 0
 
 

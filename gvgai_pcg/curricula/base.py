@@ -13,6 +13,9 @@ config checks and the Gymnasium API ask the object instead of testing names:
   ``prepare_ahead`` / ``depends_on_difficulty`` flags of ``gvgai_pcg.envs.level_sources``); a
   source that learns from training also has ``observe(signals)``, which the training loop calls
   with a ``gvgai_pcg.curricula.signals`` TensorDict after each batch;
+* ``between_updates(policy, frames)``, on a source that has it: the training loop calls it
+  after each update with the acting policy (``ActingPolicy``), for a curriculum that plays the
+  learner's policy itself (SFL scores its pool so);
 * ``wrap``: the env the learner trains on (PCG X and PPCG add their ``DifficultyTransform``);
 * ``training_levels``: the finite set a regimen trains on (evaluated as its training set).
 
@@ -23,15 +26,28 @@ State that ``observe`` changes must live in the shared state (memory shared acro
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
+    import torch
+    from tensordict import TensorDictBase
     from torchrl.envs import EnvBase
 
     from gvgai_pcg.envs.level_sources import LevelSource
     from gvgai_pcg.levels import Level
+
+
+@dataclass(frozen=True)
+class ActingPolicy:
+    """The learner's policy as a curriculum that plays it is given it between updates: ``act``
+    maps a tensordict holding the observation ``obs`` to ``[B]`` sampled actions, on ``device``."""
+
+    act: Callable[[TensorDictBase], torch.Tensor]
+    obs: str
+    device: str = "cpu"
 
 
 class Curriculum:

@@ -178,8 +178,11 @@ def _train(cfg: DictConfig, run_dir: Path, config: dict, session: RunSession) ->
     tracker = EpisodeTracker(workers * int(cfg.env.num_envs))
     losses_since_row: list[torch.Tensor] = []
     losses_since_update_row: list[torch.Tensor] = []
-    # the curriculum hook: a level source with observe() gets each batch's per-level signals
-    feedback = feedback_for(make_env.level_source())
+    # the curriculum hooks: a level source with observe() gets each batch's per-level signals;
+    # one with between_updates() gets the acting policy after each update (SFL plays it)
+    source = make_env.level_source()
+    feedback = feedback_for(source)
+    between_updates = getattr(source, "between_updates", None)
     every = int(cfg.checkpoint.every_frames)
     next_checkpoint = (frames // every + 1) * every
     snapshots = Snapshots(run_dir, int(cfg.checkpoint.get("keep_every_frames", 0)), frames)
@@ -225,6 +228,8 @@ def _train(cfg: DictConfig, run_dir: Path, config: dict, session: RunSession) ->
             feedback(
                 rollout, **{key: signals.get(key) for key in ("advantage", "state_value", "value_target")}
             )
+        if between_updates is not None:
+            between_updates(acting_policy(net, obs_key, cfg.device), frames)
 
         # --- update log: the first update, then every log.every_update_frames ---
         if frames >= next_update_row:
@@ -325,6 +330,17 @@ def _train(cfg: DictConfig, run_dir: Path, config: dict, session: RunSession) ->
         None,
         update_log.path,
     )
+
+
+def acting_policy(net: torch.nn.Module, obs_key: str, device: str):
+    """The network as a sampling policy for a curriculum that plays it (``between_updates``)."""
+    from gvgai_pcg.curricula.base import ActingPolicy
+
+    def act(tensordict) -> torch.Tensor:
+        logits, _ = net(tensordict.get(obs_key))
+        return torch.distributions.Categorical(logits=logits, validate_args=False).sample()
+
+    return ActingPolicy(act, obs_key, str(device))
 
 
 def _difficulty_of(difficulty) -> float:

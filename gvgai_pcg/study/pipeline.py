@@ -306,8 +306,10 @@ def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = 
         for name in ("config.yaml", "log.csv", "sessions.csv", "curve.png"):
             if (run / name).is_file():
                 shutil.copy2(run / name, target / name)
-        for results in sorted((run / "eval").glob("*.jsonl")):
-            shutil.copy2(results, target / "eval" / results.name)
+        # the study protocol's records, and the UED protocol's per-level CSV and summary
+        for pattern in ("*.jsonl", "ued-*.csv", "ued-*.json"):
+            for results in sorted((run / "eval").glob(pattern)):
+                shutil.copy2(results, target / "eval" / results.name)
         model = {"checkpoint": str(info.checkpoint), "frames": info.frames}
         if records_path is not None:
             first = read_records(records_path)[0]
