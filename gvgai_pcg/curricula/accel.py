@@ -133,7 +133,9 @@ class EditedLevels(PrioritizedLevels):
         if slot < 0:
             return None, 0.0
         seed = int(self.buffer.child_seed[slot])
-        return decode_level(self.game, self.buffer.child_content[slot], seed), float(self.buffer.child_d[slot])
+        return decode_level(self.game, self.buffer.child_content[slot], seed), float(
+            self.buffer.child_d[slot]
+        )
 
     def replayed_level(self, index):
         return decode_level(self.game, self.buffer.content[index], int(self.buffer.seed[index]))
@@ -186,7 +188,9 @@ class Accel(PrioritizedLevelReplay):
         from gvgai_pcg.levels.formats import level_format
 
         fmt = level_format(game)
-        return EditedLevelBuffer(int(section.get("buffer_size", ReplaySettings.buffer_size)), fmt.height, fmt.width)
+        return EditedLevelBuffer(
+            int(section.get("buffer_size", ReplaySettings.buffer_size)), fmt.height, fmt.width
+        )
 
     def make_source(self, game, section, state=None):
         buffer = state if state is not None else self.make_state(game, section)

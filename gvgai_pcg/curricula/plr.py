@@ -182,7 +182,9 @@ class PrioritizedLevels:
             key: signals[key].tolist()
             for key in ("env", "level_seed", "level_difficulty", "steps", "finished", "return")
         }
-        learned = {key: signals[key].tolist() for key in ("advantage_positive", "state_value") if key in signals}
+        learned = {
+            key: signals[key].tolist() for key in ("advantage_positive", "state_value") if key in signals
+        }
         for k, env in enumerate(columns["env"]):
             seed, d, steps = columns["level_seed"][k], columns["level_difficulty"][k], columns["steps"][k]
             episode = self._running.pop(env, None)
@@ -255,9 +257,7 @@ class PrioritizedLevelReplay(Curriculum):
     def check(self, section, config):
         low, high = section["min_difficulty"], section["max_difficulty"]
         if low > high:
-            raise ConfigError(
-                f"regimen.min_difficulty={low}: expected at most regimen.max_difficulty={high}"
-            )
+            raise ConfigError(f"regimen.min_difficulty={low}: expected at most regimen.max_difficulty={high}")
 
     def make_state(self, game, section):
         return LevelBuffer(int(section.get("buffer_size", ReplaySettings.buffer_size)))
