@@ -144,3 +144,12 @@ def test_it_trains_through_the_command_line_and_makes_children(fake_editor, tmp_
     )["difficulty"]
     assert int(saved["children_made"][0]) > 0 and bool(saved["valid"].any())
     assert saved["content"][saved["valid"]].ne(0).any(dim=(1, 2)).all()  # every level kept by content
+
+
+def test_the_games_own_editor_makes_the_children(monkeypatch):
+    monkeypatch.setenv("GVGAI_PCG_COMPILE", "0")
+    source = accel_source()
+    parent = fill(source, 1)[0]
+    child = source.child_of(parent, EDITED_SEED_BASE + 3)
+    assert isinstance(child, Level) and child.game == "zelda" and child != parent
+    assert child == source.child_of(parent, EDITED_SEED_BASE + 3)  # the edits follow the seed
