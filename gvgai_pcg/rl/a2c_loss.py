@@ -20,6 +20,8 @@ from tensordict import TensorDict, TensorDictBase
 from tensordict.nn import TensorDictModule
 from torchrl.objectives import LossModule
 
+from gvgai_pcg.curricula.signals import TRAIN_MASK
+
 
 def nstep_returns(
     rewards: torch.Tensor,
@@ -143,7 +145,7 @@ class A2CLoss(LossModule):
                 self.gamma,
             )
         advantages = returns - values.detach()
-        mean = _mean_over(rollout.get("train_mask", None))
+        mean = _mean_over(rollout.get(TRAIN_MASK, None))
         # The categorical policy's log-probabilities and entropy, without a distribution object
         # (its argument handling cost more than these ops at the study's 12 envs).
         log_probs = logits.log_softmax(-1)
