@@ -21,7 +21,8 @@ from gvgai_pcg.plugins import load_entry_points
 ENTRY_POINT_GROUP = "gvgai_pcg.curricula"
 CONFIG_GROUP = "regimen"  # the config group a curriculum is chosen by (kept: runs name it)
 
-_INFRASTRUCTURE = {"base", "builtin", "registry", "signals", "state"}  # modules that hold no curriculum
+# modules that hold no curriculum
+_INFRASTRUCTURE = {"base", "builtin", "level_buffer", "registry", "signals", "state"}
 _CURRICULA: dict[str, Curriculum] = {}
 _read_entry_points = False
 

@@ -123,12 +123,23 @@ def _mean(values: torch.Tensor, inverse: torch.Tensor, counts: torch.Tensor) -> 
     return torch.zeros(len(counts)).index_add_(0, inverse, values) / counts
 
 
+TRAIN_MASK = "train_mask"  # [B, T] bool in a rollout: the steps a learner takes gradients from
+
+
 class Feedback:
     """The learner's side of the hook: ``feedback(rollout, advantage=..., state_value=...,
-    value_target=...)`` after each batch gives the batch's signals to ``source.observe``."""
+    value_target=...)`` after each batch gives the batch's signals to ``source.observe``;
+    ``mark_trained_steps(rollout)`` before the update writes the source's ``trains_on`` (where it
+    has one and it names steps) as the rollout's ``train_mask``, which every learner honours."""
 
     def __init__(self, source: object) -> None:
         self.source, self.signals = source, LevelSignals()
+        self._trains_on = getattr(source, "trains_on", None)
+
+    def mark_trained_steps(self, rollout: TensorDictBase) -> None:
+        mask = self._trains_on(rollout) if self._trains_on is not None else None
+        if mask is not None:
+            rollout.set(TRAIN_MASK, mask.reshape(rollout.batch_size).to(torch.bool))
 
     def __call__(self, rollout: TensorDictBase, **learning: torch.Tensor | None) -> TensorDict:
         signals = self.signals(rollout, **learning)

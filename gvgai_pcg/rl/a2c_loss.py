@@ -8,7 +8,9 @@ What it keeps true (GENERATORS.md §3):
 - advantages are ``R - V`` (no normalisation, no GAE);
 - policy loss ``mean(A * -log pi(a|s))``, value loss ``mean(1/2 (V - R)^2)``, and the total
   ``pg - entropy_coef * entropy + value_coef * value_loss`` is the sum of the three
-  ``loss_*`` entries of the output.
+  ``loss_*`` entries of the output;
+- where the rollout has a ``train_mask`` (``[B, T]`` bool, a curriculum's: PLR⊥), the three means
+  are over its steps only (the returns and advantages still use every step).
 """
 
 from __future__ import annotations
@@ -17,6 +19,8 @@ import torch
 from tensordict import TensorDict, TensorDictBase
 from tensordict.nn import TensorDictModule
 from torchrl.objectives import LossModule
+
+from gvgai_pcg.curricula.signals import TRAIN_MASK
 
 
 def nstep_returns(
@@ -47,6 +51,16 @@ def nstep_returns(
         later = rewards[:, t] + gamma * (~terminated[:, t]).to(rewards.dtype) * following
         returns[:, t] = later
     return returns
+
+
+def _mean_over(mask: torch.Tensor | None):
+    """The mean of a ``[B, T]`` tensor over every step (``mask`` ``None``: ``Tensor.mean``, as it
+    always was), or over the steps of ``mask`` only (a curriculum's ``train_mask``; 0 where none)."""
+    if mask is None:
+        return torch.Tensor.mean
+    mask = mask.reshape(mask.shape[:2])
+    weights, count = mask.to(torch.float32), mask.sum().clamp(min=1)
+    return lambda values: (values * weights.to(values.dtype)).sum() / count
 
 
 class A2CLoss(LossModule):
@@ -131,15 +145,16 @@ class A2CLoss(LossModule):
                 self.gamma,
             )
         advantages = returns - values.detach()
+        mean = _mean_over(rollout.get(TRAIN_MASK, None))
         # The categorical policy's log-probabilities and entropy, without a distribution object
         # (its argument handling cost more than these ops at the study's 12 envs).
         log_probs = logits.log_softmax(-1)
         log_prob = log_probs.gather(-1, rollout.get("action").unsqueeze(-1)).squeeze(-1)
-        entropy = -(log_probs.exp() * log_probs).sum(-1).mean()
-        value_loss = 0.5 * (values - returns).pow(2).mean()
+        entropy = mean(-(log_probs.exp() * log_probs).sum(-1))
+        value_loss = 0.5 * mean((values - returns).pow(2))
         return TensorDict(
             {
-                "loss_objective": (advantages * -log_prob).mean(),
+                "loss_objective": mean(advantages * -log_prob),
                 "loss_critic": self.value_coef * value_loss,
                 "loss_entropy": -self.entropy_coef * entropy,
                 "entropy": entropy.detach(),

@@ -8,7 +8,9 @@ its level source, the network, the episode log (``log.csv``) and the update log
 (``updates.csv``, from the first update on), checkpoints, snapshots, and after each update the
 curriculum hook: a level source with ``observe`` gets the batch's per-level signals
 (``gvgai_pcg.curricula.signals``), with the learner's per-step ``advantage``, ``state_value`` and
-``value_target`` (``Update.signals``) averaged over each level's steps. A run lives in one
+``value_target`` (``Update.signals``) averaged over each level's steps; one with ``trains_on``
+also says, before the update, which steps the learner may take gradients from (the rollout's
+``train_mask``: PLR⊥ trains on replayed levels only). A run lives in one
 directory and continues from its checkpoint when started again: same frame count, same
 difficulty, the logs cut back to the checkpoint.
 
@@ -213,6 +215,8 @@ def _train(cfg: DictConfig, run_dir: Path, config: dict, session: RunSession) ->
         tracker.update(rollout)
 
         # --- update: the learner's, checked by the divergence guard before each step ---
+        if feedback is not None:  # a curriculum may keep steps out of the gradient (PLR⊥)
+            feedback.mark_trained_steps(rollout)
         check = functools.partial(session.guard.check_update, frames=frames + rollout.numel())
         update = learner.update(rollout, check)
         if workers > 1:

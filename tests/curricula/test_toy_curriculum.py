@@ -47,8 +47,8 @@ def test_a_curriculum_from_an_entry_point(monkeypatch):
 
 
 def test_an_unknown_curriculum_names_the_registered_ones(toy):
-    with pytest.raises(ValueError, match="unknown regimen 'plr'; valid regimens are: .*ppcg.*toyreplay"):
-        get_curriculum("plr")
+    with pytest.raises(ValueError, match="unknown regimen 'nosuch'; valid regimens are: .*ppcg.*toyreplay"):
+        get_curriculum("nosuch")
 
 
 def test_a_second_curriculum_of_a_taken_name_is_refused(toy):

@@ -17,6 +17,7 @@ from tensordict.nn import TensorDictModule
 from torch import nn
 
 from gvgai_pcg.config_rules import Integer, Number
+from gvgai_pcg.curricula.signals import TRAIN_MASK
 from gvgai_pcg.rl.a2c_loss import A2CLoss
 from gvgai_pcg.rl.learners.base import Learner, Update, UpdateCheck
 from gvgai_pcg.rl.learners.spec import LearnerSpec
@@ -36,11 +37,13 @@ class A2C(Learner):
     def update(self, rollout: TensorDictBase, check: UpdateCheck) -> Update:
         losses = self.loss_module(rollout)
         loss = losses["loss_objective"] + losses["loss_critic"] + losses["loss_entropy"]
-        self.optimizer.zero_grad(set_to_none=True)
-        loss.backward()
-        grad_norm = torch.nn.utils.clip_grad_norm_(self.net.parameters(), self.max_grad_norm)
-        check(loss, grad_norm)  # before it is applied
-        self.optimizer.step()
+        mask = rollout.get(TRAIN_MASK, None)
+        if mask is None or bool(mask.any()):  # a curriculum's mask without a step: no step
+            self.optimizer.zero_grad(set_to_none=True)
+            loss.backward()
+            grad_norm = torch.nn.utils.clip_grad_norm_(self.net.parameters(), self.max_grad_norm)
+            check(loss, grad_norm)  # before it is applied
+            self.optimizer.step()
         return Update(
             losses["loss_objective"].detach(),
             losses["value_loss"],

@@ -66,7 +66,9 @@ class Learner:
     keep_acting_graph: bool | None = False
 
     def update(self, rollout: TensorDictBase, check: UpdateCheck) -> Update:
-        """Learn from ``rollout [B, T]``; call ``check(loss, grad_norm)`` before each optimizer step."""
+        """Learn from ``rollout [B, T]``; call ``check(loss, grad_norm)`` before each optimizer step.
+        Where the rollout has a ``train_mask`` (``[B, T]`` bool, from the curriculum), take
+        gradients from its steps only, and no step where it has none."""
         raise NotImplementedError
 
     def state_dict(self) -> dict[str, Any]:

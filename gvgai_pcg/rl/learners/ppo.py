@@ -8,7 +8,9 @@ clipped value loss and the entropy bonus, with the gradient norm clipped. The lo
 Kostrikov's ``pytorch-a2c-ppo-acktr`` that facebookresearch/level-replay and dcd build on: the
 value loss is ``value_coef * 1/2 (V - R)^2`` (TorchRL's ``l2`` with ``critic_coeff = value_coef / 2``).
 The acting passes keep no graph: every minibatch is evaluated again at the current weights.
-Its checkpoint holds the Adam state.
+Where the rollout has a ``train_mask`` (a curriculum's: PLR⊥), the epochs use its steps only (the
+advantages are still computed over the whole rollout); none: no step. Its checkpoint holds the
+Adam state.
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ from torchrl.objectives import ClipPPOLoss
 from torchrl.objectives.value import GAE
 
 from gvgai_pcg.config_rules import Flag, Integer, Number
+from gvgai_pcg.curricula.signals import TRAIN_MASK
 from gvgai_pcg.rl.learners.base import Learner, Update, UpdateCheck
 from gvgai_pcg.rl.learners.spec import LearnerSpec
 
@@ -78,6 +81,11 @@ class PPO(Learner):
             self.advantage_module(batch)  # advantage, value_target, state_value [B, T, 1]
         signals = {key: batch.get(key).squeeze(-1) for key in ("advantage", "value_target", "state_value")}
         flat = batch.reshape(-1)
+        mask = rollout.get(TRAIN_MASK, None)
+        if mask is not None:  # a curriculum's: only these steps train (PLR⊥)
+            flat = flat[mask.reshape(-1)]
+            if flat.shape[0] == 0:
+                return Update(torch.zeros(()), torch.zeros(()), torch.zeros(()), signals)
         if self.normalize_advantage:
             advantage = flat.get("advantage")
             flat.set("advantage", (advantage - advantage.mean()) / (advantage.std() + 1e-5))
