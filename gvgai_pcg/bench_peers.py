@@ -18,6 +18,10 @@ size our Zelda tiles env and then, right after it, the peer:
   engine the issue's B = 4,096 target is set against. Griddly ships wheels for Python 3.10 and
   3.11 only, so the extra installs it only there.
 
+VGDLx, a VGDL interpreter in JAX that plays Zelda, Frogs and Boulderdash from GVGAI's own game
+descriptions, is measured beside each of those games by :mod:`gvgai_pcg.bench_vgdlx`, on these
+helpers.
+
 Both sides are timed by :func:`gvgai_pcg.benchmark.windowed_rate` (median of consecutive windows,
 the same cap on calls). Nothing here imports JAX or Griddly until a measurement runs, so the
 tables can be built (and tested) without the extra.

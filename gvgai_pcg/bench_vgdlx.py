@@ -169,13 +169,14 @@ def vgdlx_lines(rows: list[VgdlxRow]) -> list[str]:
         "torch threads, the faster shown. Compile: parsing, tracing, XLA compilation and the first "
         "calls. Medians of the same windows, the slowest in brackets.",
         "",
-        "| game | B | ours: steps/s (threads) | VGDLx | ours / VGDLx | cores: ours, VGDLx | compile (s) |",
-        "|---|---:|---:|---:|---:|---:|---:|",
+        "| game | B | ours: steps/s | ours: threads | VGDLx | ours / VGDLx | cores: ours, VGDLx "
+        "| compile (s) |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for row in rows:
         share = ratio(row.ours.rate.median, row.vgdlx.rate.median)
         lines.append(
-            f"| {row.game} | {row.batch} | {slowest(row.ours.rate)} ({row.threads}) "
+            f"| {row.game} | {row.batch} | {slowest(row.ours.rate)} | {row.threads} "
             f"| {slowest(row.vgdlx.rate)} | {'-' if share is None else f'{share:.2f}x'} "
             f"| {row.ours.cores:.1f}, {row.vgdlx.cores:.1f} | {row.vgdlx.setup_s:.1f} |"
         )
