@@ -18,6 +18,10 @@ size our Zelda tiles env and then, right after it, the peer:
   engine the issue's B = 4,096 target is set against. Griddly ships wheels for Python 3.10 and
   3.11 only, so the extra installs it only there.
 
+VGDLx, a VGDL interpreter in JAX that plays Zelda, Frogs and Boulderdash from GVGAI's own game
+descriptions, is measured beside each of those games by :mod:`gvgai_pcg.bench_vgdlx`, on these
+helpers.
+
 Both sides are timed by :func:`gvgai_pcg.benchmark.windowed_rate` (median of consecutive windows,
 the same cap on calls). Nothing here imports JAX or Griddly until a measurement runs, so the
 tables can be built (and tested) without the extra.
@@ -34,6 +38,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from importlib.metadata import PackageNotFoundError, version
 
+from gvgai_pcg.bench_targets import DOORKEY_BARE_AT_64, GRIDDLY_AT_4096, Check, Section, ratio
 from gvgai_pcg.benchmark import Rate, measure_env, windowed_rate
 from gvgai_pcg.progress import track
 
@@ -70,23 +75,23 @@ def griddly_installed() -> bool:
     return importlib.util.find_spec("griddly") is not None
 
 
-def _version(package: str) -> str:
+def version_of(package: str) -> str:
     try:
         return version(package)
     except PackageNotFoundError:
         return "?"
 
 
-def _timed(step: Callable[[], int], seconds: float, max_steps: int | None) -> tuple[Rate, float]:
+def timed_rate(step: Callable[[], int], seconds: float, max_steps: int | None) -> tuple[Rate, float]:
     cpu, wall = time.process_time(), time.perf_counter()
     rate = windowed_rate(step, seconds, max_steps=max_steps)
     return rate, (time.process_time() - cpu) / (time.perf_counter() - wall)
 
 
-def measure_ours(batch: int, min_seconds: float = 2.0) -> Timed:
-    """Our Zelda tiles env as the env table measures it (``measure_env``), with its cores."""
+def measure_ours(batch: int, min_seconds: float = 2.0, game: str = GAME) -> Timed:
+    """Our tiles env as the env table measures it (``measure_env``), with its cores."""
     cpu, wall = time.process_time(), time.perf_counter()
-    result = measure_env(GAME, batch, OBS, "cpu", min_seconds, max_steps=MAX_CALLS)
+    result = measure_env(game, batch, OBS, "cpu", min_seconds, max_steps=MAX_CALLS)
     cores = (time.process_time() - cpu) / (time.perf_counter() - wall)
     return Timed(result.rate, result.warmup_s, cores, result.resets)
 
@@ -128,7 +133,7 @@ def measure_doorkey(batch: int, min_seconds: float = 2.0, seed: int = 0, auto_re
         resets += int(finished)  # waits for the step, as ours waits on its done count
         return batch
 
-    rate, cores = _timed(one, min_seconds, MAX_CALLS)
+    rate, cores = timed_rate(one, min_seconds, MAX_CALLS)
     return Timed(rate, setup, cores, resets)
 
 
@@ -181,7 +186,7 @@ def measure_griddly(min_seconds: float = 2.0, seed: int = 0) -> Timed:
     for _ in range(3):
         one()
     setup = time.perf_counter() - begin
-    rate, cores = _timed(one, min_seconds, None)  # one env: time-bounded, not capped
+    rate, cores = timed_rate(one, min_seconds, None)  # one env: time-bounded, not capped
     env.close()
     return Timed(rate, setup, cores, resets)
 
@@ -206,7 +211,7 @@ def _load() -> str:
         return "load average unknown"
 
 
-def _slowest(rate: Rate) -> str:
+def slowest(rate: Rate) -> str:
     return f"{rate} ({rate.low:,.0f})"
 
 
@@ -221,7 +226,7 @@ def peer_lines(rows: list[PeerRow], griddly: Timed | None, load: str | None = No
         "### Peers: the same CPU, the same run",
         "",
         f"Ours: {GAME}, {OBS}, as in the env table, measured again right before the peer at each batch "
-        f"size. XLand-MiniGrid {_version('xminigrid')} `{DOORKEY}` (jax {_version('jax')}, CPU): "
+        f"size. XLand-MiniGrid {version_of('xminigrid')} `{DOORKEY}` (jax {version_of('jax')}, CPU): "
         "`jax.jit(jax.vmap(env.step))`, random actions drawn inside the jitted call, its count of "
         "finished episodes read back every step; behind its `GymAutoResetWrapper` (resets, like ours; "
         "under `vmap` every env computes a reset every step) and bare (no resets). Compile is tracing, "
@@ -237,8 +242,8 @@ def peer_lines(rows: list[PeerRow], griddly: Timed | None, load: str | None = No
     for row in rows:
         ours, peer, bare = row.ours, row.doorkey, row.bare
         lines.append(
-            f"| {row.batch} | {_slowest(ours.rate)} | {_slowest(peer.rate)} "
-            f"| {_ratio(ours.rate.median, peer.rate.median)} | {_slowest(bare.rate)} "
+            f"| {row.batch} | {slowest(ours.rate)} | {slowest(peer.rate)} "
+            f"| {_ratio(ours.rate.median, peer.rate.median)} | {slowest(bare.rate)} "
             f"| {_ratio(ours.rate.median, bare.rate.median)} "
             f"| {ours.cores:.1f}, {peer.cores:.1f}, {bare.cores:.1f} "
             f"| {peer.setup_s:.1f}, {bare.setup_s:.1f} |"
@@ -249,7 +254,7 @@ def peer_lines(rows: list[PeerRow], griddly: Timed | None, load: str | None = No
         return lines
     ratios = ", ".join(f"{_ratio(r.ours.rate.median, griddly.rate.median)} at B = {r.batch}" for r in rows)
     lines.append(
-        f"Griddly {_version('griddly')} GVGAI Zelda (its own port, our human levels 0-4 in turn), one env, "
+        f"Griddly {version_of('griddly')} GVGAI Zelda (its own port, our human levels 0-4 in turn), one env, "
         f"vector observations, random actions: {griddly.rate} steps/s (slowest window "
         f"{griddly.rate.low:,.0f}), {griddly.cores:.1f} cores, {griddly.resets} resets. "
         f"Ours / Griddly: {ratios}."
@@ -257,10 +262,23 @@ def peer_lines(rows: list[PeerRow], griddly: Timed | None, load: str | None = No
     return lines
 
 
-def peers_section(batch_sizes: tuple[int, ...], min_seconds: float = 2.0, progress: bool = True) -> str:
-    """The peers subsection, or the line saying how to install the extra."""
+def peer_checks(rows: list[PeerRow], griddly: Timed | None) -> list[Check]:
+    """Issue 38's targets on this table: Zelda at 64 envs against DoorKey's bare step, and at
+    4,096 against Griddly's one env (not measured where the run has no such row)."""
+    by_batch = {row.batch: row for row in rows}
+    at_64, at_4096 = by_batch.get(64), by_batch.get(4096)
+    bare = ratio(at_64.ours.rate.median, at_64.bare.rate.median) if at_64 else None
+    grid = ratio(at_4096.ours.rate.median, griddly.rate.median) if at_4096 and griddly else None
+    return [
+        Check(f"{GAME} tiles at B = 64 / DoorKey-8x8 bare step at B = 64", DOORKEY_BARE_AT_64, bare),
+        Check(f"{GAME} tiles at B = 4,096 / Griddly's one {GAME} env", GRIDDLY_AT_4096, grid),
+    ]
+
+
+def peers_report(batch_sizes: tuple[int, ...], min_seconds: float = 2.0, progress: bool = True) -> Section:
+    """The peers subsection and its targets, or the line saying how to install the extra."""
     missing = missing_peers()
     if missing:
-        return "\n### Peers\n\n" + NOT_INSTALLED + "\n"
+        return Section("\n### Peers\n\n" + NOT_INSTALLED + "\n", peer_checks([], None))
     rows, griddly = measure_peers(batch_sizes, min_seconds, progress)
-    return "\n".join(peer_lines(rows, griddly)) + "\n"
+    return Section("\n".join(peer_lines(rows, griddly)) + "\n", peer_checks(rows, griddly))

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import torch
 
+from gvgai_pcg.bench_targets import Section, target_lines
 from gvgai_pcg.benchmark import BATCH_SIZES, LEVEL_SETS, OBSERVATIONS, run_benchmarks, write_section
 
 
@@ -25,7 +26,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--seconds", type=float, default=2.0, help="minimum timed seconds per configuration")
     parser.add_argument("--threads", type=int, default=None, help="torch CPU threads (default: torch's)")
-    parser.add_argument("--no-peers", action="store_true", help="leave out the peers (bench_peers)")
+    parser.add_argument(
+        "--no-peers", action="store_true", help="leave out the peers (bench_peers, bench_vgdlx)"
+    )
+    parser.add_argument(
+        "--no-jobs",
+        action="store_true",
+        help="leave out the whole jobs (bench_jobs: the evaluation protocol, a 20k-frame training)",
+    )
 
 
 def check_arguments(args: argparse.Namespace) -> None:
@@ -54,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
         torch.set_num_threads(args.threads)
     devices = [args.device] if args.device else ["cpu"] + (["cuda"] if torch.cuda.is_available() else [])
     for device in devices:
-        body = run_benchmarks(
+        section = run_benchmarks(
             device=device,
             games=args.games.split(",") if args.games else None,
             batch_sizes=tuple(int(b) for b in args.batch_sizes.split(",")),
@@ -62,7 +70,8 @@ def run(args: argparse.Namespace) -> int:
             min_seconds=args.seconds,
             levels=args.levels,
         )
-        body += _peers(args, device)
+        section += _peers(args, device) + _jobs(args, device)
+        body = section.text + "".join(line + "\n" for line in target_lines(section.checks))
         print(body)
         if args.output:
             write_section(args.output, torch.device(device).type, body)
@@ -70,11 +79,24 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _peers(args: argparse.Namespace, device: str) -> str:
-    """The peers subsection: measured beside Zelda tiles on the CPU (the extra is CPU JAX)."""
-    zelda = not args.games or "zelda" in args.games.split(",")
-    if args.no_peers or torch.device(device).type != "cpu" or not zelda or "tiles" not in args.obs.split(","):
-        return ""
-    from gvgai_pcg.bench_peers import peers_section
+def _peers(args: argparse.Namespace, device: str) -> Section:
+    """The peers on the CPU (the extra is CPU JAX): XLand-MiniGrid and Griddly beside Zelda tiles,
+    VGDLx beside each game it plays."""
+    if args.no_peers or torch.device(device).type != "cpu" or "tiles" not in args.obs.split(","):
+        return Section()
+    from gvgai_pcg.bench_peers import peers_report
+    from gvgai_pcg.bench_vgdlx import GAMES, vgdlx_section
 
-    return peers_section(tuple(int(b) for b in args.batch_sizes.split(",")), args.seconds)
+    games = tuple(args.games.split(",")) if args.games else GAMES
+    sizes = tuple(int(b) for b in args.batch_sizes.split(","))
+    section = peers_report(sizes, args.seconds) if "zelda" in games else Section()
+    return section + vgdlx_section(games, sizes, args.seconds)
+
+
+def _jobs(args: argparse.Namespace, device: str) -> Section:
+    """The evaluation protocol and the short training job, on the CPU."""
+    if args.no_jobs or torch.device(device).type != "cpu":
+        return Section()
+    from gvgai_pcg.bench_jobs import jobs_section
+
+    return jobs_section()
