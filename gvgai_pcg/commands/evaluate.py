@@ -7,6 +7,8 @@ Two uses:
   ``gvgai-pcg evaluate --agent random --game G --protocol`` the random baseline. Every frozen test
   level is played ``--test-episodes`` times and every human level ``--human-episodes`` times, all
   in one batched env; records go to ``<run>/eval/protocol-<key>.jsonl`` (random: the cache).
+  ``--test-sets large`` plays the 100-level frozen sets instead of the study's 30-level ones; its
+  records go to a file of their own (another key), beside the study-sized ones.
 * the UED protocol (``gvgai_pcg.evaluation.ued``): ``gvgai-pcg evaluate RUN --ued`` (and
   ``--agent random --game G --ued``) plays ``--ued-levels`` newly generated levels over d in
   [0, 1], once per evaluation seed (``--ued-seeds``), and reports the solved rate, the mean score
@@ -39,7 +41,15 @@ AGENTS = ("random", "trained")
 def add_protocol_arguments(parser: argparse.ArgumentParser) -> None:
     """The protocol's settings (shared with ``gvgai-pcg report``)."""
     group = parser.add_argument_group("protocol")
-    group.add_argument("--test-levels", type=int, default=30, help="levels used of each frozen test set")
+    group.add_argument(
+        "--test-sets",
+        choices=("study", "large"),
+        default="study",
+        help="the frozen generated sets: the study's 30 levels per difficulty, or 100 (results kept apart)",
+    )
+    group.add_argument(
+        "--test-levels", type=int, default=None, help="levels used of each frozen test set (default: all)"
+    )
     group.add_argument("--test-episodes", type=int, default=1, help="episodes per generated test level")
     group.add_argument("--human-episodes", type=int, default=30, help="episodes per human level")
     group.add_argument("--max-steps", type=int, default=2000, help="step limit per episode")
@@ -52,11 +62,12 @@ def add_protocol_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def protocol_from(args: argparse.Namespace) -> Protocol:
-    from gvgai_pcg.evaluation.protocol import Protocol
+    from gvgai_pcg.evaluation.protocol import TEST_SET_SIZES, Protocol
 
     try:
         return Protocol(
-            test_levels=args.test_levels,
+            test_sets=args.test_sets,
+            test_levels=TEST_SET_SIZES[args.test_sets] if args.test_levels is None else args.test_levels,
             test_episodes=args.test_episodes,
             human_episodes=args.human_episodes,
             max_steps=args.max_steps,
