@@ -13,6 +13,9 @@ Two uses:
   ``--agent random --game G --ued``) plays ``--ued-levels`` newly generated levels over d in
   [0, 1], once per evaluation seed (``--ued-seeds``), and reports the solved rate, the mean score
   and the bias-corrected alpha-CVaRs (``--alphas``); per-level CSV in ``<run>/eval/ued-<key>.csv``.
+* held-out scores over training: ``gvgai-pcg evaluate RUN --snapshots [--every FRAMES]`` plays
+  each of the run's snapshots (on the 100-level sets unless ``--test-sets study``), prints a table
+  and plots the held-out scores beside the training curve (``gvgai_pcg.evaluation.held_out``).
 * ad-hoc levels: ``--levels human|NAMES|PATHS --episodes N`` plays each listed level N times and
   prints a table; ``--json PATH`` (``-`` for stdout) writes ``{"game", "levels": [...]}``.
 
@@ -44,8 +47,9 @@ def add_protocol_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument(
         "--test-sets",
         choices=("study", "large"),
-        default="study",
-        help="the frozen generated sets: the study's 30 levels per difficulty, or 100 (results kept apart)",
+        default=None,
+        help="the frozen generated sets: the study's 30 levels per difficulty (the default), or 100 "
+        "(results kept apart; the default with --snapshots)",
     )
     group.add_argument(
         "--test-levels", type=int, default=None, help="levels used of each frozen test set (default: all)"
@@ -64,10 +68,11 @@ def add_protocol_arguments(parser: argparse.ArgumentParser) -> None:
 def protocol_from(args: argparse.Namespace) -> Protocol:
     from gvgai_pcg.evaluation.protocol import TEST_SET_SIZES, Protocol
 
+    test_sets = args.test_sets or ("large" if getattr(args, "snapshots", False) else "study")
     try:
         return Protocol(
-            test_sets=args.test_sets,
-            test_levels=TEST_SET_SIZES[args.test_sets] if args.test_levels is None else args.test_levels,
+            test_sets=test_sets,
+            test_levels=TEST_SET_SIZES[test_sets] if args.test_levels is None else args.test_levels,
             test_episodes=args.test_episodes,
             human_episodes=args.human_episodes,
             max_steps=args.max_steps,
@@ -81,6 +86,15 @@ def protocol_from(args: argparse.Namespace) -> Protocol:
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("runs", nargs="*", type=Path, help="run directories or multirun directories")
     parser.add_argument("--checkpoint", type=Path, help="a chosen checkpoint file (one run only)")
+    parser.add_argument(
+        "--snapshots",
+        action="store_true",
+        help="evaluate each run's snapshots (snapshots/model-*.pt), by default on the 100-level sets, "
+        "and plot the held-out scores beside the training curve",
+    )
+    parser.add_argument(
+        "--every", type=int, default=0, metavar="FRAMES", help="--snapshots: one snapshot per FRAMES frames"
+    )
     parser.add_argument(
         "--agent", choices=AGENTS, help="'random' or 'trained' (the default when RUNs are given, else random)"
     )
@@ -153,6 +167,12 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError("--agent random needs --game")
     if args.checkpoint and len(args.runs) != 1:
         raise ValueError("--checkpoint picks the checkpoint of one run; give exactly one RUN")
+    if args.snapshots and (agent != "trained" or args.levels or args.checkpoint or args.ued):
+        raise ValueError(
+            "--snapshots evaluates trained RUNs on the protocol; leave out --levels, --checkpoint and --ued"
+        )
+    if args.snapshots:
+        return _run_snapshots(args)
     if args.ued and (args.levels or args.protocol):
         raise ValueError("--ued is a protocol of its own; leave out --levels and --protocol")
     if args.ued:
@@ -180,6 +200,33 @@ def _run_protocol_trained(args: argparse.Namespace) -> int:
         records = evaluate_run(info, protocol, args.device, not args.no_progress, args.force)
         print(format_protocol_table(f"{info.game}: {path} ({info.label}, {info.frames} frames)", records))
         print(f"  -> {run_results_path(path, protocol)}\n")
+    return 0
+
+
+def _run_snapshots(args: argparse.Namespace) -> int:
+    from gvgai_pcg.evaluation.checkpoints import find_runs
+    from gvgai_pcg.evaluation.held_out import (
+        evaluate_snapshots,
+        format_held_out_table,
+        held_out_plot_path,
+        held_out_scores,
+        plot_held_out,
+    )
+
+    protocol = protocol_from(args)
+    runs = find_runs(args.runs)
+    if not runs:
+        raise ValueError(
+            f"no run directories (with config.yaml and a model) in {', '.join(map(str, args.runs))}"
+        )
+    for path in runs:
+        results = evaluate_snapshots(
+            path, protocol, args.every, args.device, not args.no_progress, args.force
+        )
+        curves = held_out_scores(results)
+        print(format_held_out_table(f"{path}: held-out mean score per snapshot", curves))
+        plot = plot_held_out(path / "log.csv", curves, held_out_plot_path(path, protocol), path.name)
+        print(f"  -> {plot}\n")
     return 0
 
 
