@@ -132,3 +132,16 @@ def test_the_note_names_the_interval_kind_and_the_random_agent_gets_its_own():
         "- zelda random agent (95 % t interval over episodes): "
         f"pcg1 0.50 [{0.5 - half:.2f}, {0.5 + half:.2f}] (4 episodes)"
     )
+
+
+def test_the_level_term_is_what_a_bootstrap_over_levels_estimates():
+    """For a mean over levels, a bootstrap over the levels (10,000 resamples) has variance
+    (L - 1) / L * s^2 / L: the closed form, without its Monte Carlo error."""
+    import numpy as np
+
+    rng = np.random.default_rng(35)
+    levels = rng.normal(0.0, 1.0, 30)
+    resampled = levels[rng.integers(0, 30, (10_000, 30))].mean(axis=1)
+    ((term, df),) = level_terms([levels.tolist()])
+    assert df == 29
+    assert resampled.var() == pytest.approx(term * 29 / 30, rel=0.05)
