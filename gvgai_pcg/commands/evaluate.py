@@ -7,10 +7,15 @@ Two uses:
   ``gvgai-pcg evaluate --agent random --game G --protocol`` the random baseline. Every frozen test
   level is played ``--test-episodes`` times and every human level ``--human-episodes`` times, all
   in one batched env; records go to ``<run>/eval/protocol-<key>.jsonl`` (random: the cache).
+  ``--test-sets large`` plays the 100-level frozen sets instead of the study's 30-level ones; its
+  records go to a file of their own (another key), beside the study-sized ones.
 * the UED protocol (``gvgai_pcg.evaluation.ued``): ``gvgai-pcg evaluate RUN --ued`` (and
   ``--agent random --game G --ued``) plays ``--ued-levels`` newly generated levels over d in
   [0, 1], once per evaluation seed (``--ued-seeds``), and reports the solved rate, the mean score
   and the bias-corrected alpha-CVaRs (``--alphas``); per-level CSV in ``<run>/eval/ued-<key>.csv``.
+* held-out scores over training: ``gvgai-pcg evaluate RUN --snapshots [--every FRAMES]`` plays
+  each of the run's snapshots (on the 100-level sets unless ``--test-sets study``), prints a table
+  and plots the held-out scores beside the training curve (``gvgai_pcg.evaluation.held_out``).
 * ad-hoc levels: ``--levels human|NAMES|PATHS --episodes N`` plays each listed level N times and
   prints a table; ``--json PATH`` (``-`` for stdout) writes ``{"game", "levels": [...]}``.
 
@@ -39,7 +44,16 @@ AGENTS = ("random", "trained")
 def add_protocol_arguments(parser: argparse.ArgumentParser) -> None:
     """The protocol's settings (shared with ``gvgai-pcg report``)."""
     group = parser.add_argument_group("protocol")
-    group.add_argument("--test-levels", type=int, default=30, help="levels used of each frozen test set")
+    group.add_argument(
+        "--test-sets",
+        choices=("study", "large"),
+        default=None,
+        help="the frozen generated sets: the study's 30 levels per difficulty (the default), or 100 "
+        "(results kept apart; the default with --snapshots)",
+    )
+    group.add_argument(
+        "--test-levels", type=int, default=None, help="levels used of each frozen test set (default: all)"
+    )
     group.add_argument("--test-episodes", type=int, default=1, help="episodes per generated test level")
     group.add_argument("--human-episodes", type=int, default=30, help="episodes per human level")
     group.add_argument("--max-steps", type=int, default=2000, help="step limit per episode")
@@ -52,11 +66,13 @@ def add_protocol_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def protocol_from(args: argparse.Namespace) -> Protocol:
-    from gvgai_pcg.evaluation.protocol import Protocol
+    from gvgai_pcg.evaluation.protocol import TEST_SET_SIZES, Protocol
 
+    test_sets = args.test_sets or ("large" if getattr(args, "snapshots", False) else "study")
     try:
         return Protocol(
-            test_levels=args.test_levels,
+            test_sets=test_sets,
+            test_levels=TEST_SET_SIZES[test_sets] if args.test_levels is None else args.test_levels,
             test_episodes=args.test_episodes,
             human_episodes=args.human_episodes,
             max_steps=args.max_steps,
@@ -70,6 +86,15 @@ def protocol_from(args: argparse.Namespace) -> Protocol:
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("runs", nargs="*", type=Path, help="run directories or multirun directories")
     parser.add_argument("--checkpoint", type=Path, help="a chosen checkpoint file (one run only)")
+    parser.add_argument(
+        "--snapshots",
+        action="store_true",
+        help="evaluate each run's snapshots (snapshots/model-*.pt), by default on the 100-level sets, "
+        "and plot the held-out scores beside the training curve",
+    )
+    parser.add_argument(
+        "--every", type=int, default=0, metavar="FRAMES", help="--snapshots: one snapshot per FRAMES frames"
+    )
     parser.add_argument(
         "--agent", choices=AGENTS, help="'random' or 'trained' (the default when RUNs are given, else random)"
     )
@@ -142,6 +167,12 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError("--agent random needs --game")
     if args.checkpoint and len(args.runs) != 1:
         raise ValueError("--checkpoint picks the checkpoint of one run; give exactly one RUN")
+    if args.snapshots and (agent != "trained" or args.levels or args.checkpoint or args.ued):
+        raise ValueError(
+            "--snapshots evaluates trained RUNs on the protocol; leave out --levels, --checkpoint and --ued"
+        )
+    if args.snapshots:
+        return _run_snapshots(args)
     if args.ued and (args.levels or args.protocol):
         raise ValueError("--ued is a protocol of its own; leave out --levels and --protocol")
     if args.ued:
@@ -169,6 +200,33 @@ def _run_protocol_trained(args: argparse.Namespace) -> int:
         records = evaluate_run(info, protocol, args.device, not args.no_progress, args.force)
         print(format_protocol_table(f"{info.game}: {path} ({info.label}, {info.frames} frames)", records))
         print(f"  -> {run_results_path(path, protocol)}\n")
+    return 0
+
+
+def _run_snapshots(args: argparse.Namespace) -> int:
+    from gvgai_pcg.evaluation.checkpoints import find_runs
+    from gvgai_pcg.evaluation.held_out import (
+        evaluate_snapshots,
+        format_held_out_table,
+        held_out_plot_path,
+        held_out_scores,
+        plot_held_out,
+    )
+
+    protocol = protocol_from(args)
+    runs = find_runs(args.runs)
+    if not runs:
+        raise ValueError(
+            f"no run directories (with config.yaml and a model) in {', '.join(map(str, args.runs))}"
+        )
+    for path in runs:
+        results = evaluate_snapshots(
+            path, protocol, args.every, args.device, not args.no_progress, args.force
+        )
+        curves = held_out_scores(results)
+        print(format_held_out_table(f"{path}: held-out mean score per snapshot", curves))
+        plot = plot_held_out(path / "log.csv", curves, held_out_plot_path(path, protocol), path.name)
+        print(f"  -> {plot}\n")
     return 0
 
 

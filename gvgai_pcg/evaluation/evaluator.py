@@ -136,10 +136,16 @@ def records_are_current(records: list[LevelRecord], info: RunInfo) -> bool:
 
 
 def evaluate_run(
-    info: RunInfo, protocol: Protocol, device: str = "cpu", progress: bool = True, force: bool = False
+    info: RunInfo,
+    protocol: Protocol,
+    device: str = "cpu",
+    progress: bool = True,
+    force: bool = False,
+    path: Path | None = None,
 ) -> list[LevelRecord]:
-    """The protocol's records of a trained run, from its results file when they are current."""
-    path = run_results_path(info.path, protocol)
+    """The protocol's records of a trained run, from its results file when they are current;
+    ``path``: another results file than the run's (a snapshot's, ``gvgai_pcg.evaluation.held_out``)."""
+    path = path or run_results_path(info.path, protocol)
     if path.is_file() and not force:
         records = read_records(path)
         if records_are_current(records, info):

@@ -10,6 +10,9 @@ them and fails if any file differs. Rewriting them is a deliberate act:
 Seeds: every test seed is at least ``TEST_SEED_BASE`` (2^40), and a training episode only ever
 draws level seeds below ``TRAINING_SEED_SPACE`` (2^31), so no training run can meet a test level.
 Each game of the study has its own block of seeds, chosen by its ``GameSpec.study_index``.
+
+Beside these study-sized sets lie sets of 100 levels per difficulty, for evaluations with less
+level-sampling error: ``gvgai_pcg.levels.large_test_sets``.
 """
 
 from __future__ import annotations

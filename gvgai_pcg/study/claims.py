@@ -13,7 +13,11 @@ The same rules run on two kinds of table:
   there (``tests/study/test_claims.py``);
 - our runs (``collect``): per-seed values, each comparison's two-sided 95 % t interval over
   seeds (Welch's for a difference), and Holm's correction over every comparison of every claim
-  judged together (family-wise alpha 0.05, ``gvgai_pcg.study.intervals``).
+  judged together (family-wise alpha 0.05, ``gvgai_pcg.study.intervals``). With
+  ``level_sampling``, a comparison that is a linear statistic of generated-set scores (one
+  condition's, a difference of two, a mean over sets) also carries the level-sampling variance of
+  those sets, from the per-level records (``gvgai_pcg.study.intervals``, module docstring); a
+  maximum or minimum over sets does not (not linear), and keeps the interval over seeds.
 
 A claim **holds** when every comparison is decided on the claim's side (Holm-adjusted p <= 0.05,
 so its 95 % interval excludes the bound), **does not hold** when one is decided against it, and
@@ -25,10 +29,18 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from gvgai_pcg.study.intervals import ALPHA, LEVEL, Estimate, estimate, holm
+from gvgai_pcg.study.intervals import (
+    ALPHA,
+    LEVEL,
+    SEEDS_AND_LEVELS_INTERVAL,
+    Estimate,
+    estimate,
+    holm,
+    random_estimate,
+)
 from gvgai_pcg.study.table1 import (
     GENERATED_SETS,
     HUMAN_SETS,
@@ -96,6 +108,8 @@ class SetResult:
     seed_means: list[float] = field(default_factory=list)
     seed_wins: list[float] = field(default_factory=list)
     scores: list[float] = field(default_factory=list)
+    # per level (by name, in the records' order), each seed's mean score on it
+    level_means: dict[str, list[float]] = field(default_factory=dict)
 
     @property
     def mean(self) -> float:
@@ -145,12 +159,25 @@ class GameResults:
     # per counted run (as ``frames``), the frames it is to train: its config's total_frames, at
     # least the target (a budget's conditions may train different frames: medium's Zelda 20M)
     planned: dict[str, list[int]] = field(default_factory=dict)
+    # the random agent's every episode score per test set (its own interval: ``random_estimate``)
+    random_scores: dict[str, list[float]] = field(default_factory=dict)
 
     def normalised_seeds(self, label: str, test_set: str) -> list[float]:
         """Each seed's normalised mean score of a condition on a set."""
         gap = self.maximum[test_set] - self.random[test_set]
         gap = gap if gap > 0 else 1.0
         return [(m - self.random[test_set]) / gap for m in self.conditions[label][test_set].seed_means]
+
+    def normalised_levels(self, label: str, test_set: str) -> list[float]:
+        """Per level of a set, a condition's normalised mean over seeds (empty: no per-level data,
+        or seeds that did not all play the same levels)."""
+        gap = self.maximum[test_set] - self.random[test_set]
+        gap = gap if gap > 0 else 1.0
+        result = self.conditions[label][test_set]
+        seeds = len(result.seed_means)
+        if not result.level_means or any(len(v) != seeds for v in result.level_means.values()):
+            return []
+        return [(sum(v) / seeds - self.random[test_set]) / gap for v in result.level_means.values()]
 
     def normalised(self, label: str, test_set: str) -> float:
         """The normalised mean over seeds of a condition on a set."""
@@ -169,6 +196,21 @@ class Table:
     frames: dict[str, list[int]]
     reached: dict[str, list[float]] = field(default_factory=dict)
     late: dict[str, list[float]] = field(default_factory=dict)  # PPCG: mean d over the last 0.5M frames
+    # per condition and generated set, the per-level normalised mean over seeds (level sampling)
+    levels: dict[str, dict[str, list[float]]] = field(default_factory=dict)
+
+    def level_values(self, terms: Sequence[tuple[str, str, float]]) -> tuple[tuple[float, ...], ...]:
+        """A linear statistic's per-level values on each generated set: for each ``(label, set,
+        weight)`` term, ``weight`` times the condition's per-level mean, summed over the terms of a
+        set (the same levels for every condition). Empty when a term has no per-level data."""
+        by_set: dict[str, list[float]] = {}
+        for label, test_set, weight in terms:
+            column = self.levels.get(label, {}).get(test_set)
+            if not column or (test_set in by_set and len(by_set[test_set]) != len(column)):
+                return ()
+            old = by_set.get(test_set, [0.0] * len(column))
+            by_set[test_set] = [o + weight * v for o, v in zip(old, column, strict=True)]
+        return tuple(tuple(values) for values in by_set.values())
 
     def seeds(self, label: str, test_set: str) -> list[float]:
         return self.cells[label][test_set]
@@ -182,14 +224,20 @@ class Table:
         return [combine(list(values)) for values in zip(*columns, strict=True)]
 
 
-def table_of(game: GameResults) -> Table:
-    """Our runs of a game as the rules' table."""
+def table_of(game: GameResults, level_sampling: bool = False) -> Table:
+    """Our runs of a game as the rules' table; ``level_sampling``: with the generated sets'
+    per-level means, so the comparisons carry their level-sampling variance."""
     cells = {
         label: {s: game.normalised_seeds(label, s) for s in sets if s in game.random and s in game.maximum}
         for label, sets in game.conditions.items()
     }
     late = {label: [log.late() for log in logs] for label, logs in game.difficulty.items()}
-    return Table(game.game, cells, False, dict(game.frames), dict(game.max_difficulty), late)
+    levels = {
+        label: {s: game.normalised_levels(label, s) for s in GENERATED_SETS if s in cells[label]}
+        for label in cells
+        if level_sampling
+    }
+    return Table(game.game, cells, False, dict(game.frames), dict(game.max_difficulty), late, levels)
 
 
 def study_table(game: str) -> Table:
@@ -209,6 +257,8 @@ class Comparison:
     b: tuple[float, ...] | None
     bound: float
     above: bool
+    # per generated set, the statistic's per-level values (its level-sampling variance); () = none
+    levels: tuple[tuple[float, ...], ...] = ()
 
     def claim_text(self) -> str:
         return f"{'>' if self.above else '<'} {self.bound:g}"
@@ -257,6 +307,19 @@ def _higher(table: Table, a: str, b: str, test_set: str) -> Comparison:
         tuple(table.seeds(b, test_set)),
         0.0,
         True,
+        table.level_values([(a, test_set, 1.0), (b, test_set, -1.0)]),
+    )
+
+
+def _on_set(table: Table, label: str, test_set: str, bound: float, above: bool) -> Comparison:
+    """One condition's score on one test set against ``bound``."""
+    return Comparison(
+        f"{label} on {test_set}",
+        tuple(table.seeds(label, test_set)),
+        None,
+        bound,
+        above,
+        table.level_values([(label, test_set, 1.0)]),
     )
 
 
@@ -274,7 +337,7 @@ def memorises(table: Table) -> Claim:
         own = f"lv{label.split()[1]}"
         others = [s for s in (*GENERATED_SETS, *HUMAN_SETS) if s != own and s in table.cells[label]]
         claim.comparisons += [
-            Comparison(f"{label} on {own}", tuple(table.seeds(label, own)), None, CLOSE, True),
+            _on_set(table, label, own, CLOSE, True),
             Comparison(
                 f"{label}, its best other test set",
                 tuple(table.per_seed(label, others, max)),
@@ -307,7 +370,7 @@ def four_levels_marginal(table: Table) -> Claim:
     )
     for test_set in ("lv4", *GENERATED_SETS):
         gain = _higher(table, "Lv 0-3", "Lv 0", test_set)
-        claim.comparisons += [gain, Comparison(gain.what, gain.a, gain.b, MARGINAL, False)]
+        claim.comparisons += [gain, replace(gain, bound=MARGINAL, above=False)]
     return claim
 
 
@@ -356,9 +419,9 @@ def pcg1_strong_ppcg_slightly_better(table: Table) -> Claim:
         return _not_run(claim, missing, table)
     better = _higher(table, "PPCG", "PCG 1", "pcg1")
     claim.comparisons = [
-        Comparison("PCG 1 on pcg1", tuple(table.seeds("PCG 1", "pcg1")), None, STRONG, True),
+        _on_set(table, "PCG 1", "pcg1", STRONG, True),
         better,
-        Comparison(better.what, better.a, better.b, MARGINAL, False),
+        replace(better, bound=MARGINAL, above=False),
     ]
     return claim
 
@@ -389,9 +452,7 @@ def frogs_pcg1_learns_nothing(table: Table) -> Claim:
     claim = Claim(table.game, "PCG 1 learns nothing (0.00 at d = 1).", ("PCG 1",))
     if missing := _missing(table, claim.uses):
         return _not_run(claim, missing, table)
-    claim.comparisons = [
-        Comparison("PCG 1 on pcg1", tuple(table.seeds("PCG 1", "pcg1")), None, NOTHING, False)
-    ]
+    claim.comparisons = [_on_set(table, "PCG 1", "pcg1", NOTHING, False)]
     return claim
 
 
@@ -399,9 +460,7 @@ def frogs_ppcg_wins_hard(table: Table) -> Claim:
     claim = Claim(table.game, "PPCG wins 57 % of the d = 1 levels (a large share).", ("PPCG",))
     if missing := _missing(table, claim.uses):
         return _not_run(claim, missing, table)
-    claim.comparisons = [
-        Comparison("PPCG on pcg1", tuple(table.seeds("PPCG", "pcg1")), None, LARGE_SHARE, True)
-    ]
+    claim.comparisons = [_on_set(table, "PPCG", "pcg1", LARGE_SHARE, True)]
     return claim
 
 
@@ -486,9 +545,11 @@ def pcg1_human_as_generated(table: Table) -> Claim:
     generated = table.per_seed("PCG 1", GENERATED_SETS, _mean)
     difference = tuple(h - g for h, g in zip(human, generated, strict=True))  # paired within each seed
     what = "PCG 1, human-level mean minus generated-set mean"
+    # the human levels are the study's five, not a sample: only the generated sets' levels vary
+    levels = table.level_values([("PCG 1", s, -1.0 / len(GENERATED_SETS)) for s in GENERATED_SETS])
     claim.comparisons = [
-        Comparison(what, difference, None, -SAME, True),
-        Comparison(what, difference, None, SAME, False),
+        Comparison(what, difference, None, -SAME, True, levels),
+        Comparison(what, difference, None, SAME, False, levels),
     ]
     return claim
 
@@ -539,7 +600,7 @@ def judge(claims: Sequence[Claim], point: bool = False) -> list[Verdict]:
     """Each claim's verdict. Per-seed tables: every comparison of every claim is one family for
     Holm's correction. Point estimates: each comparison is decided by the estimate's side."""
     tested = [(i, c) for i, claim in enumerate(claims) if not claim.status for c in claim.comparisons]
-    values = [estimate(c.a, c.b, c.bound, point) for _, c in tested]
+    values = [estimate(c.a, c.b, c.bound, point, c.levels) for _, c in tested]
     adjusted, rejected = holm([v.p for v in values]) if not point else ([math.nan] * len(values), [])
     outcomes: dict[int, list[str]] = {}
     texts: dict[int, list[str]] = {}
@@ -608,6 +669,8 @@ def collect(
             games[info.game] = GameResults(
                 info.game, {}, {}, _set_means(baseline, "scores"), _set_means(records, "max_score"), {}
             )
+            for record in baseline:
+                games[info.game].random_scores.setdefault(record.test_set, []).extend(record.scores)
         game = games[info.game]
         label = labels[info.path]
         if (info.game, label) in finished and frames < goal(info):
@@ -624,6 +687,8 @@ def collect(
             result.seed_means.append(sum(scores) / len(scores))
             result.seed_wins.append(sum(wins) / len(wins))
             result.scores.extend(scores)
+            for record in of_set:
+                result.level_means.setdefault(record.level, []).append(record.mean_score)
         if info.regimen["name"] == "ppcg" and (info.path / "log.csv").is_file():
             rows = [row for row in read_log(info.path / "log.csv") if row["frames"] <= frames]
             log = DifficultyLog([row["frames"] for row in rows], [row["difficulty"] for row in rows])
@@ -685,11 +750,12 @@ def pending(verdict: Verdict, game: GameResults, uses: Sequence[str], target_fra
 
 
 def study_claims(
-    games: dict[str, GameResults], target_frames: int | None = None
+    games: dict[str, GameResults], target_frames: int | None = None, level_sampling: bool = False
 ) -> list[tuple[str, Verdict]]:
     """Each claim of the study on the game it is about, judged on our runs (one Holm family);
-    with ``target_frames``, a claim whose conditions have not all reached it is pending."""
-    claims = claims_of({name: table_of(game) for name, game in games.items()})
+    with ``target_frames``, a claim whose conditions have not all reached it is pending; with
+    ``level_sampling``, intervals include the generated sets' level-sampling variance."""
+    claims = claims_of({name: table_of(game, level_sampling) for name, game in games.items()})
     verdicts = []
     for claim, verdict in zip(claims, judge(claims), strict=True):
         uses = [label for label in claim.uses if label in games[claim.game].conditions] or list(claim.uses)
@@ -699,19 +765,33 @@ def study_claims(
     return verdicts
 
 
-def statistics_note(verdicts: Sequence[tuple[str, Verdict]]) -> str:
+def statistics_note(verdicts: Sequence[tuple[str, Verdict]], level_sampling: bool = False) -> str:
     """What the intervals and the correction are, with the family's size."""
     family = sum(verdict.comparisons for _, verdict in verdicts)
+    interval = (
+        f"its {SEEDS_AND_LEVELS_INTERVAL}"
+        if level_sampling
+        else f"its two-sided {LEVEL:.0%} t interval over seeds (Welch's for a difference of two conditions)"
+    )
+    left_out = (
+        [
+            "A maximum or minimum over test sets keeps the interval over seeds alone. Not in the",
+            "intervals: the random agent's row (see its own interval).",
+        ]
+        if level_sampling
+        else [
+            "Not in the intervals: the level sampling (each generated test set is the same 30 levels",
+            "for every model) and the random agent's row (one 30-episode draw per set).",
+        ]
+    )
     return " ".join(
         [
             "Scores normalised per test set, (score - random) / (max - random). Each comparison shows the",
-            f"mean over seeds of a per-seed statistic, its two-sided {LEVEL:.0%} t interval over seeds",
-            "(Welch's for a difference of two conditions) and its p value against the claim's bound after",
-            f"Holm's correction over all {family} comparisons below (family-wise alpha {ALPHA:.2f}).",
+            f"mean over seeds of a per-seed statistic, {interval} and its p value against the claim's bound",
+            f"after Holm's correction over all {family} comparisons below (family-wise alpha {ALPHA:.2f}).",
             "A claim holds when every comparison is decided on its side (Holm p <= 0.05), does not hold",
-            "when one is decided against it, and is inconclusive otherwise. Not in the intervals: the",
-            "level sampling (each generated test set is the same 30 levels for every model) and the random",
-            "agent's row (one 30-episode draw per set).",
+            "when one is decided against it, and is inconclusive otherwise.",
+            *left_out,
         ]
     )
 
@@ -720,15 +800,32 @@ def thresholds_markdown() -> str:
     return "\n".join(f"- `{name}` = {value:g}: {why}." for name, (value, why) in THRESHOLDS.items())
 
 
-def claims_markdown(verdicts: Sequence[tuple[str, Verdict]], games: dict[str, GameResults]) -> str:
+def random_markdown(games: dict[str, GameResults]) -> str:
+    """The random agent's mean score per game and test set with its 95 % t interval over episodes."""
+    lines = []
+    for name, game in games.items():
+        cells = []
+        for test_set, scores in game.random_scores.items():
+            value = random_estimate(scores)
+            interval = f" [{value.low:.2f}, {value.high:.2f}]" if value.has_interval else ""
+            cells.append(f"{test_set} {value.value:.2f}{interval} ({len(scores)} episodes)")
+        if cells:
+            lines.append(f"- {name} random agent (95 % t interval over episodes): {'; '.join(cells)}")
+    return "\n".join(lines)
+
+
+def claims_markdown(
+    verdicts: Sequence[tuple[str, Verdict]], games: dict[str, GameResults], level_sampling: bool = False
+) -> str:
     """The verdicts as a Markdown table, the statistics behind them, the seeds and frames behind
-    each game, and the study's Table 1 beside ours."""
+    each game, and the study's Table 1 beside ours; ``level_sampling``: the verdicts were judged
+    with it (the note says so, and the random agent's intervals are listed)."""
     from gvgai_pcg.study.table1_compare import difficulty_markdown, side_by_side_markdown
 
     study = study_verdicts()
     held = sum(verdict.verdict == "holds" for _, verdict in study)
     lines = [
-        statistics_note(verdicts),
+        statistics_note(verdicts, level_sampling),
         f"The same rules on the study's own Table 1 (its cells as point estimates of {STUDY_EPISODES} "
         f"episodes each; the paper gives no per-seed values): {held} of {len(study)} claims hold.",
         "",
@@ -750,6 +847,8 @@ def claims_markdown(verdicts: Sequence[tuple[str, Verdict]], games: dict[str, Ga
             for label, frames in game.frames.items()
         )
         lines.append(f"- {name}: {runs}")
+    if level_sampling and (baseline := random_markdown(games)):
+        lines += ["", baseline]
     lines += ["", side_by_side_markdown(games), "", difficulty_markdown(games)]
     return "\n".join(lines).rstrip("\n") + "\n"
 

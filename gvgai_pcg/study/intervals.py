@@ -6,6 +6,24 @@ one condition, Welch's for a difference); its p value is the two-sided t test of
 equals the bound". Holm's step-down procedure over every comparison of a family keeps the chance
 of any wrong call at 5 %. Cells given as point estimates (the study's: the paper prints no
 per-seed values) are compared as they are, with no interval.
+
+Level sampling (issue 35): a generated test set is one draw of levels from the generator, the same
+levels for every model, so the seeds' spread cannot show how the score would move with another
+draw. Where per-level results exist, a statistic's level-sampling variance is added to its seeds'
+(``levels``: per test set, the statistic's per-level contribution, e.g. one condition's per-level
+mean over seeds, or the difference of two conditions' on the same levels). The design is crossed
+(every seed plays every level), not nested, so the level term is the spread of the per-level means
+over the levels, s^2 / L, once for all seeds: resampling levels within each seed would divide it by
+the seeds again and hide most of it. For a mean this is what a bootstrap over levels estimates, in
+closed form (no Monte Carlo error). The interval is then a t interval with Welch-Satterthwaite
+degrees of freedom over both sources, or the interval over seeds alone where that is wider (with
+3-5 seeds the estimated df can grow enough to narrow it), with the larger of the two p values; it
+is conservative by the seed-by-level noise counted in both terms
+(``tests/study/test_level_intervals.py`` measures its coverage on a simulated hierarchy).
+
+The random agent's row has its own interval (``random_estimate``): a fixed policy, so its
+episodes are independent draws and the interval is the t interval over episodes (each generated
+level played once, so that includes the levels' spread).
 """
 
 from __future__ import annotations
@@ -18,6 +36,11 @@ from scipy import stats
 
 LEVEL = 0.95  # two-sided interval level, and family-wise 1 - alpha for Holm
 ALPHA = 1 - LEVEL
+SEEDS_AND_LEVELS_INTERVAL = (
+    "two-sided 95 % t interval over seeds and levels (the seeds' variance, Welch's for a difference, plus "
+    "the generated test sets' level-sampling variance, the same levels for every model; "
+    "Welch-Satterthwaite degrees of freedom; never narrower than the interval over seeds alone)"
+)
 
 
 @dataclass(frozen=True)
@@ -51,27 +74,61 @@ def _from_t(value: float, se: float, df: float, bound: float, seeds: int) -> Est
     return Estimate(value, value - half, value + half, p, seeds)
 
 
-def estimate(a: Sequence[float], b: Sequence[float] | None, bound: float, point: bool = False) -> Estimate:
+def level_terms(levels: Sequence[Sequence[float]]) -> list[tuple[float, int]]:
+    """Each test set's level-sampling variance of the mean of its per-level values, s^2 / L, with
+    its degrees of freedom L - 1 (a set of one level adds nothing)."""
+    terms = []
+    for values in levels:
+        if len(values) > 1:
+            terms.append((_mean_var(values)[1] / len(values), len(values) - 1))
+    return terms
+
+
+def _satterthwaite(terms: Sequence[tuple[float, int]]) -> tuple[float, float]:
+    """The standard error of a sum of independent variance terms and its Welch-Satterthwaite df."""
+    total = sum(q for q, _ in terms)
+    denominator = sum(q**2 / df for q, df in terms if q)
+    df = total**2 / denominator if denominator else 1.0  # no spread anywhere: a degenerate interval
+    return math.sqrt(total), df
+
+
+def estimate(
+    a: Sequence[float],
+    b: Sequence[float] | None,
+    bound: float,
+    point: bool = False,
+    levels: Sequence[Sequence[float]] = (),
+) -> Estimate:
     """``mean(a)`` (or ``mean(a) - mean(b)``) with its t interval over seeds and the p value
-    against ``bound``; ``point``: the values are point estimates, compared as they are."""
+    against ``bound``; ``point``: the values are point estimates, compared as they are;
+    ``levels``: per generated test set, the statistic's per-level values, whose level-sampling
+    variance widens the interval (module docstring)."""
     mean_a, var_a = _mean_var(a)
     if point:
         value = mean_a - (_mean_var(b)[0] if b else 0.0)
         return Estimate(value, value, value, math.nan, 0)
-    if b is None:
-        se = math.sqrt(var_a / len(a)) if len(a) > 1 else math.nan
-        return _from_t(mean_a, se, len(a) - 1, bound, len(a))
-    mean_b, var_b = _mean_var(b)
-    seeds = min(len(a), len(b))
+    seeds = len(a) if b is None else min(len(a), len(b))
+    value = mean_a - (0.0 if b is None else _mean_var(b)[0])
     if seeds < 2:
-        return _from_t(mean_a - mean_b, math.nan, math.nan, bound, seeds)
-    qa, qb = var_a / len(a), var_b / len(b)
-    se = math.sqrt(qa + qb)
-    denominator = (qa**2 / (len(a) - 1) if qa else 0.0) + (qb**2 / (len(b) - 1) if qb else 0.0)
-    df = (qa + qb) ** 2 / denominator if denominator else math.inf  # Welch-Satterthwaite
-    if se == 0.0:
-        df = 1.0  # no spread on either side: any df gives the same (degenerate) interval
-    return _from_t(mean_a - mean_b, se, df, bound, seeds)
+        return _from_t(value, math.nan, math.nan, bound, seeds)
+    terms = [(var_a / len(a), len(a) - 1)]
+    if b is not None:
+        terms.append((_mean_var(b)[1] / len(b), len(b) - 1))
+    over_seeds = _from_t(value, *_satterthwaite(terms), bound, seeds)
+    sampled = level_terms(levels)
+    if not sampled:
+        return over_seeds
+    # Never narrower than the interval over seeds alone: Satterthwaite's df, estimated from a few
+    # seeds, would otherwise grow with a small level term and shrink the interval below it.
+    both = _from_t(value, *_satterthwaite(terms + sampled), bound, seeds)
+    wider = both if both.high - both.low >= over_seeds.high - over_seeds.low else over_seeds
+    return Estimate(value, wider.low, wider.high, max(both.p, over_seeds.p), seeds)
+
+
+def random_estimate(scores: Sequence[float], bound: float = 0.0) -> Estimate:
+    """The random agent's mean score on a test set with its t interval over episodes (a fixed
+    policy: its episodes are independent draws; ``seeds`` counts the episodes)."""
+    return estimate(scores, None, bound)
 
 
 def holm(p_values: Sequence[float], alpha: float = ALPHA) -> tuple[list[float], list[bool]]:

@@ -327,14 +327,23 @@ def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = 
 
 
 def write_claims(
-    runs: Sequence[Path], random_cache: Path, protocol, path: Path, target_frames: int | None = None
+    runs: Sequence[Path],
+    random_cache: Path,
+    protocol,
+    path: Path,
+    target_frames: int | None = None,
+    level_sampling: bool = False,
 ) -> Path:
-    """The study's claims tested on the runs under ``runs`` (``gvgai_pcg.study.claims``)."""
+    """The study's claims tested on the runs under ``runs`` (``gvgai_pcg.study.claims``);
+    ``level_sampling``: intervals over seeds and the generated sets' levels (off for the
+    published budgets, whose pages rebuild as they were)."""
     from gvgai_pcg.evaluation.checkpoints import find_runs
     from gvgai_pcg.study.claims import claims_markdown, collect, study_claims
 
     games = collect(find_runs(list(runs)), random_cache, protocol, target_frames)
-    path.write_text(claims_markdown(study_claims(games, target_frames), games))
+    path.write_text(
+        claims_markdown(study_claims(games, target_frames, level_sampling), games, level_sampling)
+    )
     return path
 
 
