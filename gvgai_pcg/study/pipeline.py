@@ -310,6 +310,14 @@ def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = 
         for pattern in ("*.jsonl", "ued-*.csv", "ued-*.json"):
             for results in sorted((run / "eval").glob(pattern)):
                 shutil.copy2(results, target / "eval" / results.name)
+        # the held-out score over training (``evaluate --snapshots``): records and figure, not the models
+        if (run / "eval" / "snapshots").is_dir():
+            shutil.copytree(
+                run / "eval" / "snapshots",
+                target / "eval" / "snapshots",
+                dirs_exist_ok=True,
+                ignore=WRITER_LOCKS,
+            )
         model = {"checkpoint": str(info.checkpoint), "frames": info.frames}
         if records_path is not None:
             first = read_records(records_path)[0]

@@ -176,3 +176,15 @@ def test_cli_refuses_bad_settings_in_one_line(tiny_run, capsys, options, message
     assert exit_info.value.code == 2
     err = capsys.readouterr().err.strip()
     assert message in err and len(err.splitlines()) == 1
+
+
+def test_publishing_a_run_publishes_its_held_out_scores_over_training(tiny_run, tmp_path):
+    from gvgai_pcg.study.pipeline import publish
+
+    records = tiny_run / "eval" / "snapshots" / "protocol-abc" / "model-500.jsonl"
+    records.parent.mkdir(parents=True)
+    records.write_text('{"frames": 500}\n')
+    dest = publish(tmp_path / "out", tmp_path / "published", runs=[tiny_run])
+    copied = dest / "runs" / tiny_run.name / "eval" / "snapshots" / "protocol-abc" / "model-500.jsonl"
+    assert copied.read_text() == records.read_text()
+    assert not (dest / "runs" / tiny_run.name / "snapshots").exists()  # the models stay behind
