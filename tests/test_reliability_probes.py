@@ -505,3 +505,69 @@ def test_a_gymnasium_reset_takes_level_text_and_names_a_bad_level():
     assert rows[0] == rows[2] == "wwwww" and rows[1][:2] == "wA" and rows[1][3:] == "gw"
     with pytest.raises(ValueError, match="level 'humans' is neither a zelda level name"):
         env.reset(options={"level": "humans"})
+
+
+# --- 9. level folders and resumes ---
+
+
+def _level_folder(folder: Path, count: int = 2) -> Path:
+    from gvgai_pcg.levels import human_level
+
+    folder.mkdir(parents=True, exist_ok=True)
+    for index in range(count):
+        (folder / f"zelda_mine{index}.txt").write_text(str(human_level("zelda", index)))
+    return folder
+
+
+@pytest.mark.parametrize(
+    ("make_link", "what"),
+    [
+        (lambda link: link.symlink_to(link.name), "a symlink loop"),
+        (lambda link: link.symlink_to(link.parent / "gone.txt"), "a dangling symlink"),
+    ],
+    ids=["loop", "dangling"],
+)
+def test_a_level_folder_names_an_entry_it_cannot_read(make_link, what, tmp_path):
+    from gvgai_pcg.levels.sets import level_set_files, load_level_set
+
+    folder = _level_folder(tmp_path / "mine")
+    link = folder / "zelda_mine9.txt"
+    make_link(link)
+    for read in (level_set_files, lambda path: load_level_set("zelda", path)):
+        with pytest.raises(ValueError, match=rf"^{link}: {what} \(it points to .*\); fix or remove it$"):
+            read(folder)
+    with pytest.raises(ValueError, match=rf"^{link}: {what}"):
+        level_set_files([folder / "zelda_mine0.txt", link])  # named in a list, too
+
+
+def test_a_resume_on_changed_level_files_is_refused_in_one_line(tmp_path):
+    from gvgai_pcg.levels.sets import level_set_fingerprint
+    from gvgai_pcg.rl.checkpoint import CheckpointError, save_checkpoint
+    from gvgai_pcg.rl.run_session import open_run
+    from gvgai_pcg.rl.training import own_level_set
+
+    folder = _level_folder(tmp_path / "mine")
+    config = {
+        "game": {"name": "zelda"},
+        "env": {"obs": "tiles"},
+        "model": {"name": "compact", "hidden": 16},
+        "regimen": {"name": "levels", "path": str(folder)},
+        "log": {"backends": ["csv"]},
+    }
+    before = own_level_set(config)
+    assert before == level_set_fingerprint(folder) and own_level_set({"regimen": {"name": "pcg"}}) is None
+    net = torch.nn.Linear(2, 2)
+    state = {"frames": 40, "episodes": 1, "elapsed": 1.0, "model": net.state_dict(), "config": config}
+    state.update(optimizer=torch.optim.SGD(net.parameters(), lr=0.1).state_dict(), level_set=before)
+    save_checkpoint(tmp_path / "run" / "checkpoints" / "last.pt", state)
+    with open_run(tmp_path / "run", config, {}, level_set=own_level_set(config)) as session:
+        assert session.saved["frames"] == 40  # the same files: resumed
+
+    (folder / "zelda_mine1.txt").write_text((folder / "zelda_mine0.txt").read_text())  # a level replaced
+    with pytest.raises(CheckpointError) as refused:
+        with open_run(tmp_path / "run", config, {"config.yaml": "new"}, level_set=own_level_set(config)):
+            pass
+    message = str(refused.value)
+    assert "\n" not in message and f"regimen.path={str(folder)!r} changed since it was saved" in message
+    assert "restore those files to resume it, or choose another out_dir/run_name" in message
+    assert not (tmp_path / "run" / "config.yaml").exists()  # refused before anything is written
