@@ -4,6 +4,7 @@ anything is written, and the small things a new user trips on."""
 from __future__ import annotations
 
 import io
+import json
 import os
 import signal
 import subprocess
@@ -571,3 +572,80 @@ def test_a_resume_on_changed_level_files_is_refused_in_one_line(tmp_path):
     assert "\n" not in message and f"regimen.path={str(folder)!r} changed since it was saved" in message
     assert "restore those files to resume it, or choose another out_dir/run_name" in message
     assert not (tmp_path / "run" / "config.yaml").exists()  # refused before anything is written
+
+
+# --- 11. errors that name their file ---
+
+
+def test_a_resume_over_a_log_that_is_not_numbers_names_it(tmp_path):
+    from gvgai_pcg.rl.run_session import check_log
+
+    log = tmp_path / "log.csv"
+    log.write_text("frames,episodes,mean_score\n40,8,0.5\n80,abc,0.5\n")
+    with pytest.raises(ValueError, match=rf"^{log}, line 3: episodes='abc' is not a number"):
+        check_log(log, {"frames": 80, "log_rows": 2})
+
+
+@pytest.mark.parametrize(
+    ("text", "problem"),
+    [
+        ("game: {name: zelda\n  bad: [\n", "line 2, column 6: expected ',' or '}', but got ':'"),
+        ("!!python/object:os.system\ngame: {name: zelda}\n", "could not determine a constructor for the tag"),
+        ("just a string\n", "not a config (a YAML mapping)"),
+    ],
+    ids=["malformed", "python-tag", "not-a-mapping"],
+)
+def test_a_run_config_that_is_not_a_config_is_one_line_naming_it(text, problem, tmp_path, capsys):
+    from tests.evaluation.conftest import make_run
+
+    run_dir = make_run(tmp_path / "runs", "lv0", 0)
+    (run_dir / "config.yaml").write_text(text)
+    for argv in (
+        ["evaluate", str(run_dir), "--levels", "zelda_lvl0", "--episodes", "1"],
+        ["report", str(run_dir), "--no-evaluate", "--out", str(tmp_path / "report")],
+        ["replay", str(run_dir), "--level", "zelda_lvl0", "--out", str(tmp_path / "x.gif")],
+    ):
+        err = _one_line_refusal(argv, capsys)
+        assert err.startswith(f"gvgai-pcg {argv[0]}: error: {run_dir.resolve() / 'config.yaml'}: "), err
+        assert problem in err and "restore the run's config" in err
+    assert not (tmp_path / "x.gif").exists()
+
+
+def test_results_that_are_not_records_name_their_file_and_line_and_suggest_force(tmp_path, capsys):
+    from gvgai_pcg.evaluation.evaluator import read_records
+    from tests.evaluation.test_report import PROTOCOL, fake_records
+
+    path = tmp_path / "eval" / "protocol-x.jsonl"
+    path.parent.mkdir()
+    good = fake_records(
+        "random", {s: [0.0, 0.0] for s in ("pcg0.5", "pcg1", "lv0", "lv1", "lv2", "lv3", "lv4")}
+    )
+    path.write_text(json.dumps(good[0].as_dict()) + '\n{"agent": "random", "game": "zel')
+    with pytest.raises(ValueError, match=rf"^{path}, line 2: not an evaluation record \(JSONDecodeError: "):
+        read_records(path)
+    path.write_text('["a list"]\n')
+    with pytest.raises(ValueError, match="evaluate again with --force to rewrite it$"):
+        read_records(path)
+    assert PROTOCOL.test_levels == 2
+
+
+def test_a_report_says_when_the_random_agents_cache_lacks_levels(tmp_path, caplog):
+    from gvgai_pcg.evaluation.evaluator import random_results_path, write_records
+    from gvgai_pcg.report.build import random_records
+    from tests.evaluation.test_report import HUMAN, PROTOCOL, fake_records
+
+    full = fake_records("random", {s: [-1.0] * 2 for s in ("pcg0.5", "pcg1", "lv0", *HUMAN)})
+    path = random_results_path("zelda", PROTOCOL, tmp_path)
+    write_records(path, full[:2])  # the two pcg0.5 levels only
+    with caplog.at_level("WARNING"):
+        records = random_records("zelda", PROTOCOL, tmp_path, False, "cpu", False, False)
+    assert len(records) == 2
+    assert (
+        f"{path} lacks the random agent's records of pcg1 (0 of 2 levels), lv0 (0 of 1 levels)" in caplog.text
+    )
+    assert "the Random row is blank there (run without --no-evaluate to complete it)" in caplog.text
+    caplog.clear()
+    write_records(path, full)
+    with caplog.at_level("WARNING"):
+        assert len(random_records("zelda", PROTOCOL, tmp_path, False, "cpu", False, False)) == len(full)
+    assert caplog.text == ""
