@@ -394,9 +394,36 @@ def test_a_full_disk_at_a_checkpoint_is_one_line_and_the_checkpoint_before_stays
     assert exit_info.value.code == 1
     err = _without_progress(capsys.readouterr().err)
     assert len(err.splitlines()) == 1 and "Traceback" not in err, err
-    assert "training stopped by OSError: [Errno 28] No space left on device (the disk under " in err
-    assert "is full); the last complete update could not be saved; " in err and "(40 frames) is intact" in err
+    assert err.startswith(
+        f"gvgai-pcg train: training stopped (no space left on device: {tmp_path / 'run'}); the last "
+        f"complete update could not be saved; {tmp_path / 'run' / 'checkpoints' / 'last.pt'} (40 frames) is "
+        "intact; free some space first; resume with: gvgai-pcg train regimen=lv"
+    ), err
     assert _saved_frames(tmp_path / "run") == 40
+
+
+@pytest.mark.slow  # a real training until a 3 MB tmpfs is full (a checkpoint is 2.4 MB)
+def test_training_into_a_small_tmpfs_is_one_line_and_keeps_the_checkpoint(tmp_path, capsys):
+    small = tmp_path / "small"
+    small.mkdir()
+    mounted = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", "size=3m", "tmpfs", str(small)], capture_output=True
+    )
+    if mounted.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs here: {mounted.stderr.decode().strip()}")
+    try:
+        argv = ["train", *TINY, "total_frames=400", "checkpoint.every_frames=40"]
+        with pytest.raises(SystemExit) as exit_info:
+            main([*argv, f"out_dir={small}", "run_name=run"])
+        assert exit_info.value.code == 1
+        err = _without_progress(capsys.readouterr().err)
+        assert len(err.splitlines()) == 1 and "Traceback" not in err, err
+        assert f"training stopped (no space left on device: {small / 'run'}); " in err
+        assert "(40 frames) is intact; free some space first; resume with: " in err
+        assert _saved_frames(small / "run") == 40
+        assert [p.name for p in (small / "run" / "checkpoints").iterdir()] == ["last.pt"]  # no temporary left
+    finally:
+        subprocess.run(["umount", "--lazy", str(small)], check=False)  # (train.log may still be open)
 
 
 def test_temporary_files_of_killed_writers_are_removed_and_live_ones_kept(tmp_path):
@@ -649,3 +676,32 @@ def test_a_report_says_when_the_random_agents_cache_lacks_levels(tmp_path, caplo
     with caplog.at_level("WARNING"):
         assert len(random_records("zelda", PROTOCOL, tmp_path, False, "cpu", False, False)) == len(full)
     assert caplog.text == ""
+
+
+@pytest.mark.parametrize("device", ["cpu"])
+def test_a_million_envs_are_refused_up_front_naming_the_key_and_the_estimate(
+    device, tmp_path, capsys, monkeypatch
+):
+    from gvgai_pcg import memory_estimate
+
+    monkeypatch.setattr(memory_estimate, "available_bytes", lambda: 8 * 10**9)
+    out = tmp_path / "runs"
+    err = _one_line_refusal(["train", "env.num_envs=1000000", f"out_dir={out}"], capsys)
+    assert err.startswith("gvgai-pcg train: error: env.num_envs=1000000: the run needs at least "), err
+    assert (
+        "GB of memory (" in err
+        and "per env: its observations, the rollout and the model's activations)" in err
+    )
+    assert "more than the 8.0 GB available; lower env.num_envs (about " in err
+    assert not out.exists()
+    fit = int(err.rsplit("(about ", 1)[1].split(" ")[0])
+    config = {
+        "game": {"name": "zelda"},
+        "env": {"num_envs": fit, "obs": "tiles"},
+        "model": {"name": "compact", "hidden": 256},
+        "algo": {"n_steps": 5},
+    }
+    memory_estimate.check_memory(config)  # as many as it says fit: accepted
+    config["env"]["num_envs"] = fit + 1000
+    with pytest.raises(ValueError, match="env.num_envs="):
+        memory_estimate.check_memory(config)

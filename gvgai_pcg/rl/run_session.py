@@ -78,16 +78,18 @@ class TrainingStopped(Exception):
         self, cause: BaseException, saved: bool, frames: int, checkpoint: Path, full_disk: bool = False
     ) -> None:
         self.cause, self.saved, self.frames, self.checkpoint = cause, saved, frames, checkpoint
-        what = f"{type(cause).__name__}: {cause}" if str(cause) else type(cause).__name__
-        if full_disk:
-            what += f" (the disk under {checkpoint.parent.parent} is full)"
+        what = f"by {type(cause).__name__}: {cause}" if str(cause) else f"by {type(cause).__name__}"
+        if full_disk:  # what the writer said (torch.save: "unexpected pos ...") is in the traceback
+            what = f"(no space left on device: {checkpoint.parent.parent})"
         if saved:
             kept = f"the last complete update ({frames} frames) is saved in {checkpoint}"
         elif checkpoint.exists():
             kept = f"the last complete update could not be saved; {checkpoint} ({frames} frames) is intact"
         else:
             kept = "no checkpoint was saved"
-        super().__init__(f"training stopped by {what}; {kept}")
+        if full_disk and checkpoint.exists():
+            kept += "; free some space first"
+        super().__init__(f"training stopped {what}; {kept}")
 
 
 def disk_is_full(error: BaseException, folder: Path) -> bool:
@@ -158,8 +160,11 @@ class RunSession:
         try:
             self.save_last_state()
         except BaseException as failure:  # noqa: BLE001 (the first error is the one to report)
-            log.error("the last complete update could not be saved: %s: %s", type(failure).__name__, failure)
             full = full or disk_is_full(failure, self.run_dir)
+            if not full:  # (a full disk is the reason the stop line gives)
+                log.error(
+                    "the last complete update could not be saved: %s: %s", type(failure).__name__, failure
+                )
             return TrainingStopped(error, False, self.guard.checkpoint_frames, self.checkpoint_path, full)
         return TrainingStopped(error, True, self.frames_saved or 0, self.checkpoint_path, full)
 
