@@ -705,3 +705,15 @@ def test_a_million_envs_are_refused_up_front_naming_the_key_and_the_estimate(
     config["env"]["num_envs"] = fit + 1000
     with pytest.raises(ValueError, match="env.num_envs="):
         memory_estimate.check_memory(config)
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [["hydra.mode=MULTIRUN", "env.num_envs=-1,1"], ["-m", "hydra.job.chdir=false", "env.num_envs=1,-1"]],
+    ids=["hydra.mode", "hydra.job"],
+)
+def test_hydra_overrides_do_not_skip_the_config_check(argv, tmp_path, capsys):
+    sweep = tmp_path / "sweep"
+    err = _one_line_refusal(["train", *argv, f"hydra.sweep.dir={sweep}", f"out_dir={tmp_path}"], capsys)
+    assert err == "gvgai-pcg train: error: env.num_envs=-1: expected an integer >= 1"
+    assert not sweep.exists()  # no job of the sweep started
