@@ -717,3 +717,20 @@ def test_hydra_overrides_do_not_skip_the_config_check(argv, tmp_path, capsys):
     err = _one_line_refusal(["train", *argv, f"hydra.sweep.dir={sweep}", f"out_dir={tmp_path}"], capsys)
     assert err == "gvgai-pcg train: error: env.num_envs=-1: expected an integer >= 1"
     assert not sweep.exists()  # no job of the sweep started
+
+
+def test_a_report_over_a_log_that_is_not_numbers_names_it(tmp_path):
+    from gvgai_pcg.evaluation.evaluator import run_results_path, write_records
+    from gvgai_pcg.report import build_report
+    from tests.evaluation.conftest import make_run, write_log
+    from tests.evaluation.test_report import HUMAN, PROTOCOL, fake_records
+
+    run_dir = make_run(tmp_path / "runs", "lv0", 0)
+    model = str((run_dir / "model.pt").resolve())
+    scores = {s: [1.0, 1.0] for s in ("pcg0.5", "pcg1", "lv0", *HUMAN)}
+    write_records(run_results_path(run_dir, PROTOCOL), fake_records(str(run_dir), scores, 1000, model))
+    write_log(run_dir, [(100, 0.5, 0.0), (200, 0.5, 0.0)])
+    log = run_dir / "log.csv"
+    log.write_text(log.read_text().replace(",0.5,", ",abc,", 1))
+    with pytest.raises(ValueError, match=rf"^{log.resolve()}, line 2: mean_score='abc' is not a number"):
+        build_report([tmp_path / "runs"], tmp_path / "out", PROTOCOL, tmp_path / "cache", evaluate=False)
