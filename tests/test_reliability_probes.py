@@ -734,3 +734,15 @@ def test_a_report_over_a_log_that_is_not_numbers_names_it(tmp_path):
     log.write_text(log.read_text().replace(",0.5,", ",abc,", 1))
     with pytest.raises(ValueError, match=rf"^{log.resolve()}, line 2: mean_score='abc' is not a number"):
         build_report([tmp_path / "runs"], tmp_path / "out", PROTOCOL, tmp_path / "cache", evaluate=False)
+
+
+def test_a_truncated_published_json_names_its_file(tmp_path, capsys):
+    from tests.evaluation.conftest import make_run
+
+    run_dir = make_run(tmp_path / "runs", "lv0", 0)
+    (run_dir / "published.json").write_text('{"checkpoint": "runs/x/model.pt", "fra')
+    err = _one_line_refusal(["report", str(run_dir), "--no-evaluate", "--out", str(tmp_path / "out")], capsys)
+    assert err.startswith(
+        f"gvgai-pcg report: error: {run_dir.resolve() / 'published.json'}: not a published run's"
+    )
+    assert err.endswith("restore it, or remove that run's folder to publish the run again")

@@ -210,7 +210,15 @@ def published_run_info(run_dir: Path) -> RunInfo:
 
     from omegaconf import OmegaConf
 
-    model = json.loads((run_dir / PUBLISHED).read_text())
+    path = run_dir / PUBLISHED
+    try:
+        model = json.loads(path.read_text())
+        int(model["frames"]), str(model["checkpoint"])
+    except (ValueError, KeyError, TypeError) as error:
+        raise ValueError(
+            f"{path}: not a published run's record ({type(error).__name__}: {error}); restore it, or "
+            "remove that run's folder to publish the run again"
+        ) from None
     read_run_config(run_dir)  # a file that is not a config: one line naming it
     config = OmegaConf.to_container(OmegaConf.load(run_dir / "config.yaml"), resolve=True)
     copy = run_dir / model["copied"] if model.get("copied") else None
