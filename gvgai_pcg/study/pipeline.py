@@ -167,8 +167,9 @@ def run_sweep(
                             return
                         child = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT)
                         children.append(child)
+                    start_of_run = log.tell()
                     if child.wait() != 0:
-                        failed.append(str(log_path))
+                        failed.append(f"{log_path}: {last_line(log_path, start_of_run)}")
                         return
         except Exception as error:  # noqa: BLE001 (reported with the failed multiruns)
             failed.append(f"{log_path} ({error})")
@@ -189,9 +190,35 @@ def run_sweep(
             for child in live:
                 child.wait()
             raise
-    if failed:
-        raise RuntimeError(f"the sweep failed; see {', '.join(sorted(failed))}")
+    if failed:  # the cause in one line (a train refusal is its last line), the rest in the log
+        raise ValueError(f"the sweep failed; {'; '.join(sorted(failed))}")
     return time.perf_counter() - start
+
+
+def last_line(path: Path, offset: int = 0) -> str:
+    """The last non-empty line written to ``path`` after ``offset``: a failed train's own reason."""
+    try:
+        with open(path, errors="replace") as log:
+            log.seek(offset)
+            lines = [line.strip() for line in log.read().splitlines() if line.strip()]
+    except OSError:
+        return "(its log cannot be read)"
+    return lines[-1] if lines else "(nothing written)"
+
+
+def check_planned(budget: Budget, conditions: Sequence[str], overrides: Sequence[str] = ()) -> None:
+    """``ConfigError`` for the first planned run whose config cannot train (``algo.lr=-1``), before
+    the sweep starts: one seed of each condition (the seeds differ in nothing else)."""
+    from gvgai_pcg.config import check_jobs, sweep_jobs
+
+    ours = [o for o in overrides if not o.lstrip("+~").startswith("hydra")]
+    jobs = [
+        job
+        for condition in conditions
+        for seed in budget.seeds_of(condition)[:1]
+        for job in sweep_jobs(sweep_arguments(budget, [condition], Path("."), None, ours, (seed,))[1:], True)
+    ]
+    check_jobs(jobs)
 
 
 @contextlib.contextmanager
@@ -375,6 +402,8 @@ def reproduce(
     from gvgai_pcg.report import build_report
 
     out = Path(out).resolve()
+    if train:
+        check_planned(budget, conditions, overrides)
     protocol = Protocol(**budget.protocol)
     skip: set[tuple[str, int]] = set()
     elsewhere: list[Path] = []
