@@ -746,3 +746,28 @@ def test_a_truncated_published_json_names_its_file(tmp_path, capsys):
         f"gvgai-pcg report: error: {run_dir.resolve() / 'published.json'}: not a published run's"
     )
     assert err.endswith("restore it, or remove that run's folder to publish the run again")
+
+
+@pytest.mark.slow  # two short trainings
+def test_a_run_on_a_level_folder_refuses_to_resume_on_changed_files(tmp_path, capsys):
+    folder = _level_folder(tmp_path / "mine")
+    argv = [
+        "train",
+        *TINY[1:],
+        "regimen=levels",
+        f"regimen.path={folder}",
+        f"out_dir={tmp_path}",
+        "run_name=run",
+    ]
+    assert main([*argv, "total_frames=40"]) == 0
+    saved = torch.load(tmp_path / "run" / "checkpoints" / "last.pt", weights_only=True)
+    from gvgai_pcg.levels.sets import level_set_fingerprint
+
+    assert saved["level_set"] == level_set_fingerprint(folder)
+    capsys.readouterr()
+    (folder / "zelda_mine1.txt").write_text((folder / "zelda_mine0.txt").read_text())
+    err = _one_line_refusal([*argv, "total_frames=80"], capsys)
+    assert (
+        err.startswith("gvgai-pcg train: error: the run directory ") and "changed since it was saved" in err
+    )
+    assert _saved_frames(tmp_path / "run") == 40

@@ -306,6 +306,28 @@ def _finished(run: Path, frames: int) -> bool:
     return is_run_dir(run) and (info := usable_run(run)) is not None and info.frames >= frames
 
 
+def refuse_other_configs(runs: Sequence[Path], published: Path) -> None:
+    """``ValueError`` before anything is published when ``published`` holds a run of one of
+    ``runs``' names but another training config: kept (it may have trained longer) beside a new
+    report, it would leave a folder whose runs no longer rebuild its table."""
+    from gvgai_pcg.evaluation.checkpoints import PUBLISHED, published_run_info, run_info
+    from gvgai_pcg.rl.checkpoint import config_differences
+
+    for run in runs:
+        target = published / run.name
+        if not (target / PUBLISHED).is_file():
+            continue
+        differences = [
+            difference.replace(" in the checkpoint, ", " published, ", 1).removesuffix(" now") + " here"
+            for difference in config_differences(published_run_info(target).config, run_info(run).config)
+        ]
+        if differences:
+            raise ValueError(
+                f"{target} is a published run of another config ({'; '.join(differences)}); publish "
+                "into another folder, or move that run away first"
+            )
+
+
 def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = None) -> Path:
     """Copy what rebuilds the report into ``dest``: each run's config, log, evaluation results and
     a ``published.json`` naming its model (the model itself only below 1 MB), the random agent's
@@ -318,10 +340,12 @@ def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = 
     from gvgai_pcg.evaluation.checkpoints import PUBLISHED, find_runs, published_run_info, run_info
     from gvgai_pcg.evaluation.evaluator import read_records, run_results_path
 
-    dest.mkdir(parents=True, exist_ok=True)
     if runs is None:
         runs = [out / "runs"] if (out / "runs").is_dir() else []
-    for run in find_runs(list(runs)) if runs else []:
+    found = find_runs(list(runs)) if runs else []
+    refuse_other_configs(found, dest / "runs")
+    dest.mkdir(parents=True, exist_ok=True)
+    for run in found:
         records_path = run_results_path(run, protocol) if protocol is not None else None
         if records_path is not None and not records_path.is_file():
             continue  # not evaluated yet: nothing of it is in the report

@@ -272,3 +272,28 @@ def test_each_results_page_keeps_its_own_figures():
     assert page_images(Path("docs/results.md")) == (Path("docs/images/results"), "images/results")
     medium, prefix = page_images(Path("docs/results-medium.md"))
     assert medium == Path("docs/images/results-medium") and prefix == "images/results-medium"
+
+
+def test_publish_refuses_a_folder_holding_a_run_of_another_config(tmp_path):
+    import json
+
+    import yaml
+
+    from gvgai_pcg.study.pipeline import publish
+    from tests.evaluation.conftest import make_run
+
+    out, dest = tmp_path / "out", tmp_path / "published"
+    make_run(out / "runs", "lv0", 0)
+    other = make_run(dest / "runs", "lv0", 0)
+    config = yaml.safe_load((other / "config.yaml").read_text())
+    config["env"]["num_envs"] = 8
+    (other / "config.yaml").write_text(yaml.safe_dump(config))
+    (other / "published.json").write_text(json.dumps({"checkpoint": "elsewhere/model.pt", "frames": 5000}))
+    before = sorted(p.relative_to(dest) for p in dest.rglob("*"))
+    with pytest.raises(ValueError) as refused:
+        publish(out, dest)
+    assert str(refused.value) == (
+        f"{other} is a published run of another config (env.num_envs: 8 published, 4 here); publish "
+        "into another folder, or move that run away first"
+    )
+    assert sorted(p.relative_to(dest) for p in dest.rglob("*")) == before  # nothing published
