@@ -214,9 +214,15 @@ def _check_section(
 
 def _check_together(config: dict) -> None:
     """Rules across keys: the regimen's own (``Curriculum.check``: a generated set's seeds, a level
-    set's files), model and observation."""
+    set's files), the memory the envs need (``memory_estimate``), model and observation."""
     regimen = config["regimen"]
     _regimens()[regimen["name"]].check(regimen, config)
+    from gvgai_pcg.memory_estimate import check_memory
+
+    try:
+        check_memory(config)  # env.num_envs=1000000: refused now, not by an allocation minutes in
+    except ValueError as error:
+        raise ConfigError(str(error)) from None
     if config["model"]["name"] == "nature" and config["env"]["obs"] != "pixels":
         raise ConfigError(
             f"env.obs={_shown(config['env']['obs'])}: expected pixels with model=nature "

@@ -4,6 +4,7 @@ anything is written, and the small things a new user trips on."""
 from __future__ import annotations
 
 import io
+import json
 import os
 import signal
 import subprocess
@@ -393,9 +394,36 @@ def test_a_full_disk_at_a_checkpoint_is_one_line_and_the_checkpoint_before_stays
     assert exit_info.value.code == 1
     err = _without_progress(capsys.readouterr().err)
     assert len(err.splitlines()) == 1 and "Traceback" not in err, err
-    assert "training stopped by OSError: [Errno 28] No space left on device (the disk under " in err
-    assert "is full); the last complete update could not be saved; " in err and "(40 frames) is intact" in err
+    assert err.startswith(
+        f"gvgai-pcg train: training stopped (no space left on device: {tmp_path / 'run'}); the last "
+        f"complete update could not be saved; {tmp_path / 'run' / 'checkpoints' / 'last.pt'} (40 frames) is "
+        "intact; free some space first; resume with: gvgai-pcg train regimen=lv"
+    ), err
     assert _saved_frames(tmp_path / "run") == 40
+
+
+@pytest.mark.slow  # a real training until a 3 MB tmpfs is full (a checkpoint is 2.4 MB)
+def test_training_into_a_small_tmpfs_is_one_line_and_keeps_the_checkpoint(tmp_path, capsys):
+    small = tmp_path / "small"
+    small.mkdir()
+    mounted = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", "size=3m", "tmpfs", str(small)], capture_output=True
+    )
+    if mounted.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs here: {mounted.stderr.decode().strip()}")
+    try:
+        argv = ["train", *TINY, "total_frames=400", "checkpoint.every_frames=40"]
+        with pytest.raises(SystemExit) as exit_info:
+            main([*argv, f"out_dir={small}", "run_name=run"])
+        assert exit_info.value.code == 1
+        err = _without_progress(capsys.readouterr().err)
+        assert len(err.splitlines()) == 1 and "Traceback" not in err, err
+        assert f"training stopped (no space left on device: {small / 'run'}); " in err
+        assert "(40 frames) is intact; free some space first; resume with: " in err
+        assert _saved_frames(small / "run") == 40
+        assert [p.name for p in (small / "run" / "checkpoints").iterdir()] == ["last.pt"]  # no temporary left
+    finally:
+        subprocess.run(["umount", "--lazy", str(small)], check=False)  # (train.log may still be open)
 
 
 def test_temporary_files_of_killed_writers_are_removed_and_live_ones_kept(tmp_path):
@@ -505,3 +533,241 @@ def test_a_gymnasium_reset_takes_level_text_and_names_a_bad_level():
     assert rows[0] == rows[2] == "wwwww" and rows[1][:2] == "wA" and rows[1][3:] == "gw"
     with pytest.raises(ValueError, match="level 'humans' is neither a zelda level name"):
         env.reset(options={"level": "humans"})
+
+
+# --- 9. level folders and resumes ---
+
+
+def _level_folder(folder: Path, count: int = 2) -> Path:
+    from gvgai_pcg.levels import human_level
+
+    folder.mkdir(parents=True, exist_ok=True)
+    for index in range(count):
+        (folder / f"zelda_mine{index}.txt").write_text(str(human_level("zelda", index)))
+    return folder
+
+
+@pytest.mark.parametrize(
+    ("make_link", "what"),
+    [
+        (lambda link: link.symlink_to(link.name), "a symlink loop"),
+        (lambda link: link.symlink_to(link.parent / "gone.txt"), "a dangling symlink"),
+    ],
+    ids=["loop", "dangling"],
+)
+def test_a_level_folder_names_an_entry_it_cannot_read(make_link, what, tmp_path):
+    from gvgai_pcg.levels.sets import level_set_files, load_level_set
+
+    folder = _level_folder(tmp_path / "mine")
+    link = folder / "zelda_mine9.txt"
+    make_link(link)
+    for read in (level_set_files, lambda path: load_level_set("zelda", path)):
+        with pytest.raises(ValueError, match=rf"^{link}: {what} \(it points to .*\); fix or remove it$"):
+            read(folder)
+    with pytest.raises(ValueError, match=rf"^{link}: {what}"):
+        level_set_files([folder / "zelda_mine0.txt", link])  # named in a list, too
+
+
+def test_a_resume_on_changed_level_files_is_refused_in_one_line(tmp_path):
+    from gvgai_pcg.levels.sets import level_set_fingerprint
+    from gvgai_pcg.rl.checkpoint import CheckpointError, save_checkpoint
+    from gvgai_pcg.rl.run_session import open_run
+    from gvgai_pcg.rl.training import own_level_set
+
+    folder = _level_folder(tmp_path / "mine")
+    config = {
+        "game": {"name": "zelda"},
+        "env": {"obs": "tiles"},
+        "model": {"name": "compact", "hidden": 16},
+        "regimen": {"name": "levels", "path": str(folder)},
+        "log": {"backends": ["csv"]},
+    }
+    before = own_level_set(config)
+    assert before == level_set_fingerprint(folder) and own_level_set({"regimen": {"name": "pcg"}}) is None
+    net = torch.nn.Linear(2, 2)
+    state = {"frames": 40, "episodes": 1, "elapsed": 1.0, "model": net.state_dict(), "config": config}
+    state.update(optimizer=torch.optim.SGD(net.parameters(), lr=0.1).state_dict(), level_set=before)
+    save_checkpoint(tmp_path / "run" / "checkpoints" / "last.pt", state)
+    with open_run(tmp_path / "run", config, {}, level_set=own_level_set(config)) as session:
+        assert session.saved["frames"] == 40  # the same files: resumed
+
+    (folder / "zelda_mine1.txt").write_text((folder / "zelda_mine0.txt").read_text())  # a level replaced
+    with pytest.raises(CheckpointError) as refused:
+        with open_run(tmp_path / "run", config, {"config.yaml": "new"}, level_set=own_level_set(config)):
+            pass
+    message = str(refused.value)
+    assert "\n" not in message and f"regimen.path={str(folder)!r} changed since it was saved" in message
+    assert "restore those files to resume it, or choose another out_dir/run_name" in message
+    assert not (tmp_path / "run" / "config.yaml").exists()  # refused before anything is written
+
+
+# --- 11. errors that name their file ---
+
+
+def test_a_resume_over_a_log_that_is_not_numbers_names_it(tmp_path):
+    from gvgai_pcg.rl.run_session import check_log
+
+    log = tmp_path / "log.csv"
+    log.write_text("frames,episodes,mean_score\n40,8,0.5\n80,abc,0.5\n")
+    with pytest.raises(ValueError, match=rf"^{log}, line 3: episodes='abc' is not a number"):
+        check_log(log, {"frames": 80, "log_rows": 2})
+
+
+@pytest.mark.parametrize(
+    ("text", "problem"),
+    [
+        ("game: {name: zelda\n  bad: [\n", "line 2, column 6: expected ',' or '}', but got ':'"),
+        ("!!python/object:os.system\ngame: {name: zelda}\n", "could not determine a constructor for the tag"),
+        ("just a string\n", "not a config (a YAML mapping)"),
+    ],
+    ids=["malformed", "python-tag", "not-a-mapping"],
+)
+def test_a_run_config_that_is_not_a_config_is_one_line_naming_it(text, problem, tmp_path, capsys):
+    from tests.evaluation.conftest import make_run
+
+    run_dir = make_run(tmp_path / "runs", "lv0", 0)
+    (run_dir / "config.yaml").write_text(text)
+    for argv in (
+        ["evaluate", str(run_dir), "--levels", "zelda_lvl0", "--episodes", "1"],
+        ["report", str(run_dir), "--no-evaluate", "--out", str(tmp_path / "report")],
+        ["replay", str(run_dir), "--level", "zelda_lvl0", "--out", str(tmp_path / "x.gif")],
+    ):
+        err = _one_line_refusal(argv, capsys)
+        assert err.startswith(f"gvgai-pcg {argv[0]}: error: {run_dir.resolve() / 'config.yaml'}: "), err
+        assert problem in err and "restore the run's config" in err
+    assert not (tmp_path / "x.gif").exists()
+
+
+def test_results_that_are_not_records_name_their_file_and_line_and_suggest_force(tmp_path, capsys):
+    from gvgai_pcg.evaluation.evaluator import read_records
+    from tests.evaluation.test_report import PROTOCOL, fake_records
+
+    path = tmp_path / "eval" / "protocol-x.jsonl"
+    path.parent.mkdir()
+    good = fake_records(
+        "random", {s: [0.0, 0.0] for s in ("pcg0.5", "pcg1", "lv0", "lv1", "lv2", "lv3", "lv4")}
+    )
+    path.write_text(json.dumps(good[0].as_dict()) + '\n{"agent": "random", "game": "zel')
+    with pytest.raises(ValueError, match=rf"^{path}, line 2: not an evaluation record \(JSONDecodeError: "):
+        read_records(path)
+    path.write_text('["a list"]\n')
+    with pytest.raises(ValueError, match="evaluate again with --force to rewrite it$"):
+        read_records(path)
+    assert PROTOCOL.test_levels == 2
+
+
+def test_a_report_says_when_the_random_agents_cache_lacks_levels(tmp_path, caplog):
+    from gvgai_pcg.evaluation.evaluator import random_results_path, write_records
+    from gvgai_pcg.report.build import random_records
+    from tests.evaluation.test_report import HUMAN, PROTOCOL, fake_records
+
+    full = fake_records("random", {s: [-1.0] * 2 for s in ("pcg0.5", "pcg1", "lv0", *HUMAN)})
+    path = random_results_path("zelda", PROTOCOL, tmp_path)
+    write_records(path, full[:2])  # the two pcg0.5 levels only
+    with caplog.at_level("WARNING"):
+        records = random_records("zelda", PROTOCOL, tmp_path, False, "cpu", False, False)
+    assert len(records) == 2
+    assert (
+        f"{path} lacks the random agent's records of pcg1 (0 of 2 levels), lv0 (0 of 1 levels)" in caplog.text
+    )
+    assert "the Random row is blank there (run without --no-evaluate to complete it)" in caplog.text
+    caplog.clear()
+    write_records(path, full)
+    with caplog.at_level("WARNING"):
+        assert len(random_records("zelda", PROTOCOL, tmp_path, False, "cpu", False, False)) == len(full)
+    assert caplog.text == ""
+
+
+@pytest.mark.parametrize("device", ["cpu"])
+def test_a_million_envs_are_refused_up_front_naming_the_key_and_the_estimate(
+    device, tmp_path, capsys, monkeypatch
+):
+    from gvgai_pcg import memory_estimate
+
+    monkeypatch.setattr(memory_estimate, "available_bytes", lambda: 8 * 10**9)
+    out = tmp_path / "runs"
+    err = _one_line_refusal(["train", "env.num_envs=1000000", f"out_dir={out}"], capsys)
+    assert err.startswith("gvgai-pcg train: error: env.num_envs=1000000: the run needs at least "), err
+    assert (
+        "GB of memory (" in err
+        and "per env: its observations, the rollout and the model's activations)" in err
+    )
+    assert "more than the 8.0 GB available; lower env.num_envs (about " in err
+    assert not out.exists()
+    fit = int(err.rsplit("(about ", 1)[1].split(" ")[0])
+    config = {
+        "game": {"name": "zelda"},
+        "env": {"num_envs": fit, "obs": "tiles"},
+        "model": {"name": "compact", "hidden": 256},
+        "algo": {"n_steps": 5},
+    }
+    memory_estimate.check_memory(config)  # as many as it says fit: accepted
+    config["env"]["num_envs"] = fit + 1000
+    with pytest.raises(ValueError, match="env.num_envs="):
+        memory_estimate.check_memory(config)
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [["hydra.mode=MULTIRUN", "env.num_envs=-1,1"], ["-m", "hydra.job.chdir=false", "env.num_envs=1,-1"]],
+    ids=["hydra.mode", "hydra.job"],
+)
+def test_hydra_overrides_do_not_skip_the_config_check(argv, tmp_path, capsys):
+    sweep = tmp_path / "sweep"
+    err = _one_line_refusal(["train", *argv, f"hydra.sweep.dir={sweep}", f"out_dir={tmp_path}"], capsys)
+    assert err == "gvgai-pcg train: error: env.num_envs=-1: expected an integer >= 1"
+    assert not sweep.exists()  # no job of the sweep started
+
+
+def test_a_report_over_a_log_that_is_not_numbers_names_it(tmp_path):
+    from gvgai_pcg.evaluation.evaluator import run_results_path, write_records
+    from gvgai_pcg.report import build_report
+    from tests.evaluation.conftest import make_run, write_log
+    from tests.evaluation.test_report import HUMAN, PROTOCOL, fake_records
+
+    run_dir = make_run(tmp_path / "runs", "lv0", 0)
+    model = str((run_dir / "model.pt").resolve())
+    scores = {s: [1.0, 1.0] for s in ("pcg0.5", "pcg1", "lv0", *HUMAN)}
+    write_records(run_results_path(run_dir, PROTOCOL), fake_records(str(run_dir), scores, 1000, model))
+    write_log(run_dir, [(100, 0.5, 0.0), (200, 0.5, 0.0)])
+    log = run_dir / "log.csv"
+    log.write_text(log.read_text().replace(",0.5,", ",abc,", 1))
+    with pytest.raises(ValueError, match=rf"^{log.resolve()}, line 2: mean_score='abc' is not a number"):
+        build_report([tmp_path / "runs"], tmp_path / "out", PROTOCOL, tmp_path / "cache", evaluate=False)
+
+
+def test_a_truncated_published_json_names_its_file(tmp_path, capsys):
+    from tests.evaluation.conftest import make_run
+
+    run_dir = make_run(tmp_path / "runs", "lv0", 0)
+    (run_dir / "published.json").write_text('{"checkpoint": "runs/x/model.pt", "fra')
+    err = _one_line_refusal(["report", str(run_dir), "--no-evaluate", "--out", str(tmp_path / "out")], capsys)
+    assert err.startswith(
+        f"gvgai-pcg report: error: {run_dir.resolve() / 'published.json'}: not a published run's"
+    )
+    assert err.endswith("restore it, or remove that run's folder to publish the run again")
+
+
+@pytest.mark.slow  # two short trainings
+def test_a_run_on_a_level_folder_refuses_to_resume_on_changed_files(tmp_path, capsys):
+    folder = _level_folder(tmp_path / "mine")
+    argv = [
+        "train",
+        *TINY[1:],
+        "regimen=levels",
+        f"regimen.path={folder}",
+        f"out_dir={tmp_path}",
+        "run_name=run",
+    ]
+    assert main([*argv, "total_frames=40"]) == 0
+    saved = torch.load(tmp_path / "run" / "checkpoints" / "last.pt", weights_only=True)
+    from gvgai_pcg.levels.sets import level_set_fingerprint
+
+    assert saved["level_set"] == level_set_fingerprint(folder)
+    capsys.readouterr()
+    (folder / "zelda_mine1.txt").write_text((folder / "zelda_mine0.txt").read_text())
+    err = _one_line_refusal([*argv, "total_frames=80"], capsys)
+    assert (
+        err.startswith("gvgai-pcg train: error: the run directory ") and "changed since it was saved" in err
+    )
+    assert _saved_frames(tmp_path / "run") == 40

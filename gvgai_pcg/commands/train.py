@@ -155,7 +155,16 @@ def check_command_line(argv: list[str]) -> None:
         return
     if args.config_path or args.config_dir:
         return
-    check_jobs(sweep_jobs(args.overrides, args.multirun), args.config_name or CONFIG_NAME)
+    check_jobs(sweep_jobs(args.overrides, args.multirun or _multirun_by_override(args.overrides)),
+               args.config_name or CONFIG_NAME)  # fmt: skip
+
+
+def _multirun_by_override(overrides: list[str]) -> bool:
+    """Whether ``hydra.mode=MULTIRUN`` makes a sweep of the command line without ``-m``."""
+    return any(
+        key.lstrip("+") == "hydra.mode" and value.strip().upper() == "MULTIRUN"
+        for key, _, value in (override.partition("=") for override in overrides)
+    )
 
 
 class _StoppedWhileStarting(BaseException):

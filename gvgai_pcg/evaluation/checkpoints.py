@@ -144,11 +144,25 @@ def load_state(path: Path) -> dict:
 
 
 def read_run_config(run_dir: Path) -> dict | None:
-    """The run's resolved ``config.yaml`` (``None`` when it has none)."""
+    """The run's resolved ``config.yaml`` (``None`` when it has none); a file that is not a plain
+    YAML mapping (malformed, or with a Python tag) is a ``ValueError`` naming it, in one line."""
     import yaml
 
     path = run_dir / "config.yaml"
-    return yaml.safe_load(path.read_text()) if path.is_file() else None
+    if not path.is_file():
+        return None
+    try:
+        config = yaml.safe_load(path.read_text())
+    except yaml.YAMLError as error:
+        mark = getattr(error, "problem_mark", None)
+        where = f"line {mark.line + 1}, column {mark.column + 1}: " if mark is not None else ""
+        problem = getattr(error, "problem", None) or str(error).splitlines()[0]
+        raise ValueError(
+            f"{path}: not a readable config ({where}{problem}); restore the run's config"
+        ) from None
+    if not isinstance(config, dict):
+        raise ValueError(f"{path}: not a config (a YAML mapping); restore the run's config")
+    return config
 
 
 def check_model_of_run(state: dict, path: Path, run_dir: Path, config: dict) -> None:
@@ -196,7 +210,16 @@ def published_run_info(run_dir: Path) -> RunInfo:
 
     from omegaconf import OmegaConf
 
-    model = json.loads((run_dir / PUBLISHED).read_text())
+    path = run_dir / PUBLISHED
+    try:
+        model = json.loads(path.read_text())
+        int(model["frames"]), str(model["checkpoint"])
+    except (ValueError, KeyError, TypeError) as error:
+        raise ValueError(
+            f"{path}: not a published run's record ({type(error).__name__}: {error}); restore it, or "
+            "remove that run's folder to publish the run again"
+        ) from None
+    read_run_config(run_dir)  # a file that is not a config: one line naming it
     config = OmegaConf.to_container(OmegaConf.load(run_dir / "config.yaml"), resolve=True)
     copy = run_dir / model["copied"] if model.get("copied") else None
     copy = copy if copy is not None and copy.is_file() else None

@@ -113,7 +113,20 @@ def writer_lock(folder: Path, what: str, lock_name: str | None = None):
 
 
 def read_records(path: Path) -> list[LevelRecord]:
-    return [LevelRecord.from_dict(json.loads(line)) for line in path.read_text().splitlines() if line.strip()]
+    """The records of a results file; a line that is not a record is a ``ValueError`` naming the
+    file and line (``--force`` evaluates again and rewrites it)."""
+    records = []
+    for number, line in enumerate(path.read_text().splitlines(), start=1):
+        if not line.strip():
+            continue
+        try:
+            records.append(LevelRecord.from_dict(json.loads(line)))
+        except (ValueError, KeyError, TypeError, AttributeError) as error:
+            raise ValueError(
+                f"{path}, line {number}: not an evaluation record ({type(error).__name__}: {error}); "
+                "evaluate again with --force to rewrite it"
+            ) from None
+    return records
 
 
 def run_results_path(run_dir: Path, protocol: Protocol) -> Path:

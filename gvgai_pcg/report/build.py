@@ -73,10 +73,41 @@ def random_records(
     progress: bool,
     force: bool,
 ):
-    if evaluate:
-        return evaluate_random(game, protocol, cache_dir, device, progress, force)
+    """The random agent's records of ``game``; a cache that lacks some of the protocol's levels is
+    evaluated again (with ``--no-evaluate``: said, and its Random row keeps the gaps)."""
     path = random_results_path(game, protocol, cache_dir)
-    return read_records(path) if path.is_file() else None
+    if evaluate:
+        records = evaluate_random(game, protocol, cache_dir, device, progress, force)
+    elif not path.is_file():
+        return None
+    else:
+        records = read_records(path)
+    missing = missing_sets(records, protocol_test_sets(game, protocol))
+    if missing and evaluate:
+        log.warning(
+            "%s lacks the random agent's records of %s; evaluating it again", path, ", ".join(missing)
+        )
+        records = evaluate_random(game, protocol, cache_dir, device, progress, force=True)
+    elif missing:
+        log.warning(
+            "%s lacks the random agent's records of %s: the Random row is blank there (run without "
+            "--no-evaluate to complete it)",
+            path,
+            ", ".join(missing),
+        )
+    return records
+
+
+def missing_sets(records: Sequence, sets: Sequence) -> list[str]:
+    """The test sets of ``sets`` of which ``records`` lack a level, with how many they hold."""
+    held: dict[str, int] = {}
+    for record in records:
+        held[record.test_set] = held.get(record.test_set, 0) + 1
+    return [
+        f"{s.name} ({held.get(s.name, 0)} of {len(s.levels)} levels)"
+        for s in sets
+        if held.get(s.name, 0) < len(s.levels)
+    ]
 
 
 def build_report(

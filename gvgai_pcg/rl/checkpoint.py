@@ -13,9 +13,10 @@ Writing keeps the previous checkpoint as ``prev.pt`` and replaces ``last.pt`` at
 kill at any moment leaves a whole ``last.pt`` (or, in the moment between the two renames, a whole
 ``prev.pt``). Reading refuses, with an error that says what is wrong: a file that cannot be read
 or is not ours, a file of a newer format, non-finite weights (a diverged run), a checkpoint whose
-config differs in anything that shapes the training, and a model of another game, observation
-kind or architecture than the run or command it is used for. Files of format 1 (before the
-identity fields; their RNG state held NumPy arrays, which the loader allows) still load.
+config differs in anything that shapes the training or whose level files changed since, and a
+model of another game, observation kind or architecture than the run or command it is used for.
+Files of format 1 (before the identity fields; their RNG state held NumPy arrays, which the
+loader allows) still load.
 """
 
 from __future__ import annotations
@@ -265,8 +266,9 @@ def config_differences(saved: dict[str, Any], current: dict[str, Any], prefix: s
     return diffs
 
 
-def load_checkpoint(path: Path, config: dict[str, Any]) -> dict[str, Any]:
-    """Read the checkpoint at ``path`` and check that it belongs to a run with ``config``."""
+def load_checkpoint(path: Path, config: dict[str, Any], level_set: str | None = None) -> dict[str, Any]:
+    """Read the checkpoint at ``path`` and check that it belongs to a run with ``config`` and, when
+    both say one, the level set whose fingerprint is ``level_set`` (the files of ``regimen.path``)."""
     state = read_file(path)
     if "optimizer" not in state or "frames" not in state:
         raise UnusableCheckpointError(f"{path} is a final model, not a training checkpoint (no optimizer)")
@@ -277,6 +279,15 @@ def load_checkpoint(path: Path, config: dict[str, Any]) -> dict[str, Any]:
             f"the run directory {path.parent.parent} holds a checkpoint of a run with a different "
             f"config ({'; '.join(diffs)}); start with the same settings to resume it, or choose "
             "another out_dir/run_name"
+        )
+    saved_set = state.get("level_set")
+    if level_set is not None and saved_set is not None and saved_set != level_set:
+        where = config.get("regimen", {}).get("path")
+        raise CheckpointError(
+            f"the run directory {path.parent.parent} holds a checkpoint of a run on other level files: "
+            f"regimen.path={where!r} changed since it was saved (sha256 {saved_set[:12]} then, "
+            f"{level_set[:12]} now); restore those files to resume it, or choose another "
+            "out_dir/run_name to train on the new ones"
         )
     return state
 

@@ -8,7 +8,8 @@ nothing of an earlier session lost.
    found now, not at the first checkpoint after the training it would discard), and that the
    packages of the log backends are installed;
 3. find the checkpoint to resume from: ``last.pt``, else ``prev.pt`` with a warning when
-   ``last.pt`` cannot be used; a checkpoint of another config is refused; then remove the
+   ``last.pt`` cannot be used; a checkpoint of another config, or of the same ``regimen.path``
+   whose level files have changed since (``level_set``, their fingerprint), is refused; then remove the
    temporary files of writers killed mid-write (``.last.pt.<pid>.tmp``);
 4. on a resume, check that the log still holds the rows written before the checkpoint; on a fresh
    start over the outputs of an earlier session (no checkpoint to resume), move them aside to
@@ -77,16 +78,18 @@ class TrainingStopped(Exception):
         self, cause: BaseException, saved: bool, frames: int, checkpoint: Path, full_disk: bool = False
     ) -> None:
         self.cause, self.saved, self.frames, self.checkpoint = cause, saved, frames, checkpoint
-        what = f"{type(cause).__name__}: {cause}" if str(cause) else type(cause).__name__
-        if full_disk:
-            what += f" (the disk under {checkpoint.parent.parent} is full)"
+        what = f"by {type(cause).__name__}: {cause}" if str(cause) else f"by {type(cause).__name__}"
+        if full_disk:  # what the writer said (torch.save: "unexpected pos ...") is in the traceback
+            what = f"(no space left on device: {checkpoint.parent.parent})"
         if saved:
             kept = f"the last complete update ({frames} frames) is saved in {checkpoint}"
         elif checkpoint.exists():
             kept = f"the last complete update could not be saved; {checkpoint} ({frames} frames) is intact"
         else:
             kept = "no checkpoint was saved"
-        super().__init__(f"training stopped by {what}; {kept}")
+        if full_disk and checkpoint.exists():
+            kept += "; free some space first"
+        super().__init__(f"training stopped {what}; {kept}")
 
 
 def disk_is_full(error: BaseException, folder: Path) -> bool:
@@ -157,8 +160,11 @@ class RunSession:
         try:
             self.save_last_state()
         except BaseException as failure:  # noqa: BLE001 (the first error is the one to report)
-            log.error("the last complete update could not be saved: %s: %s", type(failure).__name__, failure)
             full = full or disk_is_full(failure, self.run_dir)
+            if not full:  # (a full disk is the reason the stop line gives)
+                log.error(
+                    "the last complete update could not be saved: %s: %s", type(failure).__name__, failure
+                )
             return TrainingStopped(error, False, self.guard.checkpoint_frames, self.checkpoint_path, full)
         return TrainingStopped(error, True, self.frames_saved or 0, self.checkpoint_path, full)
 
@@ -172,10 +178,15 @@ def _shut_down(collector) -> None:
 
 @contextlib.contextmanager
 def open_run(
-    run_dir: Path, config: dict[str, Any], files: dict[str, str], stop: StopSignal | None = None
+    run_dir: Path,
+    config: dict[str, Any],
+    files: dict[str, str],
+    stop: StopSignal | None = None,
+    level_set: str | None = None,
 ) -> Iterator[RunSession]:
     """Lock and check ``run_dir``, find the checkpoint, then write ``files`` (name -> text).
-    ``stop`` (default: a new one) is armed for the session."""
+    ``stop`` (default: a new one) is armed for the session; ``level_set`` is the fingerprint of
+    the run's own level files, which a checkpoint to resume from must share."""
     lock = FolderLock(
         run_dir,
         "two trainings in one run directory would corrupt each other's checkpoints and log",
@@ -186,7 +197,7 @@ def open_run(
             check_writable(run_dir)
             check_installed(config.get("log", {}).get("backends", []))  # not at the first row
             checkpoint_path = run_dir / CHECKPOINT_DIR / CHECKPOINT_NAME
-            saved = find_checkpoint(checkpoint_path, config)
+            saved = find_checkpoint(checkpoint_path, config, level_set)
             remove_stale_temporaries_of(run_dir)
             if saved is not None:
                 check_log(run_dir / LOG_NAME, saved)
@@ -244,18 +255,20 @@ def _not_writable(path: Path, error: OSError) -> OSError:
     )
 
 
-def find_checkpoint(path: Path, config: dict[str, Any]) -> dict[str, Any] | None:
+def find_checkpoint(
+    path: Path, config: dict[str, Any], level_set: str | None = None
+) -> dict[str, Any] | None:
     """The checkpoint to resume from: ``last.pt``, or ``prev.pt`` (with a warning) when ``last.pt``
     is missing or cannot be used; ``None`` when there is neither (a fresh start)."""
     previous = path.with_name(PREVIOUS_NAME)
     if not path.exists() and not previous.exists():
         return None
     try:
-        return load_checkpoint(path, config)
+        return load_checkpoint(path, config, level_set)
     except (UnusableCheckpointError, FileNotFoundError) as error:
         last_error = error
     try:
-        saved = load_checkpoint(previous, config)
+        saved = load_checkpoint(previous, config, level_set)
     except FileNotFoundError:
         problem = f"and there is no {PREVIOUS_NAME} to fall back to"
     except UnusableCheckpointError as error:

@@ -38,6 +38,7 @@ from torchrl.collectors import MultiSyncCollector
 from torchrl.modules import ProbabilisticActor
 
 from gvgai_pcg.curricula.signals import feedback_for
+from gvgai_pcg.levels.sets import level_set_fingerprint
 from gvgai_pcg.progress import progress
 from gvgai_pcg.rl.checkpoint import restore, save_model
 from gvgai_pcg.rl.curves import plot_curve
@@ -93,14 +94,24 @@ def train(
         torch.set_num_threads(int(cfg.threads))
     config = OmegaConf.to_container(cfg, resolve=True)
     files = {"config.yaml": OmegaConf.to_yaml(cfg, resolve=True), **(files or {})}
-    with open_run(run_dir, config, files, stop) as session:
+    level_set = own_level_set(config)
+    with open_run(run_dir, config, files, stop, level_set) as session:
         start = int(session.saved["frames"]) if session.saved else 0
         if start < int(cfg.total_frames):  # a finished run started again trains nothing: no row
             record_session(run_dir, start)
-        return _train(cfg, run_dir, config, session)
+        return _train(cfg, run_dir, config, session, level_set)
 
 
-def _train(cfg: DictConfig, run_dir: Path, config: dict, session: RunSession) -> TrainResult:
+def own_level_set(config: dict) -> str | None:
+    """The fingerprint of the run's own level files (``regimen.path``), saved in its checkpoints:
+    ``None`` for a regimen without one."""
+    path = (config.get("regimen") or {}).get("path")
+    return level_set_fingerprint(path) if path else None
+
+
+def _train(
+    cfg: DictConfig, run_dir: Path, config: dict, session: RunSession, level_set: str | None = None
+) -> TrainResult:
     checkpoint_path, saved = session.checkpoint_path, session.saved
     frames = saved["frames"] if saved else 0
     seed_everything(cfg.seed)
@@ -203,6 +214,7 @@ def _train(cfg: DictConfig, run_dir: Path, config: dict, session: RunSession) ->
             "difficulty": difficulty.state_dict() if difficulty is not None else None,
             "config": config,
             "log_rows": run_log.rows,
+            "level_set": level_set,
         }
         update_log.sync()
         session.save_checkpoint(state, net, run_log)  # the log on disk first; never a non-finite model

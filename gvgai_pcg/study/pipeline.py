@@ -167,8 +167,9 @@ def run_sweep(
                             return
                         child = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT)
                         children.append(child)
+                    start_of_run = log.tell()
                     if child.wait() != 0:
-                        failed.append(str(log_path))
+                        failed.append(f"{log_path}: {last_line(log_path, start_of_run)}")
                         return
         except Exception as error:  # noqa: BLE001 (reported with the failed multiruns)
             failed.append(f"{log_path} ({error})")
@@ -189,9 +190,35 @@ def run_sweep(
             for child in live:
                 child.wait()
             raise
-    if failed:
-        raise RuntimeError(f"the sweep failed; see {', '.join(sorted(failed))}")
+    if failed:  # the cause in one line (a train refusal is its last line), the rest in the log
+        raise ValueError(f"the sweep failed; {'; '.join(sorted(failed))}")
     return time.perf_counter() - start
+
+
+def last_line(path: Path, offset: int = 0) -> str:
+    """The last non-empty line written to ``path`` after ``offset``: a failed train's own reason."""
+    try:
+        with open(path, errors="replace") as log:
+            log.seek(offset)
+            lines = [line.strip() for line in log.read().splitlines() if line.strip()]
+    except OSError:
+        return "(its log cannot be read)"
+    return lines[-1] if lines else "(nothing written)"
+
+
+def check_planned(budget: Budget, conditions: Sequence[str], overrides: Sequence[str] = ()) -> None:
+    """``ConfigError`` for the first planned run whose config cannot train (``algo.lr=-1``), before
+    the sweep starts: one seed of each condition (the seeds differ in nothing else)."""
+    from gvgai_pcg.config import check_jobs, sweep_jobs
+
+    ours = [o for o in overrides if not o.lstrip("+~").startswith("hydra")]
+    jobs = [
+        job
+        for condition in conditions
+        for seed in budget.seeds_of(condition)[:1]
+        for job in sweep_jobs(sweep_arguments(budget, [condition], Path("."), None, ours, (seed,))[1:], True)
+    ]
+    check_jobs(jobs)
 
 
 @contextlib.contextmanager
@@ -279,6 +306,28 @@ def _finished(run: Path, frames: int) -> bool:
     return is_run_dir(run) and (info := usable_run(run)) is not None and info.frames >= frames
 
 
+def refuse_other_configs(runs: Sequence[Path], published: Path) -> None:
+    """``ValueError`` before anything is published when ``published`` holds a run of one of
+    ``runs``' names but another training config: kept (it may have trained longer) beside a new
+    report, it would leave a folder whose runs no longer rebuild its table."""
+    from gvgai_pcg.evaluation.checkpoints import PUBLISHED, published_run_info, run_info
+    from gvgai_pcg.rl.checkpoint import config_differences
+
+    for run in runs:
+        target = published / run.name
+        if not (target / PUBLISHED).is_file():
+            continue
+        differences = [
+            difference.replace(" in the checkpoint, ", " published, ", 1).removesuffix(" now") + " here"
+            for difference in config_differences(published_run_info(target).config, run_info(run).config)
+        ]
+        if differences:
+            raise ValueError(
+                f"{target} is a published run of another config ({'; '.join(differences)}); publish "
+                "into another folder, or move that run away first"
+            )
+
+
 def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = None) -> Path:
     """Copy what rebuilds the report into ``dest``: each run's config, log, evaluation results and
     a ``published.json`` naming its model (the model itself only below 1 MB), the random agent's
@@ -291,10 +340,12 @@ def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = 
     from gvgai_pcg.evaluation.checkpoints import PUBLISHED, find_runs, published_run_info, run_info
     from gvgai_pcg.evaluation.evaluator import read_records, run_results_path
 
-    dest.mkdir(parents=True, exist_ok=True)
     if runs is None:
         runs = [out / "runs"] if (out / "runs").is_dir() else []
-    for run in find_runs(list(runs)) if runs else []:
+    found = find_runs(list(runs)) if runs else []
+    refuse_other_configs(found, dest / "runs")
+    dest.mkdir(parents=True, exist_ok=True)
+    for run in found:
         records_path = run_results_path(run, protocol) if protocol is not None else None
         if records_path is not None and not records_path.is_file():
             continue  # not evaluated yet: nothing of it is in the report
@@ -375,6 +426,8 @@ def reproduce(
     from gvgai_pcg.report import build_report
 
     out = Path(out).resolve()
+    if train:
+        check_planned(budget, conditions, overrides)
     protocol = Protocol(**budget.protocol)
     skip: set[tuple[str, int]] = set()
     elsewhere: list[Path] = []

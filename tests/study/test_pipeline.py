@@ -113,9 +113,21 @@ def test_a_fresh_machine_trains_only_what_the_published_folder_lacks(tmp_path):
     assert run_info(published / "runs" / "zelda-lv0-tiles-compact-seed0").frames == one_seed.frames
 
 
-def test_a_failed_multirun_fails_the_sweep_and_names_its_log(tmp_path):
-    with pytest.raises(RuntimeError, match="sweep-0.log"):
+def test_a_failed_multirun_fails_the_sweep_in_one_line_naming_its_log_and_cause(tmp_path):
+    with pytest.raises(ValueError) as failed:
         run_sweep(BUDGETS["smoke"], ["zelda-lv0"], tmp_path, overrides=["algo.no_such_key=1"])
+    assert str(failed.value).startswith(
+        f"the sweep failed; {tmp_path / 'logs' / 'sweep-0.log'}: gvgai-pcg train: error: algo.no_such_key=1: "
+        "unknown key"
+    ) and "\n" not in str(failed.value)
+
+
+def test_reproduce_refuses_a_bad_override_before_the_sweep_starts(tmp_path):
+    from gvgai_pcg.config_rules import ConfigError
+
+    with pytest.raises(ConfigError, match=r"^algo\.lr=-1"):
+        reproduce(BUDGETS["smoke"], ["zelda-lv0", "zelda-pcg1"], tmp_path / "out", overrides=["algo.lr=-1"])
+    assert not (tmp_path / "out").exists()
 
 
 def test_sigterm_to_the_sweep_stops_its_training_runs_at_a_checkpoint(tmp_path):
@@ -260,3 +272,28 @@ def test_each_results_page_keeps_its_own_figures():
     assert page_images(Path("docs/results.md")) == (Path("docs/images/results"), "images/results")
     medium, prefix = page_images(Path("docs/results-medium.md"))
     assert medium == Path("docs/images/results-medium") and prefix == "images/results-medium"
+
+
+def test_publish_refuses_a_folder_holding_a_run_of_another_config(tmp_path):
+    import json
+
+    import yaml
+
+    from gvgai_pcg.study.pipeline import publish
+    from tests.evaluation.conftest import make_run
+
+    out, dest = tmp_path / "out", tmp_path / "published"
+    make_run(out / "runs", "lv0", 0)
+    other = make_run(dest / "runs", "lv0", 0)
+    config = yaml.safe_load((other / "config.yaml").read_text())
+    config["env"]["num_envs"] = 8
+    (other / "config.yaml").write_text(yaml.safe_dump(config))
+    (other / "published.json").write_text(json.dumps({"checkpoint": "elsewhere/model.pt", "frames": 5000}))
+    before = sorted(p.relative_to(dest) for p in dest.rglob("*"))
+    with pytest.raises(ValueError) as refused:
+        publish(out, dest)
+    assert str(refused.value) == (
+        f"{other} is a published run of another config (env.num_envs: 8 published, 4 here); publish "
+        "into another folder, or move that run away first"
+    )
+    assert sorted(p.relative_to(dest) for p in dest.rglob("*")) == before  # nothing published
