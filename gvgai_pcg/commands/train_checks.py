@@ -59,9 +59,9 @@ def check_group_option(group: str, value: str, folder: Path) -> None:
 def _plugins(group: str) -> list[str]:
     """The registered plug-ins of a config group (``regimen``: curricula, ``algo``: learners)."""
     if group == "regimen":
-        from gvgai_pcg.curricula.registry import registered_curricula
+        from gvgai_pcg.curricula.registry import curriculum_names
 
-        return list(registered_curricula())
+        return curriculum_names()  # names only: the modules behind them import torch
     if group == "algo":
         from gvgai_pcg.rl.learners.registry import registered_learners
 

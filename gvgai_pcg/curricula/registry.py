@@ -28,19 +28,30 @@ _read_entry_points = False
 
 
 def _builtins() -> None:
-    """Register the study's curricula, then the ``CURRICULUM`` of every other module here (once)."""
+    """Register the study's curricula (once; light: nothing of torch)."""
     if _CURRICULA:
         return
     from gvgai_pcg.curricula.builtin import BUILTIN_CURRICULA
 
     for curriculum in BUILTIN_CURRICULA:
         _CURRICULA[curriculum.name] = curriculum
+
+
+def _package_modules() -> list[str]:
+    """The modules of this package that define a curriculum, each of its own name."""
     package = import_module(__package__)
-    for module in pkgutil.iter_modules(package.__path__):
-        if module.name not in _INFRASTRUCTURE:
-            curriculum = getattr(import_module(f"{__package__}.{module.name}"), "CURRICULUM", None)
-            if isinstance(curriculum, Curriculum):
-                _CURRICULA.setdefault(curriculum.name, curriculum)
+    return [m.name for m in pkgutil.iter_modules(package.__path__) if m.name not in _INFRASTRUCTURE]
+
+
+def _ours(names: list[str] | None = None) -> None:
+    """Register the ``CURRICULUM`` of the package's modules ``names`` (default: all). Imported only
+    when asked for, since they import torch, so that reading configs and refusing a usage error
+    stay fast."""
+    _builtins()
+    for name in _package_modules() if names is None else names:
+        curriculum = getattr(import_module(f"{__package__}.{name}"), "CURRICULUM", None)
+        if isinstance(curriculum, Curriculum):
+            _CURRICULA.setdefault(curriculum.name, curriculum)
 
 
 def register_curriculum(curriculum: Curriculum) -> Curriculum:
@@ -73,25 +84,45 @@ def _discover(again: bool = False) -> None:
 
 def registered_curricula() -> dict[str, Curriculum]:
     """Every curriculum by name: ours first, in the study's order, then plug-ins'."""
+    _ours()
     _discover()
     return dict(_CURRICULA)
+
+
+def curriculum_names() -> list[str]:
+    """Every curriculum's name without importing the modules that define them, so that a usage
+    error can list the choices before torch is imported: ours (a module of this package defines
+    the curriculum of its own name: ``plr.py`` holds ``plr``), those registered in-process, and
+    the entry points' names."""
+    from importlib.metadata import entry_points
+
+    from gvgai_pcg.curricula.builtin import BUILTIN_CURRICULA
+
+    names = [curriculum.name for curriculum in BUILTIN_CURRICULA] + _package_modules()
+    names += list(_CURRICULA) + [point.name for point in entry_points(group=ENTRY_POINT_GROUP)]
+    return list(dict.fromkeys(names))
 
 
 def get_curriculum(name: str) -> Curriculum:
     """The curriculum ``name``; an unknown name is refused with the registered ones."""
     _builtins()
+    if name not in _CURRICULA and name in _package_modules():
+        _ours([name])
     if name not in _CURRICULA:
         _discover(again=True)
     try:
         return _CURRICULA[name]
     except KeyError:
-        raise ValueError(f"unknown regimen {name!r}; valid regimens are: {', '.join(_CURRICULA)}") from None
+        raise ValueError(
+            f"unknown regimen {name!r}; valid regimens are: {', '.join(curriculum_names())}"
+        ) from None
 
 
 def store_configs(config_dir: Path | None = None) -> None:
     """Put the yaml of every plug-in curriculum into Hydra's config store as the option ``name``
     of the ``regimen`` group, unless ``config_dir/regimen/<name>.yaml`` exists (ours)."""
-    plugins = [c for c in registered_curricula().values() if c.config is not None]
+    _discover()  # plug-ins only: ours have their yaml in conf/regimen, and importing them costs torch
+    plugins = [c for c in _CURRICULA.values() if c.config is not None]
     if not plugins:
         return
     from hydra.core.config_store import ConfigStore

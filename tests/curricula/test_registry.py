@@ -42,3 +42,10 @@ def test_a_run_is_labelled_by_its_curriculum(overrides):
 def test_a_run_of_a_curriculum_not_installed_here_is_labelled_by_its_name():
     run = RunInfo(Path("run"), {"game": {"name": "zelda"}, "regimen": {"name": "nosuch"}}, Path("m.pt"), 0)
     assert (run.label, run.has_training_set, run.training_sets) == ("nosuch", False, ())
+
+
+def test_the_names_listed_without_imports_are_the_registered_curricula():
+    from gvgai_pcg.curricula.registry import curriculum_names
+
+    # each module of the package defines the curriculum of its own name (plr.py: plr)
+    assert set(curriculum_names()) == set(registered_curricula())
