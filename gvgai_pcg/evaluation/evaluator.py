@@ -73,7 +73,10 @@ def evaluate_policy(
     record per level."""
     sets = [*protocol_test_sets(game, protocol), *extra_sets]
     batch = [level for s in sets for level in s.levels for _ in range(s.episodes)]
-    results = play_episodes(game, batch, policy, protocol.max_steps, protocol.seed, obs, device, progress)
+    label = f"{game} {Path(agent).name}"  # the run (or "random") the progress line belongs to
+    results = play_episodes(
+        game, batch, policy, protocol.max_steps, protocol.seed, obs, device, progress, label
+    )
     records, start = [], 0
     for s in sets:
         for level in s.levels:

@@ -117,9 +117,11 @@ def play_episodes(
     obs: str = "tiles",
     device: torch.device | str = "cpu",
     progress: bool = True,
+    label: str | None = None,
 ) -> EpisodeResults:
     """One episode per entry of ``levels`` (repeat a level to play it several times); a level
-    that cannot be won is played all the same, with a warning (``gvgai_pcg.levels.winnable``)."""
+    that cannot be won is played all the same, with a warning (``gvgai_pcg.levels.winnable``).
+    ``label`` names the agent in the progress line (``zelda-ppcg-seed0: 210 episodes``)."""
     warn_unwinnable(levels, "evaluation")
     env = GVGAIEnv(
         game,
@@ -132,10 +134,12 @@ def play_episodes(
         compile_tick=compile_pays_back(max_steps, device),
     )
     with torch_threads(EVALUATION_THREADS):
-        return _play(env, policy, max_steps, progress)
+        return _play(env, policy, max_steps, progress, label)
 
 
-def _play(env: GVGAIEnv, policy: Policy, max_steps: int, progress: bool) -> EpisodeResults:
+def _play(
+    env: GVGAIEnv, policy: Policy, max_steps: int, progress: bool, label: str | None = None
+) -> EpisodeResults:
     """Step every env of ``env`` until each has finished its first episode (or ``max_steps``)."""
     game = env.game.name
     env_seeds = env.env_seeds
@@ -145,7 +149,7 @@ def _play(env: GVGAIEnv, policy: Policy, max_steps: int, progress: bool) -> Epis
     wins = torch.zeros(n, dtype=torch.bool, device=env.device)
     finished = torch.zeros(n, dtype=torch.bool, device=env.device)
     td = env.reset()
-    bar = progress_display(max_steps, f"{game}: {n} episodes", "step", enabled=progress, leave=False)
+    bar = progress_display(max_steps, f"{label or game}: {n} episodes", "step", enabled=progress, leave=False)
     nil = torch.zeros(n, dtype=torch.int64, device=env.device)
     for step in range(1, max_steps + 1):
         draws = uniform(env_seeds, torch.full_like(env_seeds, step), 0, STREAM_ACTIONS)

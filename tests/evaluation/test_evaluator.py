@@ -102,3 +102,18 @@ def test_cli_evaluates_a_run_and_keeps_the_random_json_contract(tiny_run, tmp_pa
         "lengths",
     } <= set(entry)
     assert entry["episodes"] == 2 and len(entry["scores"]) == 2
+
+
+def test_the_evaluations_progress_line_names_its_run(tiny_run, monkeypatch):
+    """Issue 37, finding 6: a report's progress lines said 'zelda: 300 episodes' for every run."""
+    import gvgai_pcg.evaluation.runner as runner
+
+    descriptions = []
+    real = runner.progress_display
+    monkeypatch.setattr(
+        runner,
+        "progress_display",
+        lambda total, desc, *a, **k: descriptions.append(desc) or real(total, desc, *a, **k),
+    )
+    evaluate_run(run_info(tiny_run), Protocol(test_levels=1, test_episodes=1, human_episodes=1, max_steps=3))
+    assert descriptions == [f"zelda {tiny_run.name}: 7 episodes"]
