@@ -174,9 +174,10 @@ def _difference_text(verdict: Verdict) -> str:
     d = verdict.difference
     if d is None:
         return "no data on one side"
-    interval = f"[{d.low:+.2f}, {d.high:+.2f}]" if d.has_interval else "(no interval: one seed)"
-    level = f"{LEVEL * 100:.0f} %"
-    return f"difference {d.value:+.2f}, {level} Welch t interval {interval}, Holm p {verdict.adjusted_p:.3g}"
+    if not d.has_interval:
+        return f"difference {d.value:+.2f}, one seed: no interval, Holm p {verdict.adjusted_p:.3g}"
+    interval = f"{LEVEL * 100:.0f} % Welch t interval [{d.low:+.2f}, {d.high:+.2f}]"
+    return f"difference {d.value:+.2f}, {interval}, Holm p {verdict.adjusted_p:.3g}"
 
 
 def answer_sentences(verdicts: Sequence[Verdict], labels: dict[str, str] | None = None) -> list[str]:

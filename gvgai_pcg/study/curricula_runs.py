@@ -41,14 +41,15 @@ def evaluate_ued(run: Path, settings: dict, progress: bool = True) -> dict | Non
 
 def replay_levels_of(run: Path, k: int = REPLAY_LEVELS) -> list:
     """Up to ``k`` levels the run's curriculum would replay next, from its last checkpoint's state
-    (``Curriculum.replay_levels``); none where it replays none or there is no checkpoint."""
-    from gvgai_pcg.curricula import get_curriculum
+    (``Curriculum.replay_levels``); none where it replays none, is not registered here, or there is
+    no checkpoint."""
+    from gvgai_pcg.curricula import registered_curricula
     from gvgai_pcg.evaluation.checkpoints import LAST_CHECKPOINT, load_state, read_run_config
 
     config, checkpoint = read_run_config(run) or {}, run / LAST_CHECKPOINT
-    if "regimen" not in config or not checkpoint.is_file():
-        return []
-    curriculum = get_curriculum(config["regimen"]["name"])
+    curriculum = registered_curricula().get(config.get("regimen", {}).get("name"))
+    if curriculum is None or not checkpoint.is_file():
+        return []  # not this checkout's curriculum, or nothing trained
     state = curriculum.make_state(config["game"]["name"], config["regimen"])
     saved = load_state(checkpoint).get("difficulty")
     if state is not None and saved is not None:
@@ -125,9 +126,8 @@ def write_curves(runs: Sequence[tuple[str, str, Path]], folder: Path) -> list[Pa
                     continue
                 name = None if label in shown else label
                 shown.add(label)
-                ax.plot(
-                    [r["frames"] for r in rows], [r[column] for r in rows], color=colours[label], label=name
-                )
+                frames, values = [r["frames"] for r in rows], [r[column] for r in rows]
+                ax.plot(frames, values, color=colours[label], label=name, marker=".", markersize=3)
             ax.set_xlabel("training frames")
             ax.set_ylabel(column)
             ax.legend(fontsize="small")

@@ -33,7 +33,7 @@ from gvgai_pcg.study.conditions import (
     conditions_of,
     unregistered,
 )
-from gvgai_pcg.study.curricula_runs import write_levels_picture
+from gvgai_pcg.study.curricula_runs import REPLAY_PICTURE, write_levels_picture, write_replay_picture
 
 SUMMARY = {
     "levels": 8,
@@ -164,12 +164,43 @@ def test_a_ued_summary_is_read_from_the_runs_records_of_the_budgets_protocol(tmp
     assert read_ued_summary(tmp_path, {"levels": 8, "seeds": 2})["mean_score"] == 1.5
 
 
-def test_a_curriculum_replays_no_level_by_default_and_replayed_levels_are_pictured(tmp_path):
+def test_a_curriculum_replays_no_level_by_default_and_no_level_makes_no_picture(tmp_path):
     assert Curriculum().replay_levels(None, 4) == [] and get_curriculum("ppcg").replay_levels(None, 4) == []
-    levels = [generate_level("zelda", d, 1) for d in (0.2, 0.8)]
-    path = write_levels_picture(levels, tmp_path / "replay.png", "replayed")
-    assert path.read_bytes().startswith(b"\x89PNG")
     assert write_levels_picture([], tmp_path / "none.png") is None and not (tmp_path / "none.png").exists()
+
+
+class ReplaysFromItsState(Curriculum):
+    """A toy curriculum that replays the levels its state names (as (d, seed) pairs)."""
+
+    name, summary = "toy-replay", "replays the levels of its state"
+
+    def make_state(self, game, section):
+        import torch
+
+        return torch.nn.Module()
+
+    def replay_levels(self, state, k):
+        return [generate_level("zelda", d, seed) for d, seed in ((0.1, 3), (0.9, 4), (0.5, 5))][:k]
+
+
+@pytest.mark.slow  # importing the renderer: half a minute on the loaded 2-core machine
+def test_a_run_pictures_the_levels_its_curriculum_replays_from_its_last_checkpoint(tmp_path):
+    import torch
+    import yaml
+
+    (tmp_path / "checkpoints").mkdir()
+    config = {"game": {"name": "zelda"}, "regimen": {"name": "toy-replay"}}
+    (tmp_path / "config.yaml").write_text(yaml.safe_dump(config))
+    torch.save({"model": {}, "config": config, "difficulty": {}}, tmp_path / "checkpoints" / "last.pt")
+    assert write_replay_picture(tmp_path) is None  # its curriculum is not registered here
+    register_curriculum(ReplaysFromItsState())
+    try:
+        path = write_replay_picture(tmp_path, k=2)
+    finally:
+        unregister_curriculum("toy-replay")
+    assert path == tmp_path / REPLAY_PICTURE and path.read_bytes().startswith(b"\x89PNG")
+    levels = [generate_level("zelda", d, 1) for d in (0.2, 0.8)]
+    assert write_levels_picture(levels, tmp_path / "two.png", "two").stat().st_size > 1000
 
 
 @pytest.mark.slow
@@ -198,6 +229,7 @@ def test_the_smoke_comparison_trains_evaluates_publishes_and_writes_the_page(tmp
     assert text.startswith("# Curricula\n\nbefore\n") and text.endswith("after\n") and "\nold\n" not in text
     assert "commit `abc1234`" in text and "| zelda-dr-tiles-compact-seed0 | 800 | yes |" in text
     assert "| 0.25 (1 seed) | 1.50 (1 seed) | -1.00 (1 seed) | 0.50 (1 seed) |" in text
+    assert "DR beats PPCG: **inconclusive** (difference +0.00, one seed: no interval, Holm p 1)" in text
     assert "(images/results-curricula/curricula-curves-zelda.png)" in text
     assert (page.parent / "images" / "results-curricula" / "curricula-curves-zelda.png").is_file()
     assert "No run's curriculum replays levels yet" in text
