@@ -40,7 +40,7 @@ EXTRA_CONDITIONS = tuple(
 
 # Issue 36's comparison: the curricula of the UED family beside the study's PCG 1 and PPCG, on
 # Zelda and Frogs (the games whose generated-level agents failed the human levels), Solarfox and
-# Boulderdash as extras. PLR⊥, ACCEL and SFL are refused until their curricula are registered.
+# Boulderdash as extras. A condition whose curriculum is not registered is refused by name.
 CURRICULA = ("pcg1", "ppcg", "dr", "plr", "accel", "sfl")
 CURRICULA_BASELINE = "ppcg"
 CURRICULA_CONDITIONS = tuple(f"{game}-{c}" for game in ("zelda", "frogs") for c in CURRICULA)

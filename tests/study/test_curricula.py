@@ -33,7 +33,12 @@ from gvgai_pcg.study.conditions import (
     conditions_of,
     unregistered,
 )
-from gvgai_pcg.study.curricula_runs import REPLAY_PICTURE, write_levels_picture, write_replay_picture
+from gvgai_pcg.study.curricula_runs import (
+    REPLAY_PICTURE,
+    ued_available,
+    write_levels_picture,
+    write_replay_picture,
+)
 
 SUMMARY = {
     "levels": 8,
@@ -219,8 +224,10 @@ def test_the_smoke_comparison_trains_evaluates_publishes_and_writes_the_page(tmp
     assert "- **Zelda, on the human levels (mean score over levels 0-4)**:" in report
     assert (outcome.report / "curricula-curves-zelda.png").is_file()  # PPCG logs its d
     for run in published:  # a UED record as the protocol writes it (the page reads data only)
-        for made in (run / "eval").glob("ued-*"):  # where this checkout has the protocol
-            made.unlink()
+        made = sorted((run / "eval").glob("ued-*"))  # the protocol's own, published with the run
+        assert [path.suffix for path in made] == ([".csv", ".json"] if ued_available() else [])
+        for path in made:
+            path.unlink()
         record = {"protocol": {**budget.ued, "greedy": False, "seed": 0}, "frames": 800, "summary": SUMMARY}
         (run / "eval" / "ued-0123456789.json").write_text(json.dumps(record))
     page = tmp_path / "docs" / "results-curricula.md"
