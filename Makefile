@@ -28,11 +28,12 @@ lint: $(STAMP)
 	$(BIN)/ruff format gvgai_pcg tests
 	$(BIN)/ruff check --fix gvgai_pcg tests
 
-# The study from sweep to Table 1 (BUDGET=smoke|small|paper; JOBS runs side by side); resumable,
-# and what results/BUDGET holds finished is not trained again. The smoke test leaves the page alone.
+# The study from sweep to Table 1 (BUDGET=smoke|small|medium|paper; JOBS runs side by side), or the
+# curricula comparison (BUDGET=curricula, issue 36); resumable, and what results/BUDGET holds
+# finished is not trained again. A smoke test leaves the page alone; the others write their own.
 BUDGET ?= smoke
 JOBS ?= 2
-PAGE := $(if $(filter smoke,$(BUDGET)),,--page docs/results.md)
+PAGE := $(if $(filter smoke curricula-smoke,$(BUDGET)),,--budget-page)
 reproduce: $(STAMP)
 	$(BIN)/gvgai-pcg reproduce --budget $(BUDGET) --jobs $(JOBS) --out reproduce/$(BUDGET) --publish results/$(BUDGET) $(PAGE)
 

@@ -1,10 +1,15 @@
 """``gvgai-pcg reproduce``: the study from sweep to Table 1 in one command.
 
-``gvgai-pcg reproduce --budget smoke|small|paper`` trains every condition and seed of the budget
+``gvgai-pcg reproduce --budget smoke|small|medium|paper`` trains every condition and seed of the budget
 (a Hydra multirun of ``gvgai-pcg train``; resumable), evaluates every run with the study's
 protocol, writes the report (tables and curves) into ``--out`` and, with ``--publish DIR``,
 copies what rebuilds the report into DIR. Running it again continues where it stopped. Extra
 arguments are Hydra overrides for every run (e.g. ``hydra.launcher.partition=gpu``).
+
+``--budget curricula`` (and ``curricula-smoke``) runs issue 36's curricula comparison the same way:
+a condition whose curriculum is not registered yet is refused with one line and the rest run; the
+UED protocol evaluates each run where this checkout has it; ``--page docs/results-curricula.md``
+writes the comparison's page from the published data.
 """
 
 from __future__ import annotations
@@ -33,6 +38,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--page", type=Path, help="with --publish: rewrite the results block of this page (docs/results.md)"
     )
     parser.add_argument(
+        "--budget-page",
+        action="store_true",
+        help="with --publish: rewrite the budget's own page (docs/results.md, docs/results-curricula.md)",
+    )
+    parser.add_argument(
         "--trained-at",
         metavar="COMMIT",
         help="with --page: the commit that trained and evaluated the runs, when not this checkout's "
@@ -44,18 +54,24 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from gvgai_pcg.study import BUDGETS, conditions_of, reproduce
-    from gvgai_pcg.study.conditions import known_conditions
+    from gvgai_pcg.study.conditions import known_conditions, unregistered
 
     budget = BUDGETS[args.budget]
     conditions = conditions_of(budget, args.extra)
     if args.conditions:
         conditions = tuple(c.strip() for c in args.conditions.split(",") if c.strip())
-        unknown = sorted(set(conditions) - set(known_conditions()))
+        valid = dict.fromkeys((*known_conditions(), *budget.conditions, *budget.extra))
+        unknown = sorted(set(conditions) - set(valid))
         if unknown:
             raise ValueError(
-                f"unknown condition(s) {', '.join(unknown)}; valid conditions are: "
-                + ", ".join(known_conditions())
+                f"unknown condition(s) {', '.join(unknown)}; valid conditions are: " + ", ".join(valid)
             )
+    refused = unregistered(conditions)
+    for line in refused.values():  # a curriculum not merged yet: the rest of the comparison runs
+        print(f"refused: {line}")
+    conditions = tuple(c for c in conditions if c not in refused)
+    if not conditions:
+        raise ValueError("no condition left to run: every one's curriculum is not registered")
     if args.jobs < 1:
         raise ValueError(f"--jobs must be at least 1, got {args.jobs}")
     out = args.out or Path("reproduce") / budget.name
@@ -79,14 +95,20 @@ def run(args: argparse.Namespace) -> int:
     print(f"report: {outcome.report / 'results.md'}")
     if outcome.published is not None:
         print(f"published: {outcome.published}")
+    if args.budget_page and args.page is None:
+        args.page = Path(budget.page)
     if args.page is not None:
         if outcome.published is None:
             raise ValueError("--page needs --publish (the page is written from the published data)")
         from gvgai_pcg.rl.provenance import code_commit
+        from gvgai_pcg.study.curricula_page import write_curricula_page
         from gvgai_pcg.study.page import page_images, write_results_page
 
-        images, prefix = page_images(args.page)
         commit = args.trained_at or code_commit()
-        write_results_page(args.page, outcome.published, images, prefix, budget.frames_range[0], commit)
+        if budget.comparison == "curricula":
+            write_curricula_page(args.page, outcome.published, budget, commit)
+        else:
+            images, prefix = page_images(args.page)
+            write_results_page(args.page, outcome.published, images, prefix, budget.frames_range[0], commit)
         print(f"page: {args.page}")
     return 0

@@ -17,7 +17,9 @@ config checks and the Gymnasium API ask the object instead of testing names:
   after each update with the acting policy (``ActingPolicy``), for a curriculum that plays the
   learner's policy itself (SFL scores its pool so);
 * ``wrap``: the env the learner trains on (PCG X and PPCG add their ``DifficultyTransform``);
-* ``training_levels``: the finite set a regimen trains on (evaluated as its training set).
+* ``training_levels``: the finite set a regimen trains on (evaluated as its training set);
+* ``replay_levels``: a few of the levels a curriculum that replays levels would replay next, from
+  its shared state (the curricula comparison pictures them); none by default.
 
 State that ``observe`` changes must live in the shared state (memory shared across processes,
 ``share_through(directory)`` for collector workers, ``state_dict`` for checkpoints), as
@@ -96,6 +98,11 @@ class Curriculum:
         """The finite set of levels it trains on (at most the first ``limit``), ``None`` where
         there is none (a new level every episode)."""
         return None
+
+    def replay_levels(self, state: Any, k: int) -> list[Level]:
+        """Up to ``k`` of the levels it would replay next from ``state`` (its ``make_state``, as a
+        checkpoint restores it), most likely first; none where it does not replay levels."""
+        return []
 
     def human_levels_trained(self, section: Mapping[str, Any]) -> tuple[str, ...]:
         """The human levels it trains on (``("lv0", "lv1")``), for the evaluation's tables."""

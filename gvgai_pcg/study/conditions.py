@@ -4,10 +4,16 @@ A condition is one ``conf/condition/<game>-<regimen>.yaml`` (a game and a regime
 says which conditions run, with how many seeds, frames and overrides, and with which evaluation
 protocol. ``smoke`` tests the pipeline in minutes; ``small`` is what a 2-core machine does over
 a few sittings; ``paper`` is the study's own setting, for a GPU or a cluster.
+
+A budget also names what it compares: the study's claims (``comparison="study"``, the page
+``docs/results.md``) or issue 36's curricula comparison (``"curricula"``: PCG 1, PPCG, DR, PLR⊥,
+ACCEL and SFL against PPCG, with the UED protocol, ``docs/results-curricula.md``). A condition whose
+curriculum is not registered (yet) is refused by name (``unregistered``).
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 GAMES = ("zelda", "solarfox", "frogs", "boulderdash")
@@ -32,6 +38,14 @@ EXTRA_CONDITIONS = tuple(
     f"{game}-{regimen}" for game in GAMES[1:] for regimen in ("lv0", "lv4", "lv0-3", "pcg0.5")
 )
 
+# Issue 36's comparison: the curricula of the UED family beside the study's PCG 1 and PPCG, on
+# Zelda and Frogs (the games whose generated-level agents failed the human levels), Solarfox and
+# Boulderdash as extras. A condition whose curriculum is not registered is refused by name.
+CURRICULA = ("pcg1", "ppcg", "dr", "plr", "accel", "sfl")
+CURRICULA_BASELINE = "ppcg"
+CURRICULA_CONDITIONS = tuple(f"{game}-{c}" for game in ("zelda", "frogs") for c in CURRICULA)
+CURRICULA_EXTRA = tuple(f"{game}-{c}" for game in ("solarfox", "boulderdash") for c in CURRICULA)
+
 
 @dataclass(frozen=True)
 class Budget:
@@ -46,6 +60,11 @@ class Budget:
         protocol: the evaluation protocol's settings (``gvgai_pcg.evaluation.Protocol``).
         condition_frames: frames of the conditions that train longer or shorter than ``frames``.
         condition_seeds: seeds of the conditions that need more or fewer than ``seeds``.
+        extra: the conditions ``--extra`` adds (the study's: those it skipped).
+        comparison: ``study`` (the study's claims) or ``curricula`` (``gvgai_pcg.study.comparison``).
+        page: the docs page whose results block ``--page`` writes by default.
+        ued: the UED protocol's settings (``gvgai_pcg.evaluation.ued.UEDProtocol``) where the
+            comparison evaluates with it too; empty: not.
     """
 
     name: str
@@ -56,6 +75,10 @@ class Budget:
     protocol: dict = field(default_factory=dict)
     condition_frames: dict[str, int] = field(default_factory=dict)
     condition_seeds: dict[str, tuple[int, ...]] = field(default_factory=dict)
+    extra: tuple[str, ...] = EXTRA_CONDITIONS
+    comparison: str = "study"
+    page: str = "docs/results.md"
+    ued: dict = field(default_factory=dict)
 
     def frames_of(self, condition: str) -> int:
         return int(self.condition_frames.get(condition, self.frames))
@@ -119,11 +142,77 @@ BUDGETS = {
 }
 
 
+# The comparison's learner: A2C with medium's setup, which the pilot tuned on these games
+# (docs/pilot.md) and the study's medium runs use, so its PCG 1 and PPCG are the study's learner;
+# PPO (issue 36) has only the UED libraries' defaults, untuned here. Same learner for all.
+CURRICULA_BUDGETS = {
+    "curricula-smoke": Budget(
+        "curricula-smoke",
+        CURRICULA_CONDITIONS,
+        seeds=(0,),
+        frames=800,
+        overrides=(
+            "env.num_envs=8",
+            "env.max_steps=100",
+            "checkpoint.every_frames=400",
+            "log.every_episodes=4",
+            "log.curve=false",
+        ),
+        protocol={"test_levels": 2, "human_episodes": 1, "max_steps": 50},
+        extra=CURRICULA_EXTRA,
+        comparison="curricula",
+        page="docs/results-curricula.md",
+        ued={"levels": 8, "seeds": 2, "max_steps": 50},
+    ),
+    "curricula": Budget(
+        "curricula",
+        CURRICULA_CONDITIONS,
+        seeds=(0, 1, 2),
+        frames=10_000_000,
+        overrides=MEDIUM_SETUP,
+        extra=CURRICULA_EXTRA,
+        comparison="curricula",
+        page="docs/results-curricula.md",
+        ued={"levels": 1000, "seeds": 2},
+    ),
+}
+BUDGETS.update(CURRICULA_BUDGETS)
+
+
 def conditions_of(budget: Budget, extra: bool = False) -> tuple[str, ...]:
-    """The budget's conditions, and the ones the study skipped if ``extra``."""
-    return budget.conditions + (EXTRA_CONDITIONS if extra else ())
+    """The budget's conditions, and its extra ones (the study's: those it skipped) if ``extra``."""
+    return budget.conditions + (budget.extra if extra else ())
 
 
 def known_conditions() -> tuple[str, ...]:
-    """Every condition there is a config for (``conf/condition/*.yaml``)."""
+    """Every condition of the study there is a config for (``conf/condition/*.yaml``)."""
     return STUDY_CONDITIONS + EXTRA_CONDITIONS
+
+
+def condition_regimen(condition: str) -> str:
+    """The curriculum (``regimen``) a condition's config selects, read from its yaml without
+    composing it (a curriculum not registered yet has no ``regimen`` option to compose)."""
+    from omegaconf import OmegaConf
+
+    from gvgai_pcg.config import config_dir
+
+    path = config_dir() / "condition" / f"{condition}.yaml"
+    if not path.is_file():
+        raise ValueError(f"unknown condition {condition!r}: no {path}")
+    for entry in OmegaConf.to_container(OmegaConf.load(path)).get("defaults", []):
+        if isinstance(entry, dict) and "override /regimen" in entry:
+            return str(entry["override /regimen"])
+    raise ValueError(f"{path}: no 'override /regimen' in its defaults")
+
+
+def unregistered(conditions: Sequence[str]) -> dict[str, str]:
+    """``condition -> one line`` for each condition whose curriculum is not registered."""
+    from gvgai_pcg.curricula import registered_curricula
+
+    names = registered_curricula()
+    known = ", ".join(sorted(names))
+    return {
+        c: f"{c}: the curriculum {condition_regimen(c)!r} is not registered (registered: {known})"
+        for c in conditions
+        if condition_regimen(c) not in names
+    }

@@ -93,11 +93,16 @@ def write_results_page(
     page: Path, published: Path, images: Path, image_prefix: str, target_frames: int, commit: str
 ) -> Path:
     """Rewrite the results block of ``page`` from ``published``."""
-    text = page.read_text()
-    if START not in text or END not in text:
-        raise ValueError(f"{page}: no {START} ... {END} block to write the results into")
-    before, rest = text.split(START, 1)
-    after = rest.split(END, 1)[1]
     block = results_block(published, images, image_prefix, target_frames, commit)
+    return replace_block(page, block, START, END)
+
+
+def replace_block(page: Path, block: str, start: str = START, end: str = END) -> Path:
+    """Replace ``page``'s text from ``start`` to ``end`` by ``block`` (which holds both markers)."""
+    text = page.read_text()
+    if start not in text or end not in text:
+        raise ValueError(f"{page}: no {start} ... {end} block to write the results into")
+    before, rest = text.split(start, 1)
+    after = rest.split(end, 1)[1]
     page.write_text(before + block + after)
     return page

@@ -32,7 +32,7 @@ from pathlib import Path
 from omegaconf import OmegaConf
 
 from gvgai_pcg.games.registry import find_game_spec
-from gvgai_pcg.study.conditions import Budget
+from gvgai_pcg.study.conditions import Budget, unregistered
 
 # A trained model (weights, config, frames: no optimizer) is published only below this size: the
 # compact CNN's 295k float32 weights are 1.2 MB, the Nature CNN's on pixels far more.
@@ -354,7 +354,7 @@ def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = 
         if (target / PUBLISHED).is_file() and published_run_info(target).frames > info.frames:
             continue  # the published run has trained longer
         (target / "eval").mkdir(parents=True, exist_ok=True)
-        for name in ("config.yaml", "log.csv", "sessions.csv", "curve.png"):
+        for name in ("config.yaml", "log.csv", "sessions.csv", "curve.png", "replay.png"):
             if (run / name).is_file():
                 shutil.copy2(run / name, target / name)
         # the study protocol's records, and the UED protocol's per-level CSV and summary
@@ -406,6 +406,36 @@ def write_claims(
     return path
 
 
+def write_curricula(
+    here: Sequence[Path],
+    elsewhere: Sequence[Path],
+    budget: Budget,
+    protocol,
+    report_dir: Path,
+    progress: bool = True,
+) -> Path:
+    """Issue 36's comparison on the runs: the UED protocol (where this checkout has it) and the
+    replay picture of each run trained here, then ``report_dir/curricula.md`` (tables and the
+    answer, ``gvgai_pcg.study.comparison``) and the curves of d over training."""
+    from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
+    from gvgai_pcg.study.comparison import collect_runs, comparison_markdown
+    from gvgai_pcg.study.curricula_runs import evaluate_ued, write_curves, write_replay_picture
+
+    here = find_runs(list(here)) if here else []
+    for run in here:
+        evaluate_ued(run, budget.ued, progress)
+        write_replay_picture(run)
+    runs = [*here, *(find_runs(list(elsewhere)) if elsewhere else [])]
+    games = collect_runs(runs, protocol, budget.ued)
+    path = report_dir / "curricula.md"
+    path.write_text(comparison_markdown(games))
+    for stale in report_dir.glob("curricula-curves-*.png"):
+        stale.unlink()
+    infos = [run_info(run) for run in runs]
+    write_curves([(info.game, info.label, info.path) for info in infos], report_dir)
+    return path
+
+
 def reproduce(
     budget: Budget,
     conditions: Sequence[str],
@@ -422,6 +452,9 @@ def reproduce(
     ``publish_to``. Runs that ``publish_to`` holds as finished and ``out`` lacks are reported from
     there, not trained again. ``finished_only`` leaves out runs short of the budget's frames (a
     report taken while the sweep still trains evaluates no model that will change)."""
+    refused = unregistered(conditions)
+    if refused:
+        raise ValueError("; ".join(refused.values()))
     from gvgai_pcg.evaluation.protocol import Protocol
     from gvgai_pcg.report import build_report
 
@@ -443,7 +476,10 @@ def reproduce(
     here = _trained_here(out / "runs", fewest, {p.name for p in elsewhere})
     build_report([*here, *elsewhere], report_dir, protocol, cache_dir=out / "random", progress=progress)
     target = budget.frames_range[0]
-    write_claims([*here, *elsewhere], out / "random", protocol, report_dir / "claims.md", target)
+    if budget.comparison == "curricula":
+        write_curricula(here, elsewhere, budget, protocol, report_dir, progress)
+    else:
+        write_claims([*here, *elsewhere], out / "random", protocol, report_dir / "claims.md", target)
     published = publish(out, Path(publish_to), protocol, here) if publish_to is not None else None
     return Outcome(out, out / "runs", report_dir, published, seconds)
 

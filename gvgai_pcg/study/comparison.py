@@ -1,0 +1,253 @@
+"""Issue 36's question, answered from the runs: does any curriculum beat PPCG on the human levels,
+and on the tail (CVaR) of newly generated ones?
+
+Per game and curriculum, each run (seed) gives: its mean score over the five human levels and on
+each generated test set (the study's protocol), and where the UED protocol evaluated it
+(``gvgai_pcg.evaluation.ued``), its solved rate, mean score and bias-corrected score CVaR at
+alpha 1 % and 10 % on the UED levels. Every cell of the tables is a mean over seeds with its 95 %
+Student t interval over seeds (``gvgai_pcg.study.intervals``).
+
+The question is three comparisons of each curriculum with PPCG per game (``QUESTIONS``): the
+difference of means with its Welch t interval, Holm's correction over every comparison of the page
+together (family-wise alpha 0.05). "beats PPCG" **holds** when Holm rejects "no difference" with the
+curriculum ahead, **does not hold** when it rejects with PPCG ahead, or when every seed of both is
+the same value and the curriculum is not ahead (no spread: equal, or behind, on every seed), and is
+**inconclusive** otherwise; **not measured** where either side lacks the metric.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from gvgai_pcg.study.intervals import ALPHA, LEVEL, Estimate, estimate, holm
+from gvgai_pcg.study.table1 import GENERATED_SETS, HUMAN_SETS
+
+BASELINE = "PPCG"
+# the tables' row order, by curriculum (``regimen``): the comparison's, others after
+REGIMEN_ORDER = ("pcg", "ppcg", "dr", "plr", "accel", "sfl")
+ALPHAS = (0.01, 0.1)
+# The UED metrics of a run: key -> (column title, how it is read from a summary).
+UED_METRICS = {
+    "solved": "UED solved rate",
+    "ued_score": "UED mean score",
+    "cvar1": "UED score CVaR 1 %",
+    "cvar10": "UED score CVaR 10 %",
+}
+# The question's comparisons with PPCG: metric -> what it says.
+QUESTIONS = {
+    "human": "the human levels (mean score over levels 0-4)",
+    "cvar1": "the worst 1 % of the UED levels (score CVaR, bias-corrected)",
+    "cvar10": "the worst 10 % of the UED levels (score CVaR, bias-corrected)",
+}
+HOLDS, DOES_NOT_HOLD, INCONCLUSIVE, NOT_MEASURED = "holds", "does not hold", "inconclusive", "not measured"
+
+
+@dataclass
+class CurriculumRuns:
+    """One curriculum on one game: per metric, one value per seed (run)."""
+
+    label: str
+    regimen: str = ""
+    frames: list[int] = field(default_factory=list)
+    values: dict[str, list[float]] = field(default_factory=dict)
+
+    def add(self, metric: str, value: float) -> None:
+        self.values.setdefault(metric, []).append(float(value))
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """One comparison of a curriculum with PPCG on one game and metric."""
+
+    game: str
+    label: str
+    metric: str
+    outcome: str
+    difference: Estimate | None = None
+    adjusted_p: float = math.nan
+
+
+def ued_values(summary: dict) -> dict[str, float]:
+    """The UED metrics of one run from its summary (``UEDSummary.as_dict()``)."""
+    values = {"solved": summary["solved_rate"], "ued_score": summary["mean_score"]}
+    for cvar in summary.get("cvars", []):
+        if cvar["metric"] == "score" and float(cvar["alpha"]) in ALPHAS:
+            values[f"cvar{round(float(cvar['alpha']) * 100)}"] = cvar["corrected"]
+    return values
+
+
+def read_ued_summary(run: Path, settings: dict) -> dict | None:
+    """The newest UED summary in ``run/eval`` whose protocol has ``settings`` (``ued-*.json``),
+    read as data: the page needs no ``gvgai_pcg.evaluation.ued``."""
+    found = []
+    for path in sorted((run / "eval").glob("ued-*.json")):
+        record = json.loads(path.read_text())
+        protocol = record.get("protocol", {})
+        if "summary" in record and all(protocol.get(k) == v for k, v in settings.items()):
+            found.append((int(record.get("frames", 0)), record["summary"]))
+    return max(found, key=lambda item: item[0])[1] if found else None
+
+
+def collect_runs(runs: Iterable[Path], protocol, ued_settings: dict) -> dict[str, dict[str, CurriculumRuns]]:
+    """``game -> label -> CurriculumRuns`` from run directories with the study protocol's records
+    (runs without are left out) and, where present, UED summaries."""
+    from gvgai_pcg.evaluation.checkpoints import run_info
+    from gvgai_pcg.evaluation.evaluator import read_records, run_results_path
+
+    games: dict[str, dict[str, CurriculumRuns]] = {}
+    for path in sorted(runs):
+        info = run_info(path)
+        results = run_results_path(info.path, protocol)
+        if not results.is_file():
+            continue
+        records = read_records(results)
+        entry = games.setdefault(info.game, {}).setdefault(
+            info.label, CurriculumRuns(info.label, info.regimen["name"])
+        )
+        entry.frames.append(int(records[0].frames))
+        set_means = {}
+        for test_set in {record.test_set for record in records}:
+            scores = [s for record in records if record.test_set == test_set for s in record.scores]
+            set_means[test_set] = sum(scores) / len(scores)
+        human = [set_means[s] for s in HUMAN_SETS if s in set_means]
+        if human:
+            entry.add("human", sum(human) / len(human))
+        for test_set in GENERATED_SETS:
+            if test_set in set_means:
+                entry.add(test_set, set_means[test_set])
+        summary = read_ued_summary(info.path, ued_settings) if ued_settings else None
+        for metric, value in (ued_values(summary) if summary else {}).items():
+            entry.add(metric, value)
+    return games
+
+
+def _seeds_agree(values: Sequence[float]) -> bool:
+    return len(values) > 1 and max(values) == min(values)
+
+
+def judge(games: dict[str, dict[str, CurriculumRuns]], baseline: str = BASELINE) -> list[Verdict]:
+    """Every curriculum against ``baseline`` on every game and question, Holm over them all."""
+    verdicts: list[Verdict] = []
+    tested: list[tuple[int, Estimate]] = []
+    for game, curricula in sorted(games.items()):
+        base = curricula.get(baseline)
+        for label, runs in sorted(curricula.items()):
+            if label == baseline:
+                continue
+            for metric in QUESTIONS:
+                ours, theirs = runs.values.get(metric), base.values.get(metric) if base else None
+                if not ours or not theirs:
+                    verdicts.append(Verdict(game, label, metric, NOT_MEASURED))
+                    continue
+                difference = estimate(ours, theirs, 0.0)
+                tested.append((len(verdicts), difference))
+                verdicts.append(Verdict(game, label, metric, INCONCLUSIVE, difference))
+    adjusted, rejected = holm([d.p for _, d in tested])
+    for (i, difference), p, reject in zip(tested, adjusted, rejected, strict=True):
+        v = verdicts[i]
+        ours, theirs = games[v.game][v.label].values[v.metric], games[v.game][baseline].values[v.metric]
+        if reject:
+            outcome = HOLDS if difference.value > 0 else DOES_NOT_HOLD
+        elif _seeds_agree(ours) and _seeds_agree(theirs) and difference.value <= 0:
+            outcome = DOES_NOT_HOLD  # every seed of each side the same value: not ahead on any
+        else:
+            outcome = INCONCLUSIVE
+        verdicts[i] = Verdict(v.game, v.label, v.metric, outcome, difference, p)
+    return verdicts
+
+
+def cell(values: Sequence[float] | None) -> str:
+    """``mean [low, high]`` over seeds (95 % t), or the mean and its one seed, or ``-``."""
+    if not values:
+        return "-"
+    value = estimate(values, None, 0.0)
+    if not value.has_interval:
+        return f"{value.value:.2f} (1 seed)"
+    return f"{value.value:.2f} [{value.low:.2f}, {value.high:.2f}]"
+
+
+def _difference_text(verdict: Verdict) -> str:
+    d = verdict.difference
+    if d is None:
+        return "no data on one side"
+    if not d.has_interval:
+        return f"difference {d.value:+.2f}, one seed: no interval, Holm p {verdict.adjusted_p:.3g}"
+    interval = f"{LEVEL * 100:.0f} % Welch t interval [{d.low:+.2f}, {d.high:+.2f}]"
+    return f"difference {d.value:+.2f}, {interval}, Holm p {verdict.adjusted_p:.3g}"
+
+
+def answer_sentences(verdicts: Sequence[Verdict], labels: dict[str, str] | None = None) -> list[str]:
+    """The question's answer per game and question, then each curriculum's verdict with its
+    interval, as sentences."""
+    lines: list[str] = []
+    by_game: dict[str, list[Verdict]] = {}
+    for v in verdicts:
+        by_game.setdefault(v.game, []).append(v)
+    for game, ours in sorted(by_game.items()):
+        for metric, what in QUESTIONS.items():
+            of_metric = [v for v in ours if v.metric == metric]
+            winners = [v.label for v in of_metric if v.outcome == HOLDS]
+            open_ = [v.label for v in of_metric if v.outcome == INCONCLUSIVE]
+            if winners:
+                head = f"yes: {', '.join(winners)} beat{'s' if len(winners) == 1 else ''} PPCG"
+            elif open_:
+                head = f"not shown: none beats PPCG at this budget, {', '.join(open_)} inconclusive"
+            elif all(v.outcome == NOT_MEASURED for v in of_metric):
+                head = "not measured"
+            else:
+                head = "no: none beats PPCG"
+            lines.append(f"- **{game.capitalize()}, on {what}**: {head}.")
+            for v in of_metric:
+                lines.append(f"  - {v.label} beats PPCG: **{v.outcome}** ({_difference_text(v)}).")
+    return lines
+
+
+def _order(runs: CurriculumRuns) -> tuple[int, str]:
+    rank = REGIMEN_ORDER.index(runs.regimen) if runs.regimen in REGIMEN_ORDER else len(REGIMEN_ORDER)
+    return rank, runs.label
+
+
+def tables_markdown(games: dict[str, dict[str, CurriculumRuns]]) -> str:
+    """Per game, each curriculum's scores (study protocol) and UED metrics over seeds."""
+    columns = {"human": "human levels 0-4", **{s: f"test {s}" for s in GENERATED_SETS}, **UED_METRICS}
+    out = []
+    for game, curricula in sorted(games.items()):
+        out += [f"#### {game.capitalize()}", ""]
+        out.append("| curriculum | runs | frames | " + " | ".join(columns.values()) + " |")
+        out.append("|---|---:|---:|" + "---:|" * len(columns))
+        for runs in sorted(curricula.values(), key=_order):
+            frames = f"{min(runs.frames):,}" + (
+                "" if min(runs.frames) == max(runs.frames) else f"-{max(runs.frames):,}"
+            )
+            cells = " | ".join(cell(runs.values.get(metric)) for metric in columns)
+            out.append(f"| {runs.label} | {len(runs.frames)} | {frames} | {cells} |")
+        out.append("")
+    return "\n".join(out)
+
+
+def comparison_markdown(games: dict[str, dict[str, CurriculumRuns]]) -> str:
+    """The tables, then the answer: what ``report/curricula.md`` and the page's block hold."""
+    verdicts = judge(games)
+    tested = sum(v.outcome != NOT_MEASURED for v in verdicts)
+    return "\n".join(
+        [
+            "Scores are raw game scores (mean over each run's episodes, then over seeds); each cell is the",
+            f"mean over seeds with its {LEVEL * 100:.0f} % Student t interval over seeds in brackets.",
+            "",
+            tables_markdown(games),
+            "#### Does any curriculum beat PPCG?",
+            "",
+            f"Each curriculum against PPCG per game: the difference of means with its {LEVEL * 100:.0f} % "
+            f"Welch t interval over seeds; Holm's correction over all {tested} comparisons together "
+            f"(family-wise alpha {ALPHA:.2f}). holds: decided with the curriculum ahead; does not hold: "
+            "decided with PPCG ahead, or no spread on either side and the curriculum not ahead; "
+            "inconclusive: not decided.",
+            "",
+            *answer_sentences(verdicts),
+            "",
+        ]
+    )

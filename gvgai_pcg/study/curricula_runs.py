@@ -1,0 +1,140 @@
+"""What the curricula comparison adds to each run beyond the study's protocol: the UED protocol's
+records, a picture of the levels its curriculum replays at the end, and the figure of d (and of a
+buffer's level statistics, where a curriculum logs them) over training.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from pathlib import Path
+
+REPLAY_PICTURE = "replay.png"
+REPLAY_LEVELS = 4
+# log.csv columns plotted over training: PPCG's d, and any ``buffer_*`` statistic a curriculum logs
+CURVE_COLUMNS = ("difficulty",)
+BUFFER_PREFIX = "buffer_"
+
+
+def ued_available() -> bool:
+    """Whether this checkout has the UED protocol (``gvgai_pcg.evaluation.ued``)."""
+    try:
+        import gvgai_pcg.evaluation.ued  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def evaluate_ued(run: Path, settings: dict, progress: bool = True) -> dict | None:
+    """The UED protocol on ``run`` (written to ``run/eval/ued-<key>.{csv,json}`` and reused while
+    its model is unchanged); its summary as a dict, ``None`` where the protocol is not in this
+    checkout. The one call into ``gvgai_pcg.evaluation.ued``: adapt it here if its interface moves."""
+    if not settings or not ued_available():
+        return None
+    from gvgai_pcg.evaluation import ued
+    from gvgai_pcg.evaluation.checkpoints import run_info
+
+    protocol = ued.UEDProtocol(**settings)
+    summary, _ = ued.evaluate_run_ued(run_info(run), protocol, alphas=(0.01, 0.1), progress=progress)
+    return summary.as_dict()
+
+
+def replay_levels_of(run: Path, k: int = REPLAY_LEVELS) -> list:
+    """Up to ``k`` levels the run's curriculum would replay next, from its last checkpoint's state
+    (``Curriculum.replay_levels``); none where it replays none, is not registered here, or there is
+    no checkpoint."""
+    from gvgai_pcg.curricula import registered_curricula
+    from gvgai_pcg.evaluation.checkpoints import LAST_CHECKPOINT, load_state, read_run_config
+
+    config, checkpoint = read_run_config(run) or {}, run / LAST_CHECKPOINT
+    curriculum = registered_curricula().get(config.get("regimen", {}).get("name"))
+    if curriculum is None or not checkpoint.is_file():
+        return []  # not this checkout's curriculum, or nothing trained
+    state = curriculum.make_state(config["game"]["name"], config["regimen"])
+    saved = load_state(checkpoint).get("difficulty")
+    if state is not None and saved is not None:
+        state.load_state_dict(saved)
+    return list(curriculum.replay_levels(state, k))[:k]
+
+
+def write_levels_picture(levels: Sequence, path: Path, title: str = "") -> Path | None:
+    """``levels`` side by side in one PNG (the game's tile art); nothing without levels."""
+    if not levels:
+        return None
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from gvgai_pcg.games.render import level_pictures
+
+    images = level_pictures(list(levels))
+    fig, axes = plt.subplots(1, len(images), figsize=(3.2 * len(images), 2.2), squeeze=False)
+    for ax, image in zip(axes[0], images, strict=True):
+        ax.imshow(image)
+        ax.set_axis_off()
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+    return path
+
+
+def write_replay_picture(run: Path, k: int = REPLAY_LEVELS) -> Path | None:
+    """``run/replay.png``: the levels its curriculum would replay next (none: no file)."""
+    levels = replay_levels_of(run, k)
+    return write_levels_picture(levels, run / REPLAY_PICTURE, f"{run.name}: levels it replays next")
+
+
+def curve_columns(rows: Sequence[dict]) -> list[str]:
+    """The columns of a log worth a curve: d where it is finite somewhere, and ``buffer_*`` ones."""
+    if not rows:
+        return []
+    names = [c for c in CURVE_COLUMNS if c in rows[0]] + sorted(
+        c for c in rows[0] if c.startswith(BUFFER_PREFIX)
+    )
+    return [c for c in names if any(math.isfinite(row[c]) for row in rows)]
+
+
+def write_curves(runs: Sequence[tuple[str, str, Path]], folder: Path) -> list[Path]:
+    """Per game, ``curricula-curves-<game>.png``: each logged curriculum column over training
+    frames, one line per run, coloured by curriculum. ``runs``: ``(game, label, run dir)``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from gvgai_pcg.rl.run_log import read_log
+
+    logs: dict[str, list[tuple[str, list[dict]]]] = {}
+    for game, label, run in runs:
+        if (run / "log.csv").is_file():
+            logs.setdefault(game, []).append((label, read_log(run / "log.csv")))
+    written = []
+    for game, entries in sorted(logs.items()):
+        columns = sorted({c for _, rows in entries for c in curve_columns(rows)})
+        if not columns:
+            continue
+        labels = sorted({label for label, _ in entries})
+        colours = {label: f"C{i}" for i, label in enumerate(labels)}
+        fig, axes = plt.subplots(1, len(columns), figsize=(5.5 * len(columns), 3.4), squeeze=False)
+        for ax, column in zip(axes[0], columns, strict=True):
+            shown = set()
+            for label, rows in entries:
+                if column not in curve_columns(rows):
+                    continue
+                name = None if label in shown else label
+                shown.add(label)
+                frames, values = [r["frames"] for r in rows], [r[column] for r in rows]
+                ax.plot(frames, values, color=colours[label], label=name, marker=".", markersize=3)
+            ax.set_xlabel("training frames")
+            ax.set_ylabel(column)
+            ax.legend(fontsize="small")
+        fig.suptitle(f"{game}: the curricula over training (one line per run)")
+        fig.tight_layout()
+        path = folder / f"curricula-curves-{game}.png"
+        fig.savefig(path, dpi=80)
+        plt.close(fig)
+        written.append(path)
+    return written

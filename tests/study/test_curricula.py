@@ -1,0 +1,244 @@
+"""The curricula comparison (issue 36): its budgets and conditions, the refusal of a curriculum not
+registered yet, the answer's logic on records with known answers, and (slow) the smoke budget from
+training to the page."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from hydra import compose, initialize_config_dir
+
+from gvgai_pcg.config import config_dir
+from gvgai_pcg.curricula import Curriculum, get_curriculum, register_curriculum, unregister_curriculum
+from gvgai_pcg.games.registry import generate_level
+from gvgai_pcg.study import BUDGETS
+from gvgai_pcg.study.comparison import (
+    DOES_NOT_HOLD,
+    HOLDS,
+    INCONCLUSIVE,
+    NOT_MEASURED,
+    CurriculumRuns,
+    answer_sentences,
+    comparison_markdown,
+    judge,
+    read_ued_summary,
+    ued_values,
+)
+from gvgai_pcg.study.conditions import (
+    CURRICULA_CONDITIONS,
+    CURRICULA_EXTRA,
+    MEDIUM_SETUP,
+    condition_regimen,
+    conditions_of,
+    unregistered,
+)
+from gvgai_pcg.study.curricula_runs import (
+    REPLAY_PICTURE,
+    ued_available,
+    write_levels_picture,
+    write_replay_picture,
+)
+
+SUMMARY = {
+    "levels": 8,
+    "episodes": 16,
+    "solved_rate": 0.25,
+    "solved_interval": [0.1, 0.5],
+    "mean_score": 1.5,
+    "score_interval": [1.0, 2.0],
+    "cvars": [
+        {"metric": "score", "alpha": 0.01, "levels": 1, "corrected": -1.0, "naive": -2.0, "interval": [0, 0]},
+        {"metric": "score", "alpha": 0.1, "levels": 1, "corrected": 0.5, "naive": 0.0, "interval": [0, 0]},
+        {"metric": "solved", "alpha": 0.1, "levels": 1, "corrected": 0.0, "naive": 0.0, "interval": [0, 0]},
+    ],
+}
+
+
+def test_the_curricula_budget_is_six_curricula_on_zelda_and_frogs_with_one_tuned_learner():
+    budget = BUDGETS["curricula"]
+    assert {c.split("-")[0] for c in budget.conditions} == {"zelda", "frogs"} and len(budget.conditions) == 12
+    assert {c.split("-")[0] for c in conditions_of(budget, extra=True)} == {
+        "zelda",
+        "frogs",
+        "solarfox",
+        "boulderdash",
+    }
+    assert len(budget.seeds) >= 3 and budget.frames >= 10_000_000 and budget.comparison == "curricula"
+    assert set(MEDIUM_SETUP) <= set(budget.overrides) and not any("algo=" in o for o in budget.overrides)
+    assert budget.ued["levels"] >= 1000 and budget.page == "docs/results-curricula.md"
+    smoke = BUDGETS["curricula-smoke"]
+    assert smoke.conditions == budget.conditions and smoke.frames <= 1_000 and smoke.ued["levels"] < 20
+
+
+def test_every_curricula_condition_names_its_curriculum_and_the_registered_ones_compose():
+    conditions = CURRICULA_CONDITIONS + CURRICULA_EXTRA
+    names = {c: c.split("-", 1)[1].replace("pcg1", "pcg") for c in conditions}
+    assert {c: condition_regimen(c) for c in conditions} == names
+    refused = unregistered(conditions)
+    assert not {"zelda-pcg1", "frogs-ppcg", "zelda-dr"} & set(refused)  # on main from the start
+    for condition in [c for c in CURRICULA_CONDITIONS if c not in refused]:
+        with initialize_config_dir(config_dir=str(config_dir()), version_base="1.3"):
+            cfg = compose("config", overrides=[f"condition={condition}"])
+        assert cfg.regimen.name == names[condition] and cfg.game.name == condition.split("-")[0]
+
+
+def test_a_condition_whose_curriculum_is_not_registered_is_refused_with_one_line_naming_it(tmp_path):
+    dr = get_curriculum("dr")
+    unregister_curriculum("dr")
+    try:
+        refused = unregistered(["zelda-dr", "zelda-ppcg"])
+        from gvgai_pcg.study import reproduce
+
+        with pytest.raises(ValueError, match="zelda-dr: the curriculum 'dr' is not registered"):
+            reproduce(BUDGETS["curricula-smoke"], ["zelda-dr"], tmp_path, train=False)
+    finally:
+        register_curriculum(dr)
+    assert list(refused) == ["zelda-dr"] and "\n" not in refused["zelda-dr"]
+    assert "'dr' is not registered (registered: " in refused["zelda-dr"] and "ppcg" in refused["zelda-dr"]
+
+
+def runs(label: str, regimen: str, **values: list[float]) -> CurriculumRuns:
+    seeds = len(next(iter(values.values())))
+    return CurriculumRuns(label, regimen, [800] * seeds, {k: list(v) for k, v in values.items()})
+
+
+def synthetic() -> dict[str, dict[str, CurriculumRuns]]:
+    """Known answers: Zelda's DR beats PPCG on the human levels and is behind on CVaR 10 %; PCG 1
+    is behind on the human levels; SFL's seeds scatter (inconclusive); Frogs wins nothing on the
+    human levels with any curriculum (no spread: does not hold); Frogs' DR has no UED records."""
+    return {
+        "zelda": {
+            "PPCG": runs(
+                "PPCG", "ppcg", human=[1.0, 1.1, 0.9], cvar1=[0.0, 0.1, -0.1], cvar10=[2.0, 2.1, 1.9]
+            ),
+            "DR": runs("DR", "dr", human=[5.0, 5.1, 4.9], cvar1=[0.0, 0.2, -0.1], cvar10=[0.0, 0.1, -0.1]),
+            "PCG 1": runs(
+                "PCG 1", "pcg", human=[-1.0, -1.1, -0.9], cvar1=[0, 0.1, -0.1], cvar10=[2, 2.2, 1.8]
+            ),
+            "SFL": runs(
+                "SFL", "sfl", human=[-3.0, 6.0, 1.0], cvar1=[-4.0, 5.0, 0.0], cvar10=[0.0, 6.0, -1.0]
+            ),
+        },
+        "frogs": {
+            "PPCG": runs(
+                "PPCG", "ppcg", human=[0.0, 0.0, 0.0], cvar1=[0.0, 0.0, 0.0], cvar10=[0.2, 0.1, 0.3]
+            ),
+            "DR": runs("DR", "dr", human=[0.0, 0.0, 0.0]),
+        },
+    }
+
+
+def test_the_answer_holds_does_not_hold_or_is_inconclusive_as_the_records_say():
+    verdicts = {(v.game, v.label, v.metric): v for v in judge(synthetic())}
+    assert verdicts["zelda", "DR", "human"].outcome == HOLDS
+    assert verdicts["zelda", "DR", "cvar10"].outcome == DOES_NOT_HOLD
+    assert verdicts["zelda", "DR", "cvar1"].outcome == INCONCLUSIVE
+    assert verdicts["zelda", "PCG 1", "human"].outcome == DOES_NOT_HOLD
+    assert {verdicts["zelda", "SFL", m].outcome for m in ("human", "cvar1", "cvar10")} == {INCONCLUSIVE}
+    assert verdicts["frogs", "DR", "human"].outcome == DOES_NOT_HOLD  # 0 on every seed of both
+    assert verdicts["frogs", "DR", "cvar10"].outcome == NOT_MEASURED
+    assert not any(label == "PPCG" for _, label, _ in verdicts)
+    dr = verdicts["zelda", "DR", "human"]
+    assert dr.difference.low < 4.0 < dr.difference.high and dr.adjusted_p <= 0.05
+    # Holm: each adjusted p is at least the raw one
+    assert all(v.adjusted_p >= v.difference.p for v in verdicts.values() if v.difference is not None)
+
+
+def test_the_answer_is_written_as_sentences_with_its_intervals():
+    text = "\n".join(answer_sentences(judge(synthetic())))
+    assert "**Zelda, on the human levels (mean score over levels 0-4)**: yes: DR beats PPCG." in text
+    assert "**Frogs, on the human levels (mean score over levels 0-4)**: no: none beats PPCG." in text
+    assert "not shown: none beats PPCG at this budget, DR, PCG 1, SFL inconclusive" in text  # Zelda CVaR 1 %
+    assert "  - DR beats PPCG: **holds** (difference +4.00, 95 % Welch t interval [+" in text
+    assert "  - DR beats PPCG: **not measured** (no data on one side)." in text
+    page = comparison_markdown(synthetic())
+    page = page[page.index("#### Zelda") :]
+    assert page.index("| PCG 1 |") < page.index("| PPCG |") < page.index("| DR |") < page.index("| SFL |")
+    assert "| DR | 3 | 800 | 5.00 [4.75, 5.25] |" in page
+
+
+def test_a_ued_summary_is_read_from_the_runs_records_of_the_budgets_protocol(tmp_path):
+    assert ued_values(SUMMARY) == {"solved": 0.25, "ued_score": 1.5, "cvar1": -1.0, "cvar10": 0.5}
+    (tmp_path / "eval").mkdir()
+    other = {"protocol": {"levels": 1000, "seeds": 2}, "frames": 900, "summary": {**SUMMARY, "mean_score": 9}}
+    (tmp_path / "eval" / "ued-aaa.json").write_text(json.dumps(other))
+    assert read_ued_summary(tmp_path, {"levels": 8, "seeds": 2}) is None
+    ours = {"protocol": {"levels": 8, "seeds": 2, "max_steps": 50}, "frames": 800, "summary": SUMMARY}
+    (tmp_path / "eval" / "ued-bbb.json").write_text(json.dumps(ours))
+    assert read_ued_summary(tmp_path, {"levels": 8, "seeds": 2})["mean_score"] == 1.5
+
+
+def test_a_curriculum_replays_no_level_by_default_and_no_level_makes_no_picture(tmp_path):
+    assert Curriculum().replay_levels(None, 4) == [] and get_curriculum("ppcg").replay_levels(None, 4) == []
+    assert write_levels_picture([], tmp_path / "none.png") is None and not (tmp_path / "none.png").exists()
+
+
+class ReplaysFromItsState(Curriculum):
+    """A toy curriculum that replays the levels its state names (as (d, seed) pairs)."""
+
+    name, summary = "toy-replay", "replays the levels of its state"
+
+    def make_state(self, game, section):
+        import torch
+
+        return torch.nn.Module()
+
+    def replay_levels(self, state, k):
+        return [generate_level("zelda", d, seed) for d, seed in ((0.1, 3), (0.9, 4), (0.5, 5))][:k]
+
+
+@pytest.mark.slow  # importing the renderer: half a minute on the loaded 2-core machine
+def test_a_run_pictures_the_levels_its_curriculum_replays_from_its_last_checkpoint(tmp_path):
+    import torch
+    import yaml
+
+    (tmp_path / "checkpoints").mkdir()
+    config = {"game": {"name": "zelda"}, "regimen": {"name": "toy-replay"}}
+    (tmp_path / "config.yaml").write_text(yaml.safe_dump(config))
+    torch.save({"model": {}, "config": config, "difficulty": {}}, tmp_path / "checkpoints" / "last.pt")
+    assert write_replay_picture(tmp_path) is None  # its curriculum is not registered here
+    register_curriculum(ReplaysFromItsState())
+    try:
+        path = write_replay_picture(tmp_path, k=2)
+    finally:
+        unregister_curriculum("toy-replay")
+    assert path == tmp_path / REPLAY_PICTURE and path.read_bytes().startswith(b"\x89PNG")
+    levels = [generate_level("zelda", d, 1) for d in (0.2, 0.8)]
+    assert write_levels_picture(levels, tmp_path / "two.png", "two").stat().st_size > 1000
+
+
+@pytest.mark.slow
+def test_the_smoke_comparison_trains_evaluates_publishes_and_writes_the_page(tmp_path):
+    from gvgai_pcg.evaluation.checkpoints import find_runs
+    from gvgai_pcg.study import reproduce
+    from gvgai_pcg.study.curricula_page import END, START, write_curricula_page
+
+    budget = BUDGETS["curricula-smoke"]
+    conditions = ["zelda-pcg1", "zelda-ppcg", "zelda-dr"]
+    outcome = reproduce(budget, conditions, tmp_path / "out", publish_to=tmp_path / "pub", progress=False)
+    published = find_runs([tmp_path / "pub" / "runs"])
+    assert len(published) == 3
+    report = (outcome.report / "curricula.md").read_text()
+    assert "| PCG 1 | 1 | 800 |" in report and "| PPCG | 1 | 800 |" in report and "| DR | 1 | 800 |" in report
+    assert "- **Zelda, on the human levels (mean score over levels 0-4)**:" in report
+    assert (outcome.report / "curricula-curves-zelda.png").is_file()  # PPCG logs its d
+    for run in published:  # a UED record as the protocol writes it (the page reads data only)
+        made = sorted((run / "eval").glob("ued-*"))  # the protocol's own, published with the run
+        assert [path.suffix for path in made] == ([".csv", ".json"] if ued_available() else [])
+        for path in made:
+            path.unlink()
+        record = {"protocol": {**budget.ued, "greedy": False, "seed": 0}, "frames": 800, "summary": SUMMARY}
+        (run / "eval" / "ued-0123456789.json").write_text(json.dumps(record))
+    page = tmp_path / "docs" / "results-curricula.md"
+    page.parent.mkdir()
+    page.write_text(f"# Curricula\n\nbefore\n{START}\nold\n{END}\nafter\n")
+    write_curricula_page(page, tmp_path / "pub", budget, "abc1234")
+    text = page.read_text()
+    assert text.startswith("# Curricula\n\nbefore\n") and text.endswith("after\n") and "\nold\n" not in text
+    assert "commit `abc1234`" in text and "| zelda-dr-tiles-compact-seed0 | 800 | yes |" in text
+    assert "| 0.25 (1 seed) | 1.50 (1 seed) | -1.00 (1 seed) | 0.50 (1 seed) |" in text
+    assert "DR beats PPCG: **inconclusive** (difference +0.00, one seed: no interval, Holm p 1)" in text
+    assert "(images/results-curricula/curricula-curves-zelda.png)" in text
+    assert (page.parent / "images" / "results-curricula" / "curricula-curves-zelda.png").is_file()
+    assert "No run's curriculum replays levels yet" in text
