@@ -188,9 +188,11 @@ class Accel(PrioritizedLevelReplay):
         from gvgai_pcg.levels.formats import level_format
 
         fmt = level_format(game)
-        return EditedLevelBuffer(
+        buffer = EditedLevelBuffer(
             int(section.get("buffer_size", ReplaySettings.buffer_size)), fmt.height, fmt.width
         )
+        buffer.game = game  # whose levels replay_levels rebuilds
+        return buffer
 
     def make_source(self, game, section, state=None):
         buffer = state if state is not None else self.make_state(game, section)

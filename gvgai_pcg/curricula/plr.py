@@ -260,7 +260,19 @@ class PrioritizedLevelReplay(Curriculum):
             raise ConfigError(f"regimen.min_difficulty={low}: expected at most regimen.max_difficulty={high}")
 
     def make_state(self, game, section):
-        return LevelBuffer(int(section.get("buffer_size", ReplaySettings.buffer_size)))
+        buffer = LevelBuffer(int(section.get("buffer_size", ReplaySettings.buffer_size)))
+        buffer.game = game  # whose levels replay_levels rebuilds
+        return buffer
+
+    def replay_levels(self, state, k):
+        """The buffer's ``k`` highest-scoring levels, highest first: rank prioritisation replays
+        them most (staleness aside)."""
+        if state is None or not bool(state.valid.any()):
+            return []
+        source = self.make_source(state.game, {}, state)
+        scores = torch.where(state.valid, state.score.to(torch.float64), -math.inf)
+        best = torch.argsort(scores, descending=True, stable=True)[: min(k, int(state.valid.sum()))]
+        return [source.replayed_level(int(index)) for index in best]
 
     def make_source(self, game, section, state=None):
         buffer = state if state is not None else self.make_state(game, section)

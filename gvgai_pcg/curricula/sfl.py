@@ -233,7 +233,17 @@ class SamplingForLearnability(Curriculum):
             )
 
     def make_state(self, game, section):
-        return LearnabilityBuffer(int(section["buffer_size"]))
+        buffer = LearnabilityBuffer(int(section["buffer_size"]))
+        buffer.game = game  # whose levels replay_levels rebuilds
+        return buffer
+
+    def replay_levels(self, state, k):
+        """The buffer's ``k`` most learnable levels, most learnable first."""
+        from gvgai_pcg.generators import generate_level
+
+        held = 0 if state is None else int(state.filled[0])
+        order = torch.argsort(state.learnability[:held], descending=True, stable=True)[:k] if held else []
+        return [generate_level(state.game, float(state.difficulties[i]), int(state.seeds[i])) for i in order]
 
     def make_source(self, game, section, state=None):
         return LearnabilityLevels(game, section, state or self.make_state(game, section))
