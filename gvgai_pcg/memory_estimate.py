@@ -37,8 +37,8 @@ def bytes_per_env(config: dict[str, Any]) -> int:
     """The least memory one env of ``config`` takes in training (see the module docstring)."""
     import torch
 
-    from gvgai_pcg.evaluation.policy import observation_shape
     from gvgai_pcg.games import get_game
+    from gvgai_pcg.games.geometry import observation_shape
     from gvgai_pcg.rl.models import make_actor_critic
 
     game, obs = config["game"]["name"], config["env"]["obs"]

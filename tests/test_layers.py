@@ -71,7 +71,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("game", ("gvgai_pcg.games",)),
     ("readers", ("gvgai_pcg.generators", "gvgai_pcg.analysis")),
     ("envs", ("gvgai_pcg.envs", "gvgai_pcg.curricula")),
-    ("rl", ("gvgai_pcg.rl", "gvgai_pcg.config")),
+    ("rl", ("gvgai_pcg.rl", "gvgai_pcg.config", "gvgai_pcg.memory_estimate")),
     ("evaluation", ("gvgai_pcg.evaluation",)),
     (
         "apps",

@@ -19,19 +19,9 @@ from tensordict import TensorDictBase
 from gvgai_pcg.evaluation.checkpoints import RunInfo, load_state
 from gvgai_pcg.evaluation.runner import SAMPLE_KEY, sample_actions
 from gvgai_pcg.games import get_game
-from gvgai_pcg.games.geometry import CELL
-from gvgai_pcg.levels import level_format
+from gvgai_pcg.games.geometry import observation_shape
 from gvgai_pcg.rl.checkpoint import CheckpointError
 from gvgai_pcg.rl.models import ActorCritic, make_actor_critic
-
-
-def observation_shape(game: str, obs: str) -> tuple[int, int, int]:
-    """``(C, H, W)`` of one observation of ``game``: one channel per tile type on the level grid
-    (``tiles``), or RGB pixels of ``CELL`` x ``CELL`` per cell (``pixels``)."""
-    rules, fmt = get_game(game), level_format(game)
-    if obs == "tiles":
-        return (len(rules.tile_types), fmt.height, fmt.width)
-    return (3, fmt.height * CELL, fmt.width * CELL)
 
 
 def policy_actions(

@@ -288,3 +288,15 @@ def write_rows_(
     if accumulate:
         return table.scatter_add_(1, index, values)
     return table.scatter_(1, index, values)
+
+
+def observation_shape(game: str, obs: str) -> tuple[int, int, int]:
+    """``(C, H, W)`` of one observation of ``game``: one channel per tile type on the level grid
+    (``tiles``), or RGB pixels of ``CELL`` x ``CELL`` per cell (``pixels``)."""
+    from gvgai_pcg.games.registry import get_game
+    from gvgai_pcg.levels import level_format
+
+    rules, fmt = get_game(game), level_format(game)
+    if obs == "tiles":
+        return (len(rules.tile_types), fmt.height, fmt.width)
+    return (3, fmt.height * CELL, fmt.width * CELL)
