@@ -20,9 +20,10 @@ from torchrl.data import Bounded, Categorical, Composite, Unbounded
 
 from gvgai_pcg._private_apis import CompleteStepHook, unchecked_tensordict
 from gvgai_pcg.engine.buffers import BufferPool
-from gvgai_pcg.engine.compiled import COMPILED_RENDER, MIN_COMPILED_BATCH, CompiledTick, engine_tick
+from gvgai_pcg.engine.compiled import MIN_COMPILED_BATCH, engine_tick
 from gvgai_pcg.engine.outputs import episode_outputs
 from gvgai_pcg.engine.rows import copy_tensor_rows_, first_rows, select_rows
+from gvgai_pcg.engine.step_plan import StepPlan, choose_step_plan
 from gvgai_pcg.envs.inputs import ActionCheck, checked_count, checked_device, checked_difficulty, is_integer
 from gvgai_pcg.envs.level_bank import CompiledLevelBank
 from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
@@ -31,7 +32,7 @@ from gvgai_pcg.envs.reset_rows import RowResetEnv
 from gvgai_pcg.envs.shards import ShardedStepper
 from gvgai_pcg.envs.states import bucket_entity_tables, merge_states, slot_bucket
 from gvgai_pcg.games import get_game
-from gvgai_pcg.games.base import Game, entity_capacities, pad_entity_tables, pad_level
+from gvgai_pcg.games.base import entity_capacities, pad_entity_tables, pad_level
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.games.render import ascii_frame, render_pixels, render_tiles
 from gvgai_pcg.games.rng import derive_seeds, mix64
@@ -83,7 +84,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
             render this many slices of the batch on as many threads, each with one torch thread
             (see ``gvgai_pcg.envs.shards``); the default, 1, uses torch's own intra-op threads,
             the faster choice on a quiet machine. The results do not depend on it. A sharded
-            env ticks eagerly (gvgai_pcg.engine.compiled).
+            env ticks eagerly (gvgai_pcg.engine.step_plan).
         difficulty: the difficulty (in [0, 1]) of generated levels until a reset asks for another.
         check_actions: how action indices are range-checked. ``None`` (the default): on every
             step where the actions are on the CPU (no device sync), and without waiting on an
@@ -121,21 +122,11 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         device = checked_device(device)
         super().__init__(device=device, batch_size=torch.Size([num_envs]))
         self.game = get_game(game)
-        # Compiled where the game allows, on whole states only: on a shard's views of the state,
-        # inductor (torch 2.13) miscompiled Boulderdash's tick (its monsters' moves came out
-        # differently from run to run), so a sharded env ticks eagerly.
-        compiled = compile_tick and shards == 1
-        self._game_tick = engine_tick(self.game) if compiled else self.game.tick
-        # Small whole batches draw their tiles compiled (gvgai_pcg.engine.compiled.CompiledRender).
-        self._compiled_render = (
-            compiled and obs == "tiles" and COMPILED_RENDER.applies(self.game, num_envs, self.device)
+        # How this env steps, decided here once (gvgai_pcg.engine.step_plan).
+        self.step_plan: StepPlan = choose_step_plan(
+            self.game, num_envs, self.device, obs, shards, compile_tick
         )
-        # Somewhat larger ones tick and draw in one compiled call (CompiledTick.tick_and_draw).
-        self._tick_and_draw = (
-            compiled
-            and obs == "tiles"
-            and COMPILED_RENDER.applies(self.game, num_envs, self.device, COMPILED_RENDER.FUSED_MAX_BYTES)
-        )
+        self._compiled_tick = engine_tick(self.game) if self.step_plan.compiled else None
         self.level_source = as_level_source(game, levels)
         self.obs_kind, self.max_steps, self.num_envs = obs, max_steps, num_envs
         fmt = self.game.level_format
@@ -171,19 +162,6 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
             depth = max(1, min(READY_DEPTH_MAX, READY_ROWS // num_envs))
             keeps = depth * observation_bytes <= READY_OBSERVATIONS_MAX_BYTES
             self._ready = ReadyEpisodes(num_envs, keeps, depth)
-
-    @property
-    def _compiled_resets(self) -> bool:
-        """Whether resets tick through the compiled tick (see ``_compiled_reset_tick``): where the
-        steps do (a single env would compile for its resets alone), and where the game's reset
-        tick is its whole tick. A game with a lighter one of its own keeps it: Frogs' does a third
-        of a tick's work, and ticking its resets compiled gained nothing at 12 and 64 envs and lost
-        5 % at 1,024 (one thread, generated and human levels)."""
-        return (
-            isinstance(self._game_tick, CompiledTick)
-            and self.num_envs >= MIN_COMPILED_BATCH
-            and type(self.game).reset_tick is Game.reset_tick
-        )
 
     # --- specs ---
     def _make_specs(self) -> None:
@@ -295,16 +273,16 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         self._last_difficulties = difficulties
         if taken:
             self._state, levels, observed = self._ready.take_into(
-                self._state, index, self._episodes[index], self.game.compiles
+                self._state, index, self._episodes[index], self.game.step_facts.compiles
             )
             if observed is None:
                 observed = self._render(select_rows(self._state, rows))
         else:
             fresh, levels, observed = self._prepare(index, observe=True)
             if not partial:
-                self._state = bucket_entity_tables(fresh) if self.game.compiles else fresh
+                self._state = bucket_entity_tables(fresh) if self.game.step_facts.compiles else fresh
             else:
-                self._state = merge_states(self._state, fresh, rows, round_up=self.game.compiles)
+                self._state = merge_states(self._state, fresh, rows, round_up=self.game.step_facts.compiles)
         self._episodes[index] += 1
         for i, level in zip(index.tolist(), levels, strict=True):
             self._levels[i] = level
@@ -336,7 +314,13 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         states, levels, observed = self._prepare(envs, self._ready.keeps_observations, ahead)
         prepared_at = None if difficulties is None else difficulties[envs]
         self._ready.store(
-            envs, ahead, states, levels, observed, round_up=self.game.compiles, difficulties=prepared_at
+            envs,
+            ahead,
+            states,
+            levels,
+            observed,
+            round_up=self.game.step_facts.compiles,
+            difficulties=prepared_at,
         )
         return True
 
@@ -379,7 +363,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         difficulties = self._difficulty[index.to(self.device)].cpu()
         levels = self.level_source.next_levels(index, episode_seeds, difficulties)
         fresh = self._compile(levels, episode_seeds)
-        if self._compiled_resets:
+        if self.step_plan.compiled_resets:
             fresh, observed = self._compiled_reset_tick(fresh, observe)
             return fresh, levels, observed
         nil = torch.zeros(len(index), dtype=torch.int64, device=self.device)
@@ -413,17 +397,13 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         # The steps' graph ticks and draws in one call where this env's steps do, whatever the
         # size of this batch (episodes prepared ahead come several hundred at a time): the tick
         # alone would be another graph to compile, seconds for a few rare calls.
-        if self._tick_and_draw or (
-            observe
-            and self.obs_kind == "tiles"
-            and COMPILED_RENDER.applies(self.game, len(batch), self.device, COMPILED_RENDER.FUSED_MAX_BYTES)
-        ):
+        if self.step_plan.fused:
             # Steps of their own: the step's graph takes distinct tensors (an aliased pair would
             # be another graph).
-            fused = self._game_tick.tick_and_draw(batch, nil, torch.zeros_like(nil), self.max_steps)
+            fused = self._compiled_tick.tick_and_draw(batch, nil, torch.zeros_like(nil), self.max_steps)
         observed = fused[0] if fused is not None and observe else None
         if fused is None:  # not ticked in one call with the tiles (the tick has not run then)
-            self._game_tick(batch, nil)
+            self._compiled_tick.run(batch, nil, self.step_plan.large_graph)
             if observe:
                 observed = self._render(batch)
         if count < MIN_COMPILED_BATCH:
@@ -448,8 +428,8 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         state = self.state
         action = self._check_action(tensordict.get("action"))
         self._steps += 1
-        if self._tick_and_draw and isinstance(self._game_tick, CompiledTick):
-            fused = self._game_tick.tick_and_draw(state, action, self._steps, self.max_steps)
+        if self.step_plan.fused:
+            fused = self._compiled_tick.tick_and_draw(state, action, self._steps, self.max_steps)
             if fused is not None:  # the tick, the tiles and the other outputs in one call
                 return self._output(*fused)
         before = state.get("score").clone()  # a sharded step writes the new score into it
@@ -459,7 +439,10 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
 
     def _tick(self, state: TensorDict, action: torch.Tensor) -> torch.Tensor:
         """One tick of ``state``, then its observation (the work of one shard)."""
-        self._game_tick(state, action)
+        if self._compiled_tick is None:
+            self.game.tick(state, action)
+        else:
+            self._compiled_tick.run(state, action, self.step_plan.large_graph)
         return self._render(state)
 
     def _reset_tick(self, state: TensorDict, nil: torch.Tensor) -> torch.Tensor:
@@ -476,11 +459,6 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         if self.obs_kind == "pixels":
             return render_pixels(self.game, state)
         whole = len(state) == self.num_envs
-        if whole and self._compiled_render:
-            tiles = COMPILED_RENDER(self.game, state)
-            if tiles is not None:
-                return tiles
-            self._compiled_render = False
         # Whole-batch tiles are drawn into recycled buffers (the size of a partial reset varies).
         return render_tiles(self.game, state, self.buffers if whole else None)
 
