@@ -48,7 +48,7 @@ RECOMPILE_LIMIT = 32
 # later batch size reuses that graph. A tick first traced at 64 envs ran its loops over the envs
 # on one thread at 4,096 too: Zelda, 2 threads, 1,831 us a tick at 4,096 and 592 at 1,024, against
 # 1,071 and 414 for a graph first traced at 4,096. So from this many envs a thread the tick runs a
-# graph of its own, first traced at such a batch (``CompiledTick.large_batch``).
+# graph of its own, first traced at such a batch (``large_batch``).
 LARGE_BATCH_PER_THREAD = 512
 # Options of that graph: it has to differ from the small batches' graph in something inductor's
 # on-disk cache hashes, since the cache's key leaves out size hints and would hand either graph's
