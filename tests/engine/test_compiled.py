@@ -73,13 +73,13 @@ def test_compiled_tick_equals_eager_tick(game_name, other_branch):
 
 def test_the_env_runs_the_compiled_tick_by_default():
     env = GVGAIEnv("zelda", num_envs=4, levels="human", seed=0)
-    assert env.step_plan.compiled and env._compiled_tick is engine_tick(env.game)
-    assert isinstance(env._compiled_tick, CompiledTick)
+    assert env.step_plan.compiled and env._runner.compiled_tick is engine_tick(env.game)
+    assert isinstance(env._runner.compiled_tick, CompiledTick)
 
 
 def test_a_sharded_env_ticks_eagerly():
     env = GVGAIEnv("boulderdash", num_envs=4, levels="human", seed=0, shards=2)
-    assert not env.step_plan.compiled and env._compiled_tick is None
+    assert not env.step_plan.compiled and env._runner.compiled_tick is None
 
 
 def test_compiling_can_be_turned_off(monkeypatch):
@@ -233,9 +233,11 @@ def test_an_env_drawing_compiled_observes_what_an_eager_one_does(game_name, monk
     assert not envs[1].step_plan.compiled  # all eager
     resets = 0
     fused = []  # steps that ticked and drew in one compiled call
-    tick_and_draw = envs[0]._compiled_tick.tick_and_draw
+    tick_and_draw = envs[0]._runner.compiled_tick.tick_and_draw
     monkeypatch.setattr(
-        envs[0]._compiled_tick, "tick_and_draw", lambda *args: fused.append(tick_and_draw(*args)) or fused[-1]
+        envs[0]._runner.compiled_tick,
+        "tick_and_draw",
+        lambda *args: fused.append(tick_and_draw(*args)) or fused[-1],
     )
     tds = [env.reset() for env in envs]
     generator = torch.Generator().manual_seed(0)
@@ -254,7 +256,7 @@ def test_an_env_drawing_compiled_observes_what_an_eager_one_does(game_name, monk
     resets_fused = 1 + resets if envs[0].step_plan.compiled_resets else 0  # the first, then each reset
     assert len(fused) == 60 + resets_fused and all(tiles is not None for tiles in fused[:4])
     assert resets >= 2, resets
-    assert not envs[0]._compiled_tick.fused_failures
+    assert not envs[0]._runner.compiled_tick.fused_failures
 
 
 def test_a_large_batch_on_several_threads_ticks_through_a_graph_of_its_own(monkeypatch):

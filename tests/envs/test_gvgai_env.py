@@ -43,7 +43,7 @@ def test_step_outputs_are_as_torchrl_would_complete_them(obs):
 @pytest.mark.parametrize("obs", ["tiles", "pixels"])
 def test_observation_specs_hold_what_is_observed(obs):
     """Tiles are 0/1 and pixels any uint8, both under a uint8 Unbounded spec (neither Bounded nor
-    Binary: see GVGAIEnv._make_specs)."""
+    Binary: see gvgai_pcg.envs.specs)."""
     env = GVGAIEnv("frogs", num_envs=8, obs=obs, seed=1)
     spec = env.observation_spec[obs]
     rollout = env.rollout(30, break_when_any_done=False)

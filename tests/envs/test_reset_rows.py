@@ -80,7 +80,7 @@ def test_outputs_kept_by_the_caller_are_never_overwritten(game):
     env = GVGAIEnv(game, num_envs=32, levels="human", seed=3)
     env.buffers.min_bytes = 0
     # a compiled render returns new tensors; this is about the pool
-    env.step_plan = dataclasses.replace(env.step_plan, fused=False)
+    env._runner.plan = dataclasses.replace(env.step_plan, fused=False)
     generator, td = torch.Generator().manual_seed(1), env.reset()
     kept, snapshots = [td], [td.clone()]
     for _ in range(30):
