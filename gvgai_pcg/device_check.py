@@ -25,7 +25,7 @@ from functools import partial
 
 import torch
 
-from gvgai_pcg.engine.compiled import CompiledTick, engine_tick
+from gvgai_pcg.engine.compiled import CompiledTick, compiled_batch, engine_tick
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.level_sources import GeneratedLevels
 from gvgai_pcg.games import get_game, registered_games
@@ -61,7 +61,7 @@ def check_tick(game_name: str, device: torch.device, ticks: int = 150, copies: i
     reference = game.compile(levels, seeds, CPU)
     state = game.compile(levels, seeds.to(device), device)
     tick = engine_tick(game)
-    compiled = isinstance(tick, CompiledTick) and len(levels) > 1 and device.type in game.compiled_devices
+    compiled = isinstance(tick, CompiledTick) and compiled_batch(game.step_facts, len(levels), device)
     what = "compiled tick" if compiled else "eager tick"
     generator = torch.Generator().manual_seed(0)
     begin = time.perf_counter()
@@ -83,12 +83,19 @@ def check_env(
 ) -> Check:
     """A ``GVGAIEnv`` with generated levels (d = 0.5) on ``device`` against one on the CPU that
     ticks and draws eagerly."""
-    envs = [
-        GVGAIEnv(game_name, num_envs, GeneratedLevels(game_name), obs=obs, device=d, seed=3, difficulty=0.5)
+    envs = [  # the reference ticks and draws eagerly
+        GVGAIEnv(
+            game_name,
+            num_envs,
+            GeneratedLevels(game_name),
+            obs=obs,
+            device=d,
+            seed=3,
+            difficulty=0.5,
+            compile_tick=d != CPU,
+        )
         for d in (CPU, device)
     ]
-    envs[0]._game_tick = envs[0].game.tick  # the reference ticks and draws eagerly
-    envs[0]._compiled_render = envs[0]._tick_and_draw = False
     what = f"env ({obs}), {num_envs} envs"
     tds = [env.reset() for env in envs]
     generator = torch.Generator().manual_seed(1)

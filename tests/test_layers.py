@@ -84,6 +84,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
             "gvgai_pcg.bench_vgdlx",
             "gvgai_pcg.bench_jobs",
             "gvgai_pcg.bench_compiled",
+            "gvgai_pcg.bench_threads",
             "gvgai_pcg.device_check",
             "gvgai_pcg.play",
         ),

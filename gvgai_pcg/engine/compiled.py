@@ -1,9 +1,10 @@
 """The tick the engine runs: a game's tick compiled into a few fused kernels where it can be
-(and, for small batches, the tiles drawn the same way: ``CompiledRender``).
+(and, for small batches, the tiles drawn in the same call: ``CompiledTick.tick_and_draw``). Which
+env runs it is decided once, by ``gvgai_pcg.engine.step_plan``.
 
 At the batches training uses (12-64 envs) an eager tick costs its ~250 small ops, not its work:
 about 1-2 ms whatever the batch. ``torch.compile`` fuses a tick that traces as one graph
-(``Game.compiles``) into a few loops over the envs. On the CPU those loops are kept scalar
+(``StepFacts.compiles``) into a few loops over the envs. On the CPU those loops are kept scalar
 (``cpp.simdlen = 0``): inductor's vectorised code runs 16-lane masked int64 vectors over entity
 tables of a handful of slots and was 3-5x slower than eager at B = 1024-4096, where the scalar
 code is 2-3x faster (docs/benchmarks.md, "The compiled tick").
@@ -15,8 +16,8 @@ a running state grows its tables to a power of two (``gvgai_pcg.envs.states``). 
 C++ compiler on the CPU (Triton on CUDA); where it fails the engine warns once and runs the
 eager tick, which computes the same. ``GVGAI_PCG_COMPILE=0`` turns compiling off. What a tick
 takes from the host (``Game.host_arguments``: whole-batch choices, one graph each, and tables) is
-read before the graph runs; a choice whose graph inductor gets wrong (``Game.eager_when``) ticks
-eagerly.
+read before the graph runs; a choice whose graph inductor gets wrong (``StepFacts.eager_when``)
+ticks eagerly.
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ from tensordict import TensorDict
 
 from gvgai_pcg.engine.outputs import episode_outputs
 from gvgai_pcg.games.base import Game
+from gvgai_pcg.games.spec import StepFacts
 
 COMPILE_VARIABLE = "GVGAI_PCG_COMPILE"
 # Scalar C++ loops on the CPU (see the module docstring); no effect on CUDA.
@@ -46,12 +48,20 @@ RECOMPILE_LIMIT = 32
 # later batch size reuses that graph. A tick first traced at 64 envs ran its loops over the envs
 # on one thread at 4,096 too: Zelda, 2 threads, 1,831 us a tick at 4,096 and 592 at 1,024, against
 # 1,071 and 414 for a graph first traced at 4,096. So from this many envs a thread the tick runs a
-# graph of its own, first traced at such a batch (``CompiledTick.large_batch``).
+# graph of its own, first traced at such a batch (``large_batch``).
 LARGE_BATCH_PER_THREAD = 512
 # Options of that graph: it has to differ from the small batches' graph in something inductor's
 # on-disk cache hashes, since the cache's key leaves out size hints and would hand either graph's
 # code to the other. A smaller minimum chunk changes no loop at the batches it runs.
 LARGE_BATCH_OPTIONS = {**INDUCTOR_OPTIONS, "cpp.min_chunk_size": LARGE_BATCH_PER_THREAD // 2}
+# The most tile bytes (envs x tile types x cells) whose tiles are drawn compiled, in the tick's call
+# (``CompiledTick.tick_and_draw``); a larger batch ticks compiled and draws eagerly. Eager, a
+# render costs its ~50 small ops (about 0.22-0.33 ms a batch whatever the game); compiled, its
+# scalar loops cost more per byte than the eager copies. On one thread (2026-11-26, tick and tiles
+# in one call / compiled tick then eager render): Frogs 0.85x at 217k bytes and 1.04x at 434k;
+# Boulderdash 0.83x at 389k and 0.99x at 779k; Solarfox 0.89x at 282k and 1.07x at 563k; Zelda
+# 0.61x at 270k and 0.72x at 539k. The CPU only: not checked on CUDA.
+FUSED_MAX_BYTES = 400_000
 
 # What compiling raises (an error inside a compiled tick is not among them and propagates).
 COMPILE_ERRORS = (torch._dynamo.exc.TorchDynamoException, torch._dynamo.exc.FailOnRecompileLimitHit)
@@ -88,6 +98,29 @@ def _configured_thread() -> None:
         _configure_this_thread()
 
 
+def compiled_batch(facts: StepFacts, batch: int, device: torch.device | str) -> bool:
+    """Whether a batch of ``batch`` envs on ``device`` of a game with ``facts`` ticks compiled."""
+    largest = facts.max_compiled_batch
+    return (
+        facts.compiles
+        and torch.device(device).type in facts.compiled_devices
+        and MIN_COMPILED_BATCH <= batch
+        and (largest is None or batch <= largest)
+    )
+
+
+def large_batch(facts: StepFacts, batch: int, device: torch.device | str, threads: int) -> bool:
+    """Whether a batch of ``batch`` envs ticks through the graph for large batches (see
+    ``LARGE_BATCH_PER_THREAD``) on ``threads`` torch threads; with one thread no loop is parallel
+    and one graph serves all. The CPU only: CUDA's kernels are not split over threads this way."""
+    return (
+        threads > 1
+        and batch >= LARGE_BATCH_PER_THREAD * threads
+        and facts.parallel_graph
+        and torch.device(device).type == "cpu"
+    )
+
+
 def _failure_message(error: Exception) -> str:
     """The one line a warning gives of a compiler error."""
     return f"{type(error).__name__}: {str(error).strip().splitlines()[0][:300]}"
@@ -98,7 +131,7 @@ class CompiledTick:
     an unsupported op) it says so and falls back to the eager tick there for good."""
 
     def __init__(self, game: Game) -> None:
-        self.game = game
+        self.game, self.facts = game, game.step_facts
         self._compiled = torch.compile(
             type(game).tick, fullgraph=True, dynamic=True, options=INDUCTOR_OPTIONS
         )
@@ -120,33 +153,13 @@ class CompiledTick:
         """Why compiling failed on some device (None where it never did)."""
         return next(iter(self.failures.values()), None)
 
-    def large_batch(self, batch: int, device: torch.device | str = "cpu") -> bool:
-        """Whether a batch of ``batch`` envs ticks through the graph for large batches (see
-        ``LARGE_BATCH_PER_THREAD``); with one thread no loop is parallel and one graph serves all.
-        The CPU only: CUDA's kernels are not split over threads this way (and not measured)."""
-        threads = torch.get_num_threads()  # the cheap tests first: this runs at every compiled tick
-        return (
-            threads > 1
-            and batch >= LARGE_BATCH_PER_THREAD * threads
-            and self.game.parallel_graph
-            and torch.device(device).type == "cpu"
-        )
-
-    def _host_arguments(self, state: TensorDict, action: torch.Tensor) -> tuple[dict | None, bool]:
-        """The host arguments of the next tick of ``state`` (None where it is not worked out) and
-        whether the tick may run compiled."""
-        batch, largest = state.batch_size[0], self.game.max_compiled_batch
-        device = action.device.type
-        if not (
-            device in self.game.compiled_devices
-            and device not in self.failures
-            and MIN_COMPILED_BATCH <= batch
-            and (largest is None or batch <= largest)
-        ):
-            return None, False
+    def _arguments(self, state: TensorDict, device: str) -> tuple[dict, bool]:
+        """The host arguments of the next tick of ``state`` and whether it may run compiled (not
+        where compiling failed on ``device``, nor where an ``eager_when`` argument holds)."""
         _configured_thread()
         arguments = self.game.host_arguments(state)
-        return arguments, not any(arguments[name] for name in self.game.eager_when)
+        eager = device in self.failures or any(arguments[name] for name in self.facts.eager_when)
+        return arguments, not eager
 
     def _compile_failed(self, failures: dict[str, str], what: str, device: str, error: Exception) -> None:
         message = _failure_message(error)
@@ -161,37 +174,44 @@ class CompiledTick:
             stacklevel=3,
         )
 
-    def __call__(self, state: TensorDict, action: torch.Tensor) -> None:
-        arguments, compiled = self._host_arguments(state, action)
-        if arguments is None:
-            self.game.tick(state, action)
-        elif not compiled:
+    def run(self, state: TensorDict, action: torch.Tensor, large: bool = False) -> None:
+        """The tick, compiled, for a caller that has chosen to run it compiled (an env's
+        ``StepPlan``): ``large`` picks the graph for large batches. Only the data decides here: an
+        ``eager_when`` argument, or a device where compiling failed, ticks eagerly."""
+        arguments, compiled = self._arguments(state, action.device.type)
+        if not compiled:
             self.game.tick(state, action, **arguments)
-        else:
-            compiled_tick = (
-                self._compiled_large if self.large_batch(len(action), action.device) else self._compiled
-            )
-            try:
-                compiled_tick(self.game, state, action, **arguments)
-            except COMPILE_ERRORS as error:  # raised while compiling, before the tick ran
-                self._compile_failed(self.failures, "tick", action.device.type, error)
-                self.game.tick(state, action, **arguments)
+            return
+        try:
+            (self._compiled_large if large else self._compiled)(self.game, state, action, **arguments)
+        except COMPILE_ERRORS as error:  # raised while compiling, before the tick ran
+            self._compile_failed(self.failures, "tick", action.device.type, error)
+            self.game.tick(state, action, **arguments)
+
+    def __call__(self, state: TensorDict, action: torch.Tensor) -> None:
+        """The tick of any batch (benchmarks, the golden replays): compiled where an env of this
+        batch and device would tick compiled (``compiled_batch``), with the threads set now."""
+        batch, device = len(action), action.device
+        if not compiled_batch(self.facts, batch, device):
+            self.game.tick(state, action)
+            return
+        self.run(state, action, large_batch(self.facts, batch, device, torch.get_num_threads()))
 
     def tick_and_draw(
         self, state: TensorDict, action: torch.Tensor, steps: torch.Tensor, max_steps: int
     ) -> tuple[torch.Tensor, dict[str, torch.Tensor]] | None:
         """The tick, then the tiles it leaves (``render_tiles_traced``) and the step's other
         outputs (``episode_outputs`` after ``steps`` steps of ``max_steps``, and the ``reward``,
-        ``[B, 1]`` float32), as one compiled call; None where that call does not apply or failed
-        to compile, and the caller ticks and draws apart (the tick has not run then). A tick and a
-        compiled render called in turn each pay a compiled call's fixed cost and run between other
-        work that evicts their code from the caches: at 64 Zelda envs the two took 366 us in an
-        env's step and this one 224 us; the outputs, eagerly a dozen small ops, add almost nothing
-        to it."""
+        ``[B, 1]`` float32), as one compiled call, for a caller whose plan fuses them; None where
+        the data asks for the eager tick or that call failed to compile, and the caller ticks and
+        draws apart (the tick has not run then). A tick and a compiled render called in turn each
+        pay a compiled call's fixed cost and run between other work that evicts their code from
+        the caches: at 64 Zelda envs the two took 366 us in an env's step and this one 224 us; the
+        outputs, eagerly a dozen small ops, add almost nothing to it."""
         device = action.device.type
         if device in self.fused_failures:
             return None
-        arguments, compiled = self._host_arguments(state, action)
+        arguments, compiled = self._arguments(state, device)
         if not compiled:
             return None
         try:
@@ -218,75 +238,13 @@ def tick_and_draw(
     return render_tiles_traced(game, state), episode_outputs(state, steps, max_steps, score_before=before)
 
 
-class CompiledRender:
-    """Whole-batch tiles of a small batch drawn by ``render_tiles_traced`` compiled. Eager, a
-    render costs its ~50 small ops (about 0.22-0.33 ms a batch whatever the game); compiled it is
-    a few loops, 2.4x as fast for Zelda at 12 envs and 2.2x at 64. Its scalar loops cost more per
-    byte than the eager copies, though, so it draws batches of at most ``MAX_BYTES`` tile bytes:
-    on one thread (2026-11-26, compiled / eager) Zelda 2.4x at 12.6k bytes, 2.2x at 67k and 1.7x
-    at 270k; Boulderdash 1.9x at 37k, 1.3x at 195k and 0.7x at 779k; Solarfox 1.4x at 70k and 0.9x
-    at 282k; Frogs 1.4x at 41k and 0.9x at 217k. The CPU only: it has not been checked on CUDA.
-    """
-
-    MAX_BYTES = 200_000
-    # Drawn in the same call as the tick (CompiledTick.tick_and_draw), which saves a compiled
-    # call's fixed cost, batches of up to about twice as many bytes gain. On one thread
-    # (2026-11-26, tick and tiles in one call / compiled tick then eager render): Frogs 0.85x at
-    # 217k bytes and 1.04x at 434k; Boulderdash 0.83x at 389k and 0.99x at 779k; Solarfox 0.89x
-    # at 282k and 1.07x at 563k; Zelda 0.61x at 270k and 0.72x at 539k.
-    FUSED_MAX_BYTES = 400_000
-    DEVICES = ("cpu",)
-
-    def __init__(self) -> None:
-        from gvgai_pcg.games.render import render_tiles_traced
-
-        self._compiled = torch.compile(
-            render_tiles_traced, fullgraph=True, dynamic=True, options=INDUCTOR_OPTIONS
-        )
-        # Why compiling failed, per game class and device type, each then drawn eagerly.
-        self.failures: dict[tuple[type, str], str] = {}
-
-    def applies(self, game: Game, batch: int, device: torch.device, max_bytes: int | None = None) -> bool:
-        """Whether a batch of ``batch`` envs of ``game`` on ``device`` is drawn compiled (with tiles
-        of at most ``max_bytes``, by default ``MAX_BYTES``)."""
-        if not (
-            compiling_enabled()
-            and device.type in self.DEVICES
-            and (type(game), device.type) not in self.failures
-            and MIN_COMPILED_BATCH <= batch
-        ):
-            return False
-        grid = game.level_format
-        limit = self.MAX_BYTES if max_bytes is None else max_bytes
-        return batch * len(game.tile_types) * grid.height * grid.width <= limit
-
-    def __call__(self, game: Game, state: TensorDict) -> torch.Tensor | None:
-        """The tiles, or None where compiling failed (the caller draws them eagerly)."""
-        _configured_thread()
-        try:
-            return self._compiled(game, state)
-        except COMPILE_ERRORS as error:
-            device = state.device.type if state.device is not None else "cpu"
-            message = _failure_message(error)
-            self.failures[(type(game), device)] = message
-            warnings.warn(
-                f"compiling {game.name}'s tiles render for {device} failed ({message}); they are "
-                f"drawn eagerly there, which draws the same",
-                RuntimeWarning,
-                stacklevel=2,
-            )
-            return None
-
-
-COMPILED_RENDER = CompiledRender()
-
 _TICKS: dict[type, Tick] = {}
 
 
 def engine_tick(game: Game) -> Tick:
     """The tick the engine runs for ``game``: compiled where the game traces as one graph and
     compiling is on, else ``game.tick`` itself. One per game class, shared (compiling is slow)."""
-    if not (game.compiles and compiling_enabled()):
+    if not (game.step_facts.compiles and compiling_enabled()):
         return game.tick
     tick = _TICKS.get(type(game))
     if tick is None:

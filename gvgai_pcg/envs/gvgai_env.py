@@ -16,24 +16,29 @@ from os import PathLike
 import numpy as np
 import torch
 from tensordict import TensorDict, TensorDictBase
-from torchrl.data import Bounded, Categorical, Composite, Unbounded
 
 from gvgai_pcg._private_apis import CompleteStepHook, unchecked_tensordict
 from gvgai_pcg.engine.buffers import BufferPool
-from gvgai_pcg.engine.compiled import COMPILED_RENDER, MIN_COMPILED_BATCH, CompiledTick, engine_tick
 from gvgai_pcg.engine.outputs import episode_outputs
-from gvgai_pcg.engine.rows import copy_tensor_rows_, first_rows, select_rows
-from gvgai_pcg.envs.inputs import ActionCheck, checked_count, checked_device, checked_difficulty, is_integer
+from gvgai_pcg.engine.rows import copy_tensor_rows_, select_rows
+from gvgai_pcg.engine.step_plan import StepPlan, choose_step_plan
+from gvgai_pcg.envs.inputs import (
+    ActionCheck,
+    checked_count,
+    checked_device,
+    checked_difficulty,
+    checked_seeds,
+)
 from gvgai_pcg.envs.level_bank import CompiledLevelBank
 from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
 from gvgai_pcg.envs.ready_episodes import ReadyEpisodes
 from gvgai_pcg.envs.reset_rows import RowResetEnv
-from gvgai_pcg.envs.shards import ShardedStepper
-from gvgai_pcg.envs.states import bucket_entity_tables, merge_states, slot_bucket
+from gvgai_pcg.envs.specs import env_specs
+from gvgai_pcg.envs.states import bucket_entity_tables, merge_states
+from gvgai_pcg.envs.stepping import PlanRunner
 from gvgai_pcg.games import get_game
-from gvgai_pcg.games.base import Game, entity_capacities, pad_entity_tables, pad_level
-from gvgai_pcg.games.geometry import CELL
-from gvgai_pcg.games.render import ascii_frame, render_pixels, render_tiles
+from gvgai_pcg.games.base import pad_level
+from gvgai_pcg.games.render import ascii_frame, render_pixels
 from gvgai_pcg.games.rng import derive_seeds, mix64
 from gvgai_pcg.levels import Level
 
@@ -83,7 +88,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
             render this many slices of the batch on as many threads, each with one torch thread
             (see ``gvgai_pcg.envs.shards``); the default, 1, uses torch's own intra-op threads,
             the faster choice on a quiet machine. The results do not depend on it. A sharded
-            env ticks eagerly (gvgai_pcg.engine.compiled).
+            env ticks eagerly (gvgai_pcg.engine.step_plan).
         difficulty: the difficulty (in [0, 1]) of generated levels until a reset asks for another.
         check_actions: how action indices are range-checked. ``None`` (the default): on every
             step where the actions are on the CPU (no device sync), and without waiting on an
@@ -121,26 +126,15 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         device = checked_device(device)
         super().__init__(device=device, batch_size=torch.Size([num_envs]))
         self.game = get_game(game)
-        # Compiled where the game allows, on whole states only: on a shard's views of the state,
-        # inductor (torch 2.13) miscompiled Boulderdash's tick (its monsters' moves came out
-        # differently from run to run), so a sharded env ticks eagerly.
-        compiled = compile_tick and shards == 1
-        self._game_tick = engine_tick(self.game) if compiled else self.game.tick
-        # Small whole batches draw their tiles compiled (gvgai_pcg.engine.compiled.CompiledRender).
-        self._compiled_render = (
-            compiled and obs == "tiles" and COMPILED_RENDER.applies(self.game, num_envs, self.device)
-        )
-        # Somewhat larger ones tick and draw in one compiled call (CompiledTick.tick_and_draw).
-        self._tick_and_draw = (
-            compiled
-            and obs == "tiles"
-            and COMPILED_RENDER.applies(self.game, num_envs, self.device, COMPILED_RENDER.FUSED_MAX_BYTES)
-        )
+        self.buffers = BufferPool(keep=8)  # large whole-batch outputs, reused once released
+        # How this env steps, decided here once (gvgai_pcg.engine.step_plan).
+        plan = choose_step_plan(self.game, num_envs, self.device, obs, shards, compile_tick)
+        self._runner = PlanRunner(self.game, plan, obs, num_envs, max_steps, shards, self.buffers)
         self.level_source = as_level_source(game, levels)
         self.obs_kind, self.max_steps, self.num_envs = obs, max_steps, num_envs
         fmt = self.game.level_format
         self.grid_height, self.grid_width = fmt.height, fmt.width
-        self._env_seeds = self._seeds_from(seed)
+        self._env_seeds = checked_seeds(seed, num_envs)
         self._episodes = torch.zeros(num_envs, dtype=torch.int64)
         self._default_difficulty = float(difficulty)
         self._state: TensorDict | None = None
@@ -156,11 +150,10 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         self._level_seeds = torch.full((num_envs,), -1, dtype=torch.int64)
         # The d each env's level was made at: the env's difficulty, or the source's own (DR).
         self._level_difficulties = torch.full((num_envs,), self._default_difficulty, dtype=torch.float64)
-        self._stepper = ShardedStepper(shards, min_shard=1)
-        self.buffers = BufferPool(keep=8)  # large whole-batch outputs, reused once released
-        # Sources whose next levels are known in advance get their partial resets prepared in bulk.
-        self._make_specs()
+        for name, spec in env_specs(self.game, obs, num_envs, self.device).items():
+            setattr(self, name, spec)
         self._check_action = ActionCheck(num_envs, tuple(self.game.actions), self.device, check_actions)
+        # Sources whose next levels are known in advance get their partial resets prepared in bulk.
         self._ready = None
         # Generated levels depend on the difficulty: their episodes are prepared at it, and count
         # only at it (see ``_difficulty_holds``).
@@ -173,64 +166,9 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
             self._ready = ReadyEpisodes(num_envs, keeps, depth)
 
     @property
-    def _compiled_resets(self) -> bool:
-        """Whether resets tick through the compiled tick (see ``_compiled_reset_tick``): where the
-        steps do (a single env would compile for its resets alone), and where the game's reset
-        tick is its whole tick. A game with a lighter one of its own keeps it: Frogs' does a third
-        of a tick's work, and ticking its resets compiled gained nothing at 12 and 64 envs and lost
-        5 % at 1,024 (one thread, generated and human levels)."""
-        return (
-            isinstance(self._game_tick, CompiledTick)
-            and self.num_envs >= MIN_COMPILED_BATCH
-            and type(self.game).reset_tick is Game.reset_tick
-        )
-
-    # --- specs ---
-    def _make_specs(self) -> None:
-        b, h, w = self.num_envs, self.grid_height, self.grid_width
-        # Both observation specs are uint8 Unbounded. Not Bounded: TorchRL builds a Bounded's low
-        # and high at full size and compares them element by element when it takes the batch size
-        # (4,096 envs: 1.4 s for tiles, 30 s for pixels). Nor Binary for the 0/1 tiles: TorchRL's
-        # transforms leave a Binary as it is, so after a cast to float ObservationNorm and VecNorm
-        # produce values it refuses (check_env_specs fails); an Unbounded they take as it comes.
-        if self.obs_kind == "tiles":
-            shape = (b, len(self.game.tile_types), h, w)
-        else:
-            shape = (b, 3, h * CELL, w * CELL)
-        observation = Unbounded(shape=shape, dtype=torch.uint8, device=self.device)
-        self.observation_spec = Composite(
-            {
-                self.obs_kind: observation,
-                "score": Unbounded(shape=(b, 1), dtype=torch.float32, device=self.device),
-                "won": Categorical(2, shape=(b, 1), dtype=torch.bool, device=self.device),
-                "difficulty": Bounded(0.0, 1.0, shape=(b, 1), dtype=torch.float64, device=self.device),
-                "level_seed": Unbounded(shape=(b, 1), dtype=torch.int64, device=self.device),
-                "level_difficulty": Bounded(0.0, 1.0, shape=(b, 1), dtype=torch.float64, device=self.device),
-            },
-            shape=(b,),
-        )
-        self.action_spec = Categorical(
-            self.game.num_actions, shape=(b,), dtype=torch.int64, device=self.device
-        )
-        self.reward_spec = Unbounded(shape=(b, 1), dtype=torch.float32, device=self.device)
-        self.done_spec = Composite(
-            {
-                key: Categorical(2, shape=(b, 1), dtype=torch.bool, device=self.device)
-                for key in ("done", "terminated", "truncated")
-            },
-            shape=(b,),
-        )
-
-    def _seeds_from(self, seed: int | Sequence[int]) -> torch.Tensor:
-        if isinstance(seed, torch.Tensor | np.ndarray):
-            seed = seed.tolist()
-        if is_integer(seed):
-            return derive_seeds(int(seed), self.num_envs)
-        if not isinstance(seed, Sequence) or isinstance(seed, str) or not all(map(is_integer, seed)):
-            raise ValueError(f"seed must be an int or a list of {self.num_envs} ints, got {seed!r}")
-        if len(seed) != self.num_envs:
-            raise ValueError(f"got {len(seed)} seeds for {self.num_envs} envs")
-        return torch.as_tensor(seed, dtype=torch.int64)
+    def step_plan(self) -> StepPlan:
+        """How this env steps, chosen when it was made (``gvgai_pcg.engine.step_plan``)."""
+        return self._runner.plan
 
     @property
     def env_seeds(self) -> torch.Tensor:
@@ -295,16 +233,16 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         self._last_difficulties = difficulties
         if taken:
             self._state, levels, observed = self._ready.take_into(
-                self._state, index, self._episodes[index], self.game.compiles
+                self._state, index, self._episodes[index], self.game.step_facts.compiles
             )
             if observed is None:
-                observed = self._render(select_rows(self._state, rows))
+                observed = self._runner.render(select_rows(self._state, rows))
         else:
             fresh, levels, observed = self._prepare(index, observe=True)
             if not partial:
-                self._state = bucket_entity_tables(fresh) if self.game.compiles else fresh
+                self._state = bucket_entity_tables(fresh) if self.game.step_facts.compiles else fresh
             else:
-                self._state = merge_states(self._state, fresh, rows, round_up=self.game.compiles)
+                self._state = merge_states(self._state, fresh, rows, round_up=self.game.step_facts.compiles)
         self._episodes[index] += 1
         for i, level in zip(index.tolist(), levels, strict=True):
             self._levels[i] = level
@@ -336,7 +274,13 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         states, levels, observed = self._prepare(envs, self._ready.keeps_observations, ahead)
         prepared_at = None if difficulties is None else difficulties[envs]
         self._ready.store(
-            envs, ahead, states, levels, observed, round_up=self.game.compiles, difficulties=prepared_at
+            envs,
+            ahead,
+            states,
+            levels,
+            observed,
+            round_up=self.game.step_facts.compiles,
+            difficulties=prepared_at,
         )
         return True
 
@@ -378,58 +322,8 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         episode_seeds = mix64(self._env_seeds[index] ^ mix64(episodes))
         difficulties = self._difficulty[index.to(self.device)].cpu()
         levels = self.level_source.next_levels(index, episode_seeds, difficulties)
-        fresh = self._compile(levels, episode_seeds)
-        if self._compiled_resets:
-            fresh, observed = self._compiled_reset_tick(fresh, observe)
-            return fresh, levels, observed
-        nil = torch.zeros(len(index), dtype=torch.int64, device=self.device)
-        observed = self._stepper(self._reset_tick if observe else self._reset_tick_only, fresh, nil)
-        return fresh, levels, observed if observe else None
-
-    def _compiled_reset_tick(
-        self, fresh: TensorDict, observe: bool
-    ) -> tuple[TensorDict, torch.Tensor | None]:
-        """The reset tick of ``fresh`` envs run by the engine's compiled tick (and, for tiles, drawn
-        in the same call), which equals the game's reset tick (RULES.md §1.8, tested per game);
-        ``fresh`` and, if ``observe``, their observations.
-
-        Eagerly a partial reset's tick costs a whole tick's few hundred small ops, however few its
-        envs: it was most of a step's time in Solarfox's training. So that the compiled graphs
-        already made serve it, its entity tables are grown to the running state's widths (or
-        their own power of two, if larger; empty slots change nothing), and a single env is
-        ticked twice over (the compiler would specialise a batch of one, see
-        ``gvgai_pcg.engine.compiled.MIN_COMPILED_BATCH``; every env is independent of the
-        others)."""
-        count = len(fresh)
-        running = entity_capacities(self._state) if self._state is not None else {}
-        widths = {
-            key: max(slot_bucket(size), running.get(key, 0)) for key, size in entity_capacities(fresh).items()
-        }
-        batch = pad_entity_tables(fresh, widths)
-        if count < MIN_COMPILED_BATCH:
-            batch = select_rows(batch, torch.zeros(MIN_COMPILED_BATCH, dtype=torch.int64, device=self.device))
-        nil = torch.zeros(len(batch), dtype=torch.int64, device=self.device)
-        fused = None
-        # The steps' graph ticks and draws in one call where this env's steps do, whatever the
-        # size of this batch (episodes prepared ahead come several hundred at a time): the tick
-        # alone would be another graph to compile, seconds for a few rare calls.
-        if self._tick_and_draw or (
-            observe
-            and self.obs_kind == "tiles"
-            and COMPILED_RENDER.applies(self.game, len(batch), self.device, COMPILED_RENDER.FUSED_MAX_BYTES)
-        ):
-            # Steps of their own: the step's graph takes distinct tensors (an aliased pair would
-            # be another graph).
-            fused = self._game_tick.tick_and_draw(batch, nil, torch.zeros_like(nil), self.max_steps)
-        observed = fused[0] if fused is not None and observe else None
-        if fused is None:  # not ticked in one call with the tiles (the tick has not run then)
-            self._game_tick(batch, nil)
-            if observe:
-                observed = self._render(batch)
-        if count < MIN_COMPILED_BATCH:
-            batch = first_rows(batch, count)
-            observed = observed[:count] if observed is not None else None
-        return batch, observed
+        fresh, observed = self._runner.reset_tick(self._compile(levels, episode_seeds), observe, self._state)
+        return fresh, levels, observed
 
     def _compile(self, levels: list[Level], episode_seeds: torch.Tensor) -> TensorDict:
         """The initial states of ``levels``. Levels that recur (human levels, a fixed list) come
@@ -448,41 +342,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         state = self.state
         action = self._check_action(tensordict.get("action"))
         self._steps += 1
-        if self._tick_and_draw and isinstance(self._game_tick, CompiledTick):
-            fused = self._game_tick.tick_and_draw(state, action, self._steps, self.max_steps)
-            if fused is not None:  # the tick, the tiles and the other outputs in one call
-                return self._output(*fused)
-        before = state.get("score").clone()  # a sharded step writes the new score into it
-        observed = self._stepper(self._tick, state, action)
-        outputs = episode_outputs(state, self._steps, self.max_steps, score_before=before)
-        return self._output(observed, outputs)
-
-    def _tick(self, state: TensorDict, action: torch.Tensor) -> torch.Tensor:
-        """One tick of ``state``, then its observation (the work of one shard)."""
-        self._game_tick(state, action)
-        return self._render(state)
-
-    def _reset_tick(self, state: TensorDict, nil: torch.Tensor) -> torch.Tensor:
-        """The reset tick of fresh envs, then their observation (the work of one shard)."""
-        self.game.reset_tick(state)
-        return self._render(state)
-
-    def _reset_tick_only(self, state: TensorDict, nil: torch.Tensor) -> torch.Tensor:
-        """The reset tick and no observation (an empty ``[N, 0]``, for the stepper)."""
-        self.game.reset_tick(state)
-        return nil.new_empty(nil.shape[0], 0)
-
-    def _render(self, state: TensorDict) -> torch.Tensor:
-        if self.obs_kind == "pixels":
-            return render_pixels(self.game, state)
-        whole = len(state) == self.num_envs
-        if whole and self._compiled_render:
-            tiles = COMPILED_RENDER(self.game, state)
-            if tiles is not None:
-                return tiles
-            self._compiled_render = False
-        # Whole-batch tiles are drawn into recycled buffers (the size of a partial reset varies).
-        return render_tiles(self.game, state, self.buffers if whole else None)
+        return self._output(*self._runner.step(state, action, self._steps))
 
     def _reset_output(self, state: TensorDict, observed: torch.Tensor, restarted: torch.Tensor) -> TensorDict:
         """The reset's output for every env of ``state``, whose observation is ``observed``. Envs

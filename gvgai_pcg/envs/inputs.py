@@ -11,11 +11,13 @@ a step and never waits on an accelerator unless asked to (see ``ActionCheck``).
 from __future__ import annotations
 
 import numbers
+from collections.abc import Sequence
 
 import numpy as np
 import torch
 
 from gvgai_pcg._private_apis import assert_async
+from gvgai_pcg.games.rng import derive_seeds
 
 SHOWN = 8  # bad actions (and their envs) named in an error; the count says how many more
 # The integer dtypes of action indices (torch's wider unsigned ones lack the ops of the check).
@@ -25,6 +27,20 @@ INTEGER_DTYPES = frozenset((torch.uint8, torch.int8, torch.int16, torch.int32, t
 def is_integer(value: object) -> bool:
     """Whether ``value`` is an integer (Python's or NumPy's), not a bool."""
     return isinstance(value, numbers.Integral) and not isinstance(value, bool | np.bool_)
+
+
+def checked_seeds(seed: object, num_envs: int) -> torch.Tensor:
+    """Per-env seeds ``[num_envs]`` int64 from ``seed``: an int (the seeds derived from it) or one
+    int per env."""
+    if isinstance(seed, torch.Tensor | np.ndarray):
+        seed = seed.tolist()
+    if is_integer(seed):
+        return derive_seeds(int(seed), num_envs)
+    if not isinstance(seed, Sequence) or isinstance(seed, str) or not all(map(is_integer, seed)):
+        raise ValueError(f"seed must be an int or a list of {num_envs} ints, got {seed!r}")
+    if len(seed) != num_envs:
+        raise ValueError(f"got {len(seed)} seeds for {num_envs} envs")
+    return torch.as_tensor(seed, dtype=torch.int64)
 
 
 def checked_count(name: str, value: object, minimum: int = 1) -> int:

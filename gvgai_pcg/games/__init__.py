@@ -22,7 +22,7 @@ from gvgai_pcg.games.registry import (
     registered_games,
     study_games,
 )
-from gvgai_pcg.games.spec import GameSpec, LevelFormat, WinNeed
+from gvgai_pcg.games.spec import GameSpec, LevelFormat, StepFacts, WinNeed
 
 _FROM_BASE = ("Game", "GridLayer", "SpriteArt", "SpriteLayer")
 
@@ -30,6 +30,7 @@ __all__ = [
     *_FROM_BASE,
     "GameSpec",
     "LevelFormat",
+    "StepFacts",
     "WinNeed",
     "get_game",
     "get_game_spec",

@@ -28,6 +28,7 @@ from tensordict import TensorDict
 
 from gvgai_pcg._private_apis import unchecked_tensordict
 from gvgai_pcg.games.geometry import CELL
+from gvgai_pcg.games.spec import StepFacts
 from gvgai_pcg.levels import Level, LevelFormat, level_format
 from gvgai_pcg.levels.padding import pad_rows
 
@@ -95,21 +96,15 @@ class Game(ABC):
     # Observation channels of ``tiles``, one per sprite type that matters (decoration left out).
     tile_types: ClassVar[tuple[str, ...]]
     art: ClassVar[dict[str, SpriteArt]]
-    # Whether ``tick`` traces as one graph (no data-dependent shapes or host syncs), so that the
-    # engine runs it compiled (gvgai_pcg.engine.compiled).
-    compiles: ClassVar[bool] = False
-    # Bool host arguments (see ``host_arguments``) whose graph the compiler gets wrong: a tick
-    # where one is true runs eagerly. Each says why where it is set; a test holds it to eager.
-    eager_when: ClassVar[tuple[str, ...]] = ()
-    # The largest batch whose tick runs compiled, where a compiled tick stops paying above it.
-    max_compiled_batch: ClassVar[int | None] = None
-    # Whether a large batch on several threads may tick through a graph with its loops over the
-    # envs in parallel (``gvgai_pcg.engine.compiled.LARGE_BATCH_PER_THREAD``). Each game that
-    # turns it off says why.
-    parallel_graph: ClassVar[bool] = True
-    # The device types (``torch.device.type``) whose compiled tick is held to the eager one; on any
-    # other the tick runs eagerly. Each game that narrows it says why.
-    compiled_devices: ClassVar[tuple[str, ...]] = ("cpu", "cuda")
+
+    @property
+    def step_facts(self) -> StepFacts:
+        """Whether and where the tick compiles, and its miscompile opt-outs: the game's
+        ``GameSpec.step_facts`` (a game class outside the registry may set its own)."""
+        from gvgai_pcg.games.registry import find_game_spec
+
+        spec = find_game_spec(self.name)
+        return StepFacts() if spec is None else spec.step_facts
 
     @property
     def level_format(self) -> LevelFormat:

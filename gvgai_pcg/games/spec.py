@@ -52,6 +52,35 @@ class LevelFormat:
 
 
 @dataclass(frozen=True)
+class StepFacts:
+    """What the engine needs to know of a game to choose how an env of it steps
+    (``gvgai_pcg.engine.step_plan``), in one value; the default is a game that ticks eagerly.
+
+    Every opt-out below a game sets says why where it sets it, with the command that reproduces
+    it, so that it can be dropped once the compiler is fixed.
+
+    Args:
+        compiles: whether ``Game.tick`` traces as one graph (no data-dependent shapes or host
+            syncs), so that the engine may run it compiled (``gvgai_pcg.engine.compiled``).
+        eager_when: bool host arguments (``Game.host_arguments``) whose graph the compiler gets
+            wrong: a tick where one is true runs eagerly (a miscompile opt-out).
+        max_compiled_batch: the largest batch that steps compiled, where the compiled tick stops
+            paying above it (measured); ``None``: no limit.
+        parallel_graph: whether a large batch on several threads may tick through the graph whose
+            loops over the envs run in parallel (``LARGE_BATCH_PER_THREAD``); off: a miscompile
+            opt-out.
+        compiled_devices: the device types whose compiled tick is held to the eager one; on any
+            other the env steps eagerly.
+    """
+
+    compiles: bool = False
+    eager_when: tuple[str, ...] = ()
+    max_compiled_batch: int | None = None
+    parallel_graph: bool = True
+    compiled_devices: tuple[str, ...] = ("cpu", "cuda")
+
+
+@dataclass(frozen=True)
 class GameSpec:
     """One game: what it is called, where its parts are, and what the study keeps for it.
 
@@ -82,6 +111,8 @@ class GameSpec:
             game to (what issues 2-5 asked of each game); ``None``: no target.
         frame_cost: the relative cost of a training frame, to share a sweep between jobs (the
             small sweep's run hours per game, Zelda = 1: docs/results.md, "Status").
+        step_facts: whether and where its tick compiles, and its miscompile opt-outs
+            (``StepFacts``); the default ticks eagerly.
     """
 
     name: str
@@ -99,6 +130,7 @@ class GameSpec:
     study_index: int | None = None
     bench_target: int | None = None
     frame_cost: float = 1.0
+    step_facts: StepFacts = StepFacts()
 
     def __post_init__(self) -> None:
         if not self.name.isidentifier() or self.name != self.name.lower() or "_" in self.name:

@@ -31,6 +31,7 @@ from pathlib import Path
 import torch
 from omegaconf import DictConfig
 
+from gvgai_pcg.engine.threads import threads_for_batch
 from gvgai_pcg.rl.a2c import train
 from gvgai_pcg.rl.a2c_loss import A2CLoss
 from gvgai_pcg.rl.environment import EnvFactory, make_difficulty
@@ -240,8 +241,7 @@ class _Timed(torch.nn.Module):
 def benchmark(cfg: DictConfig) -> dict[str, float]:
     """End-to-end frames/s of a short training run, the network's limits and the ratios, per wall
     and per CPU second, and the split of one batch (ms)."""
-    if cfg.threads:
-        torch.set_num_threads(int(cfg.threads))
+    torch.set_num_threads(int(cfg.threads) or threads_for_batch(int(cfg.env.num_envs)))
     with tempfile.TemporaryDirectory() as tmp:
         result = train(cfg, Path(tmp) / "run")
     frames = int(cfg.env.num_envs) * int(cfg.algo.n_steps) * int(cfg.collector.workers)

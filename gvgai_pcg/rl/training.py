@@ -38,6 +38,7 @@ from torchrl.collectors import MultiSyncCollector
 from torchrl.modules import ProbabilisticActor
 
 from gvgai_pcg.curricula.signals import feedback_for
+from gvgai_pcg.engine.threads import threads_for_batch
 from gvgai_pcg.levels.sets import level_set_fingerprint
 from gvgai_pcg.progress import progress
 from gvgai_pcg.rl.checkpoint import restore, save_model
@@ -90,8 +91,7 @@ def train(
     ``files`` (name -> text, e.g. Hydra's ``.hydra/*.yaml``) are written with ``config.yaml`` once
     the session is accepted; ``stop`` receives SIGINT/SIGTERM during it (default: a new one).
     Raises ``DivergenceError`` when an update is not finite."""
-    if cfg.threads:
-        torch.set_num_threads(int(cfg.threads))
+    torch.set_num_threads(int(cfg.threads) or threads_for_batch(int(cfg.env.num_envs)))
     config = OmegaConf.to_container(cfg, resolve=True)
     files = {"config.yaml": OmegaConf.to_yaml(cfg, resolve=True), **(files or {})}
     level_set = own_level_set(config)

@@ -9,14 +9,21 @@ import warnings
 import pytest
 import torch
 
-from gvgai_pcg.engine.compiled import COMPILE_VARIABLE, LARGE_BATCH_PER_THREAD, CompiledTick, engine_tick
+from gvgai_pcg.engine.compiled import (
+    COMPILE_VARIABLE,
+    LARGE_BATCH_PER_THREAD,
+    CompiledTick,
+    engine_tick,
+    large_batch,
+)
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.games import get_game, registered_games
+from gvgai_pcg.games.spec import StepFacts
 from gvgai_pcg.generators import get_generator
 from gvgai_pcg.levels import Level, human_levels
 from tests.games.toy_game import LEVEL_TEXT, Walk
 
-COMPILED_GAMES = [name for name in registered_games() if get_game(name).compiles]
+COMPILED_GAMES = [name for name in registered_games() if get_game(name).step_facts.compiles]
 
 
 def assert_same_states(expected, actual, when: str = "") -> None:
@@ -66,13 +73,13 @@ def test_compiled_tick_equals_eager_tick(game_name, other_branch):
 
 def test_the_env_runs_the_compiled_tick_by_default():
     env = GVGAIEnv("zelda", num_envs=4, levels="human", seed=0)
-    assert env._game_tick is engine_tick(env.game)
-    assert isinstance(env._game_tick, CompiledTick)
+    assert env.step_plan.compiled and env._runner.compiled_tick is engine_tick(env.game)
+    assert isinstance(env._runner.compiled_tick, CompiledTick)
 
 
 def test_a_sharded_env_ticks_eagerly():
     env = GVGAIEnv("boulderdash", num_envs=4, levels="human", seed=0, shards=2)
-    assert env._game_tick == env.game.tick
+    assert not env.step_plan.compiled and env._runner.compiled_tick is None
 
 
 def test_compiling_can_be_turned_off(monkeypatch):
@@ -84,7 +91,7 @@ def test_compiling_can_be_turned_off(monkeypatch):
 class WalkWithHostSync(Walk):
     """Claims to compile but reads a value on the host in its tick, which a full graph refuses."""
 
-    compiles = True
+    step_facts = StepFacts(compiles=True)
 
     def tick(self, state, action):
         if bool(state.get("won").any()):
@@ -136,7 +143,7 @@ def test_the_speedup_script_times_both_ticks():
 
 def test_a_branch_the_compiler_gets_wrong_ticks_eagerly(monkeypatch):
     game = get_game("boulderdash")
-    assert game.eager_when == ("leaving",)
+    assert game.step_facts.eager_when == ("leaving",)
     tick = CompiledTick(game)
     monkeypatch.setattr(tick, "_compiled", lambda *args, **kwargs: pytest.fail("ticked compiled"))
     levels = [Level("boulderdash", rows) for rows in BRANCH_LEVELS["boulderdash"]]
@@ -165,7 +172,7 @@ def test_a_batch_as_wide_as_an_entity_table_ticks_as_eagerly(game_name):
 
 def test_a_batch_above_the_games_compiled_limit_ticks_eagerly(monkeypatch):
     game = get_game("solarfox")
-    assert game.max_compiled_batch == 2048
+    assert game.step_facts.max_compiled_batch == 2048
     tick = CompiledTick(game)
     monkeypatch.setattr(tick, "_compiled", lambda *args, **kwargs: pytest.fail("ticked compiled"))
     levels = [human_levels("solarfox")[i % 5] for i in range(2049)]
@@ -174,10 +181,13 @@ def test_a_batch_above_the_games_compiled_limit_ticks_eagerly(monkeypatch):
     assert state.get("tick").eq(0).all()
 
 
+class WalkWithHostSyncOnCuda(WalkWithHostSync):
+    step_facts = StepFacts(compiles=True, compiled_devices=("cuda",))
+
+
 def test_a_device_left_out_of_compiled_devices_ticks_eagerly():
-    game = WalkWithHostSync()  # its compiled tick would fail with a warning
+    game = WalkWithHostSyncOnCuda()  # its compiled tick would fail with a warning
     game.name = "toy"
-    game.compiled_devices = ("cuda",)
     level = Level("toy", tuple(LEVEL_TEXT.splitlines()))
     state = game.compile([level, level], torch.tensor([1, 2]), torch.device("cpu"))
     tick = CompiledTick(game)
@@ -189,9 +199,9 @@ def test_a_device_left_out_of_compiled_devices_ticks_eagerly():
 
 def test_frogs_ticks_eagerly_on_cuda():
     # the compiled CUDA tick differed from the CPU's in an env of generated levels (see Frogs)
-    assert get_game("frogs").compiled_devices == ("cpu",)
+    assert get_game("frogs").step_facts.compiled_devices == ("cpu",)
     others = [name for name in COMPILED_GAMES if name != "frogs"]
-    assert all(get_game(name).compiled_devices == ("cpu", "cuda") for name in others)
+    assert all(get_game(name).step_facts.compiled_devices == ("cpu", "cuda") for name in others)
 
 
 @pytest.mark.parametrize("game_name", sorted(registered_games()))
@@ -213,19 +223,21 @@ def test_an_env_drawing_compiled_observes_what_an_eager_one_does(game_name, monk
     from gvgai_pcg.envs.level_sources import GeneratedLevels
 
     envs = [
-        GVGAIEnv(game_name, 6, GeneratedLevels(game_name), seed=2, difficulty=0.5, max_steps=25)
-        for _ in range(2)
+        GVGAIEnv(
+            game_name, 6, GeneratedLevels(game_name), seed=2, difficulty=0.5, max_steps=25, compile_tick=c
+        )
+        for c in (True, False)
     ]
-    assert envs[0]._compiled_render
-    assert envs[0]._compiled_resets == (game_name != "frogs")  # Frogs keeps its own reset tick
-    envs[1]._compiled_render = envs[1]._tick_and_draw = False
-    envs[1]._game_tick = envs[1].game.tick  # all eager
-    assert not envs[1]._compiled_resets
+    assert envs[0].step_plan.fused
+    assert envs[0].step_plan.compiled_resets == (game_name != "frogs")  # Frogs keeps its own reset tick
+    assert not envs[1].step_plan.compiled  # all eager
     resets = 0
     fused = []  # steps that ticked and drew in one compiled call
-    tick_and_draw = envs[0]._game_tick.tick_and_draw
+    tick_and_draw = envs[0]._runner.compiled_tick.tick_and_draw
     monkeypatch.setattr(
-        envs[0]._game_tick, "tick_and_draw", lambda *args: fused.append(tick_and_draw(*args)) or fused[-1]
+        envs[0]._runner.compiled_tick,
+        "tick_and_draw",
+        lambda *args: fused.append(tick_and_draw(*args)) or fused[-1],
     )
     tds = [env.reset() for env in envs]
     generator = torch.Generator().manual_seed(0)
@@ -241,43 +253,10 @@ def test_an_env_drawing_compiled_observes_what_an_eager_one_does(game_name, monk
         assert torch.equal(tds[0].get("tiles"), tds[1].get("tiles"))
         assert_same_states(envs[0].state, envs[1].state)
     # the fused call ran for every step and every reset (compiled resets tick through it too)
-    resets_fused = 1 + resets if envs[0]._compiled_resets else 0  # the first reset, then each reset call
+    resets_fused = 1 + resets if envs[0].step_plan.compiled_resets else 0  # the first, then each reset
     assert len(fused) == 60 + resets_fused and all(tiles is not None for tiles in fused[:4])
     assert resets >= 2, resets
-    assert not envs[0]._game_tick.fused_failures
-
-
-def test_the_compiled_render_draws_only_small_batches_on_the_cpu(monkeypatch):
-    from gvgai_pcg.engine.compiled import COMPILED_RENDER
-
-    cpu = torch.device("cpu")
-    zelda, frogs = get_game("zelda"), get_game("frogs")
-    assert COMPILED_RENDER.applies(zelda, 64, cpu)  # 67,392 tile bytes
-    assert not COMPILED_RENDER.applies(zelda, 256, cpu)  # 269,568
-    assert COMPILED_RENDER.applies(frogs, 12, cpu) and not COMPILED_RENDER.applies(frogs, 64, cpu)
-    assert not COMPILED_RENDER.applies(zelda, 1, cpu)
-    assert not COMPILED_RENDER.applies(zelda, 64, torch.device("meta"))  # not checked off the CPU
-    assert not GVGAIEnv("zelda", 4, obs="tiles", shards=2)._compiled_render
-    fused = COMPILED_RENDER.FUSED_MAX_BYTES  # drawn in the tick's call, which pays for more bytes
-    assert COMPILED_RENDER.applies(frogs, 64, cpu, fused) and not COMPILED_RENDER.applies(
-        frogs, 128, cpu, fused
-    )
-    frogs_env = GVGAIEnv("frogs", 64, obs="tiles")
-    assert frogs_env._tick_and_draw and not frogs_env._compiled_render
-    assert not GVGAIEnv("frogs", 64, obs="pixels")._tick_and_draw
-    monkeypatch.setenv(COMPILE_VARIABLE, "0")
-    assert not COMPILED_RENDER.applies(zelda, 64, cpu)
-
-
-def test_a_render_that_fails_to_compile_is_drawn_eagerly_for_its_game_alone(monkeypatch):
-    from gvgai_pcg.engine.compiled import COMPILED_RENDER
-
-    walk = Walk()
-    walk.name = "toy"
-    monkeypatch.setattr(COMPILED_RENDER, "failures", {(Walk, "cpu"): "InternalTorchDynamoError: ..."})
-    cpu = torch.device("cpu")
-    assert not COMPILED_RENDER.applies(walk, 4, cpu)
-    assert COMPILED_RENDER.applies(get_game("zelda"), 4, cpu)
+    assert not envs[0]._runner.compiled_tick.fused_failures
 
 
 def test_a_large_batch_on_several_threads_ticks_through_a_graph_of_its_own(monkeypatch):
@@ -288,13 +267,11 @@ def test_a_large_batch_on_several_threads_ticks_through_a_graph_of_its_own(monke
     try:
         large = LARGE_BATCH_PER_THREAD * 2
         game = get_game("zelda")
-        tick = CompiledTick(game)
-        assert tick.large_batch(large) and not tick.large_batch(large - 1)
-        assert not tick.large_batch(large, "cuda")  # CUDA keeps one graph
-        assert not CompiledTick(get_game("boulderdash")).large_batch(large * 4)  # see parallel_graph
-        torch.set_num_threads(1)
-        assert not tick.large_batch(large * 8)  # one thread: no loop is parallel anyway
-        torch.set_num_threads(2)
+        tick, facts = CompiledTick(game), game.step_facts
+        assert large_batch(facts, large, "cpu", 2) and not large_batch(facts, large - 1, "cpu", 2)
+        assert not large_batch(facts, large, "cuda", 2)  # CUDA keeps one graph
+        assert not large_batch(get_game("boulderdash").step_facts, large * 4, "cpu", 2)  # parallel_graph
+        assert not large_batch(facts, large * 8, "cpu", 1)  # one thread: no loop is parallel anyway
         levels = [human_levels("zelda")[i % 5] for i in range(large)]
         seeds = torch.arange(large) * 7919
         eager, compiled = (game.compile(levels, seeds, torch.device("cpu")) for _ in range(2))

@@ -43,7 +43,7 @@ def test_step_outputs_are_as_torchrl_would_complete_them(obs):
 @pytest.mark.parametrize("obs", ["tiles", "pixels"])
 def test_observation_specs_hold_what_is_observed(obs):
     """Tiles are 0/1 and pixels any uint8, both under a uint8 Unbounded spec (neither Bounded nor
-    Binary: see GVGAIEnv._make_specs)."""
+    Binary: see gvgai_pcg.envs.specs)."""
     env = GVGAIEnv("frogs", num_envs=8, obs=obs, seed=1)
     spec = env.observation_spec[obs]
     rollout = env.rollout(30, break_when_any_done=False)
@@ -147,12 +147,11 @@ def test_a_reset_of_one_env_ticked_compiled_equals_an_eager_reset(game, obs):
     from gvgai_pcg.envs.level_sources import GeneratedLevels
 
     compiled, eager = (
-        GVGAIEnv(game, 4, GeneratedLevels(game), obs=obs, seed=3, difficulty=0.7) for _ in range(2)
+        GVGAIEnv(game, 4, GeneratedLevels(game), obs=obs, seed=3, difficulty=0.7, compile_tick=compile_tick)
+        for compile_tick in (True, False)
     )
-    assert compiled._compiled_resets
-    eager._compiled_render = eager._tick_and_draw = False
-    eager._game_tick = eager.game.tick
-    assert not eager._compiled_resets
+    assert compiled.step_plan.compiled_resets
+    assert not eager.step_plan.compiled
     for mask in (
         [True] * 4,
         [False, False, True, False],
@@ -172,6 +171,6 @@ def test_a_reset_of_one_env_ticked_compiled_equals_an_eager_reset(game, obs):
 
 
 def test_a_game_with_a_reset_tick_of_its_own_keeps_it():
-    assert GVGAIEnv("zelda", 4)._compiled_resets
-    assert not GVGAIEnv("frogs", 4)._compiled_resets  # Frogs' reset tick is a third of its tick
-    assert not GVGAIEnv("zelda", 1)._compiled_resets  # a single env never compiles
+    assert GVGAIEnv("zelda", 4).step_plan.compiled_resets
+    assert not GVGAIEnv("frogs", 4).step_plan.compiled_resets  # Frogs' reset tick is a third of its tick
+    assert not GVGAIEnv("zelda", 1).step_plan.compiled_resets  # a single env never compiles

@@ -203,12 +203,10 @@ def test_episodes_prepared_ahead_tick_in_the_steps_graph(monkeypatch):
     from gvgai_pcg.engine.compiled import CompiledTick
 
     alone = []
-    original = CompiledTick.__call__
-    monkeypatch.setattr(
-        CompiledTick, "__call__", lambda self, *args: alone.append(1) or original(self, *args)
-    )
+    original = CompiledTick.run
+    monkeypatch.setattr(CompiledTick, "run", lambda self, *args: alone.append(1) or original(self, *args))
     env = GVGAIEnv("zelda", num_envs=64, levels="human", seed=3)
-    assert env._tick_and_draw and env._compiled_resets and env._ready.depth == 8
+    assert env.step_plan.fused and env.step_plan.compiled_resets and env._ready.depth == 8
     sizes = count_prepared(env)
     rollout(env, 60)
     assert max(sizes[1:]) > 256  # prepared ahead, more than the step's graph draws in a step...

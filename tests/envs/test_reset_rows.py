@@ -1,5 +1,6 @@
 """Partial resets merged by rows give the tensordicts TorchRL's own ``where`` merge gives."""
 
+import dataclasses
 import warnings
 
 import pytest
@@ -79,7 +80,7 @@ def test_outputs_kept_by_the_caller_are_never_overwritten(game):
     env = GVGAIEnv(game, num_envs=32, levels="human", seed=3)
     env.buffers.min_bytes = 0
     # a compiled render returns new tensors; this is about the pool
-    env._compiled_render = env._tick_and_draw = False
+    env._runner.plan = dataclasses.replace(env.step_plan, fused=False)
     generator, td = torch.Generator().manual_seed(1), env.reset()
     kept, snapshots = [td], [td.clone()]
     for _ in range(30):
@@ -95,7 +96,7 @@ def test_outputs_kept_by_the_caller_are_never_overwritten(game):
 
 def test_released_observations_are_recycled():
     env = GVGAIEnv("frogs", num_envs=128, levels="human", seed=3)  # 434 KB of tiles: pooled, not compiled
-    assert not env._compiled_render and not env._tick_and_draw
+    assert not env.step_plan.fused
     generator, td = torch.Generator().manual_seed(1), env.reset()
     addresses = set()
     for _ in range(30):

@@ -12,7 +12,7 @@ from gvgai_pcg.levels import human_levels
 @pytest.mark.parametrize("game", ["zelda", "solarfox", "frogs", "boulderdash"])
 def test_sharded_steps_equal_unsharded_steps_across_resets(game):
     envs = [GVGAIEnv(game, num_envs=7, levels="human", seed=3, shards=shards) for shards in (1, 3)]
-    assert [len(env._stepper.slices(7)) for env in envs] == [1, 3]
+    assert [len(env._runner.sharded.slices(7)) for env in envs] == [1, 3]
     tds = [env.reset() for env in envs]
     generator = torch.Generator().manual_seed(0)
     for _ in range(60):
@@ -44,7 +44,7 @@ def test_the_callers_torch_threads_are_restored():
 
 
 def test_an_env_steps_whole_unless_asked_for_shards():
-    assert len(GVGAIEnv("zelda", num_envs=4096)._stepper.slices(4096)) == 1
+    assert len(GVGAIEnv("zelda", num_envs=4096)._runner.sharded.slices(4096)) == 1
 
 
 def test_shards_must_be_positive():

@@ -145,5 +145,5 @@ def test_evaluations_of_the_protocols_length_tick_eagerly(monkeypatch):
     monkeypatch.setattr(runner, "GVGAIEnv", RecordingEnv)
     play_episodes("zelda", [human_level("zelda", 0)] * 2, RandomAgent(6), max_steps=5, progress=False)
     (env,) = made
-    assert env._game_tick == env.game.tick  # the game's own tick, not the engine's compiled one
-    assert not env._compiled_render and not env._tick_and_draw
+    assert not env.step_plan.compiled  # the game's own tick, not the engine's compiled one
+    assert env.step_plan.reason == "compile_tick=False"

@@ -8,7 +8,7 @@ registry (``gvgai_pcg.games.registry``).
 """
 
 from gvgai_pcg.games.boulderdash import checks
-from gvgai_pcg.games.spec import GameSpec, LevelFormat, WinNeed
+from gvgai_pcg.games.spec import GameSpec, LevelFormat, StepFacts, WinNeed
 
 # The exit (e) opens for an avatar holding 9 diamonds (x).
 LEVEL_FORMAT = LevelFormat(
@@ -38,4 +38,27 @@ SPEC = GameSpec(
     study_index=3,
     bench_target=150_000,
     frame_cost=1.5,
+    step_facts=StepFacts(
+        compiles=True,
+        # Miscompile opt-out: inductor (torch 2.13, CPU) miscompiles the tick of a batch whose
+        # sprites may leave the screen: from the first tick that moves the monsters, their
+        # positions differ from the eager tick's, or a kernel fails an index check (aot_eager
+        # computes it right). Such a batch, rare (every human and generated level is walled in),
+        # ticks eagerly. Reproduce with eager_when=() here:
+        # `pytest tests/engine/test_compiled.py -k "equals_eager_tick and boulderdash-True"`.
+        eager_when=("leaving",),
+        # Above 1,024 envs its compiled tick stops paying: the env stepped 1.03-1.06x as fast at
+        # B = 1,024 and 0.84x at 4,096 on 2 threads (1.09x and 1.14x on one; docs/benchmarks.md,
+        # 2026-11-26; `python -m gvgai_pcg.bench_compiled boulderdash 1024 4096`).
+        max_compiled_batch=1024,
+        # Miscompile opt-out: inductor (torch 2.13, CPU) miscompiles the graph of parallel loops
+        # for some table widths: 1,024 envs of the human levels, as compiled (33 boulder slots), on
+        # 2 threads, fed a kernel an out-of-bounds index at the first tick (docs/benchmarks.md,
+        # sixth session), where the same tables grown to 64 slots ticked as the eager tick does.
+        # So Boulderdash keeps the graph of serial loops over the envs at every batch. Reproduce
+        # with parallel_graph=True here (and LARGE_BATCH_PER_THREAD at most 512):
+        # `python -c "import torch; torch.set_num_threads(2); from gvgai_pcg.envs import GVGAIEnv;
+        # GVGAIEnv('boulderdash', 1024).rollout(3)"`.
+        parallel_graph=False,
+    ),
 )

@@ -173,21 +173,6 @@ def collect_gems(
 @register_game("boulderdash")
 class Boulderdash(Game):
     actions = SHOOT_ACTIONS
-    compiles = True
-    # Inductor (torch 2.13, CPU) miscompiles the tick of a batch whose sprites may leave the screen:
-    # from the first tick that moves the monsters, their positions differ from the eager tick's, or
-    # a kernel fails an index check (aot_eager computes it right). Such a batch, rare (every human
-    # and generated level is walled in), ticks eagerly.
-    eager_when = ("leaving",)
-    # Above this its compiled tick stops paying: the env stepped 1.03-1.06x as fast at B = 1,024
-    # and 0.84x at 4,096 on 2 threads (1.09x and 1.14x on one; docs/benchmarks.md, 2026-11-26).
-    max_compiled_batch = 1024
-    # Inductor (torch 2.13, CPU) miscompiles the graph of parallel loops for some table widths:
-    # 1,024 envs of the human levels, as compiled (33 boulder slots), on 2 threads, fed a kernel
-    # an out-of-bounds index at the first tick (docs/benchmarks.md, sixth session), where the same
-    # tables grown to 64 slots ticked as the eager tick does. So Boulderdash keeps the graph of
-    # serial loops over the envs at every batch.
-    parallel_graph = False
     tile_types = ("wall", "sword", "dirt", "exitdoor", "diamond", "boulder", "crab", "butterfly", "avatar")
     art = {
         "background": SpriteArt((20, 20, 20)),

@@ -90,12 +90,6 @@ SLOT_ROW_STRIDE = 1 << 16  # rng slot of a spawner: y * stride + x, independent 
 @register_game("frogs")
 class Frogs(Game):
     actions = MOVE_ACTIONS
-    compiles = True
-    # Compiled for CUDA (torch 2.11, H200, 2026-11-26) the tick matched the CPU's for 80 ticks of a
-    # mixed batch, but in an env of generated levels, whose resets recompile it for new table
-    # widths, the tiles differed from the CPU's at step 29; the eager CUDA tick matched for all 80
-    # (``python -m gvgai_pcg.device_check``). So Frogs ticks eagerly on CUDA.
-    compiled_devices = ("cpu",)
     tile_types = ("wall", "water", "forestDense", "forestSparse", "goal", "log", *TRUCK_TYPES, "avatar")
     art = {
         "grass": SpriteArt((40, 110, 40)),

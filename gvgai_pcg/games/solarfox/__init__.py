@@ -8,7 +8,7 @@ registry (``gvgai_pcg.games.registry``).
 """
 
 from gvgai_pcg.games.solarfox import checks
-from gvgai_pcg.games.spec import GameSpec, LevelFormat, WinNeed
+from gvgai_pcg.games.spec import GameSpec, LevelFormat, StepFacts, WinNeed
 
 # Won when no pill (blib b, powerblib p) is left.
 LEVEL_FORMAT = LevelFormat(
@@ -30,4 +30,8 @@ SPEC = GameSpec(
     study_index=1,
     bench_target=250_000,
     frame_cost=0.85,
+    # Above 2,048 envs its compiled tick stops paying: the env stepped 1.08x as fast at B = 2,048
+    # and 1.02x at 4,096 on 2 threads, 0.98x and 0.84x on one (docs/benchmarks.md, 2026-11-26;
+    # `python -m gvgai_pcg.bench_compiled solarfox 2048 4096`).
+    step_facts=StepFacts(compiles=True, max_compiled_batch=2048),
 )

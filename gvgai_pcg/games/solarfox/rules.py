@@ -137,10 +137,6 @@ def _window_rows(x: torch.Tensor, y: torch.Tensor, height: int, width: int) -> t
 
 @register_game("solarfox")
 class Solarfox(Game):
-    compiles = True
-    # Above this its compiled tick stops paying: the env stepped 1.08x as fast at B = 2,048 and
-    # 1.02x at 4,096 on 2 threads, 0.98x and 0.84x on one (docs/benchmarks.md, 2026-11-26).
-    max_compiled_batch = 2048
     actions = MOVE_ACTIONS
     tile_types = (
         "wall",

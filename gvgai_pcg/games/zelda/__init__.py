@@ -7,7 +7,7 @@ contains and must hold), ``human_levels/`` (the study's five human-designed leve
 registry (``gvgai_pcg.games.registry``).
 """
 
-from gvgai_pcg.games.spec import GameSpec, LevelFormat, WinNeed
+from gvgai_pcg.games.spec import GameSpec, LevelFormat, StepFacts, WinNeed
 from gvgai_pcg.games.zelda import checks
 
 # The door (g) opens with the key (+); no door left is a win at the first tick.
@@ -35,4 +35,5 @@ SPEC = GameSpec(
     study_index=0,
     bench_target=250_000,
     frame_cost=1.0,
+    step_facts=StepFacts(compiles=True),
 )

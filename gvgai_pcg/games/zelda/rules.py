@@ -81,7 +81,6 @@ def random_npc_directions(
 @register_game("zelda")
 class Zelda(Game):
     actions = SHOOT_ACTIONS
-    compiles = True
     tile_types = ("wall", "goal", "key", "sword", "nokey", "withkey", *MONSTER_TYPES)
     art = {
         "floor": SpriteArt((40, 40, 40)),
