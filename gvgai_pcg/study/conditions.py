@@ -65,6 +65,8 @@ class Budget:
         page: the docs page whose results block ``--page`` writes by default.
         ued: the UED protocol's settings (``gvgai_pcg.evaluation.ued.UEDProtocol``) where the
             comparison evaluates with it too; empty: not.
+        level_sampling: the claims' intervals include the generated test sets' level-sampling
+            error (``gvgai_pcg.study.intervals``); off for ``small``, whose page predates it.
     """
 
     name: str
@@ -79,6 +81,7 @@ class Budget:
     comparison: str = "study"
     page: str = "docs/results.md"
     ued: dict = field(default_factory=dict)
+    level_sampling: bool = False
 
     def frames_of(self, condition: str) -> int:
         return int(self.condition_frames.get(condition, self.frames))
@@ -135,6 +138,8 @@ BUDGETS = {
         overrides=MEDIUM_SETUP + ("checkpoint.keep_every_frames=1000000",),
         condition_frames={c: 20_000_000 for c in ("zelda-lv0-3", "zelda-pcg0.5", "zelda-pcg1", "zelda-ppcg")},
         condition_seeds={c: (0, 1, 2, 3, 4) for c in ("zelda-pcg0.5", "zelda-pcg1", "zelda-ppcg")},
+        page="docs/results-medium.md",
+        level_sampling=True,
     ),
     "paper": Budget(
         "paper", STUDY_CONDITIONS, seeds=(0, 1, 2, 3), frames=40_000_000, overrides=("preset=paper",)

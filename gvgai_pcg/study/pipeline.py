@@ -479,7 +479,14 @@ def reproduce(
     if budget.comparison == "curricula":
         write_curricula(here, elsewhere, budget, protocol, report_dir, progress)
     else:
-        write_claims([*here, *elsewhere], out / "random", protocol, report_dir / "claims.md", target)
+        write_claims(
+            [*here, *elsewhere],
+            out / "random",
+            protocol,
+            report_dir / "claims.md",
+            target,
+            budget.level_sampling,
+        )
     published = publish(out, Path(publish_to), protocol, here) if publish_to is not None else None
     return Outcome(out, out / "runs", report_dir, published, seconds)
 
