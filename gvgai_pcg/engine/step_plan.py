@@ -28,6 +28,20 @@ from gvgai_pcg.engine.compiled import (
 )
 from gvgai_pcg.games.base import Game
 
+# Compiling the tick pays back only past this many batched steps of a job (an evaluation, a
+# training run). The protocol on one Zelda run (210 envs, 2,000 steps, one thread, 2026-11-28):
+# compiling cost about 7.7 s of CPU with a warm inductor cache (about 30 s cold) and saved 0.85 ms
+# a batched step, so it breaks even near 9,000 steps warm. A 20k-frame Frogs training job (64
+# envs, 312 batched steps) took 24.0 s compiled with a warm cache against 7.6 s eagerly
+# (docs/benchmarks.md, 2026-11-28).
+COMPILE_PAYS_BACK_STEPS = 10_000
+
+
+def compile_pays_back(batched_steps: int, device: torch.device | str) -> bool:
+    """Whether a job of ``batched_steps`` batched steps should tick compiled (the CPU's
+    measurement, ``COMPILE_PAYS_BACK_STEPS``; another device keeps the engine's own choice)."""
+    return torch.device(device).type != "cpu" or batched_steps >= COMPILE_PAYS_BACK_STEPS
+
 
 @dataclass(frozen=True)
 class StepPlan:

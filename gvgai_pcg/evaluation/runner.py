@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import torch
 from tensordict import TensorDictBase
 
+from gvgai_pcg.engine.step_plan import COMPILE_PAYS_BACK_STEPS, compile_pays_back  # noqa: F401 (re-exported)
 from gvgai_pcg.envs import GVGAIEnv, LevelPerEnv
 from gvgai_pcg.games.rng import derive_seeds, mix64, uniform
 from gvgai_pcg.levels import Level
@@ -38,12 +39,6 @@ from gvgai_pcg.progress import progress as progress_display
 Policy = Callable[[TensorDictBase], torch.Tensor]
 SAMPLE_KEY = "action_uniform"  # [B] float64 U[0, 1): the env's own random number for this step
 STREAM_ACTIONS = 1
-# Compiling the tick pays back only past this many batched steps. The protocol on one Zelda run
-# (210 envs, 2,000 steps, one thread, 2026-11-28): compiling cost about 7.7 s of CPU with a warm
-# inductor cache (about 30 s cold) and saved 0.85 ms a batched step (2.7 s of ticking against
-# 4.4 s eagerly), so it breaks even near 9,000 steps warm; every evaluation of 2,000 steps ticks
-# eagerly.
-COMPILE_PAYS_BACK_STEPS = 10_000
 # Torch intra-op threads while playing: with two on a 2-core machine where other work holds a
 # core, a step of 210 Zelda envs took 133-193 ms and the policy 155-248 ms, against 5-7 ms and
 # 16-21 ms on one thread (load 9-11, 2026-11-28).
@@ -70,12 +65,6 @@ def sample_actions(probabilities: torch.Tensor, uniform_draws: torch.Tensor) -> 
     cdf = probabilities.to(torch.float64).cumsum(-1)
     below = (cdf < uniform_draws.to(cdf.device).unsqueeze(-1) * cdf[:, -1:]).sum(-1)
     return below.clamp(max=probabilities.shape[-1] - 1)
-
-
-def compile_pays_back(max_steps: int, device: torch.device | str) -> bool:
-    """Whether a job of at most ``max_steps`` batched steps should tick compiled (the CPU's
-    measurement, ``COMPILE_PAYS_BACK_STEPS``; another device keeps the engine's own choice)."""
-    return torch.device(device).type != "cpu" or max_steps >= COMPILE_PAYS_BACK_STEPS
 
 
 @contextmanager

@@ -53,11 +53,21 @@ class EnvFactory:
     device: str
     seed: int
     difficulty: object = None
+    compile_tick: bool = True  # False: a job too short for compiling to pay back ticks eagerly
 
     def __call__(self, worker: int = 0) -> EnvBase:
         seed = self.seed + 7919 * worker
         source = self.level_source()
-        env = GVGAIEnv(self.game, self.num_envs, source, self.obs, self.max_steps, self.device, seed)
+        env = GVGAIEnv(
+            self.game,
+            self.num_envs,
+            source,
+            self.obs,
+            self.max_steps,
+            self.device,
+            seed,
+            compile_tick=self.compile_tick,
+        )
         return get_curriculum(self.regimen.name).wrap(env, self.difficulty)
 
     def level_source(self) -> LevelSource:

@@ -38,6 +38,7 @@ from torchrl.collectors import MultiSyncCollector
 from torchrl.modules import ProbabilisticActor
 
 from gvgai_pcg.curricula.signals import feedback_for
+from gvgai_pcg.engine.step_plan import compile_pays_back
 from gvgai_pcg.engine.threads import threads_for_batch
 from gvgai_pcg.levels.sets import level_set_fingerprint
 from gvgai_pcg.progress import progress
@@ -128,6 +129,8 @@ def _train(
         device=cfg.device,
         seed=int(cfg.seed) * 1_000_003 + frames,  # a resumed run plays new episodes
         difficulty=difficulty,
+        # what is left of the run, in batched steps: a short job ticks eagerly (the same steps)
+        compile_tick=compile_pays_back((int(cfg.total_frames) - frames) // int(cfg.env.num_envs), cfg.device),
     )
     # worker processes attach the shared transform themselves; the main process probes the specs
     # on an env of its own so that the shared transform reaches them without a parent

@@ -96,3 +96,24 @@ def test_a_tiny_run_trains_on_a_level_set(make_config, tmp_path, regimen):
     assert cfg.run_name in ("zelda-levels-zelda_a-tiles-compact-seed0", "zelda-pcg0-n2-tiles-compact-seed0")
     rows = read_log(result.log_path)
     assert rows and rows[-1]["episodes"] >= 8
+
+
+def test_a_training_job_too_short_for_compiling_ticks_eagerly(make_config, tmp_path, monkeypatch):
+    """Compiling the tick pays back only past COMPILE_PAYS_BACK_STEPS batched steps (issue 38: a
+    20k-frame job took 3.2x its eager time): a 400-frame run's envs tick eagerly."""
+    import gvgai_pcg.rl.environment as environment
+    from gvgai_pcg.engine.step_plan import COMPILE_PAYS_BACK_STEPS, compile_pays_back
+
+    made = []
+    real = environment.GVGAIEnv
+
+    def spy(*args, **kwargs):
+        env = real(*args, **kwargs)
+        made.append(env.step_plan.compiled)
+        return env
+
+    monkeypatch.setattr(environment, "GVGAIEnv", spy)
+    cfg = make_config(["regimen=lv", *TINY, f"out_dir={tmp_path}"])
+    train(cfg, tmp_path / cfg.run_name)
+    assert made and not any(made)
+    assert compile_pays_back(COMPILE_PAYS_BACK_STEPS, "cpu") and not compile_pays_back(400 // 8, "cpu")
