@@ -311,6 +311,13 @@ def main(argv: list[str]) -> int:
 
     with initialize_config_dir(config_dir=str(config_dir()), version_base="1.3"):
         cfg = compose("config", overrides=["log.curve=false", "log.backends=[]", *argv])
+    if cfg.algo.name != "a2c":  # the limit it holds training against is A2C's update
+        print(
+            f"python -m gvgai_pcg.rl.benchmark: algo={cfg.algo.name}: the network's limit is modelled for "
+            "algo=a2c only; time another learner's training with gvgai-pcg train",
+            file=sys.stderr,
+        )
+        return 2
     print(describe(cfg.run_name, benchmark(cfg)))
     return 0
 

@@ -47,3 +47,11 @@ def test_the_training_benchmark_prints_its_usage_for_help(capsys):
 
     assert benchmark.main(["--help"]) == 0
     assert "python -m gvgai_pcg.rl.benchmark [hydra overrides]" in capsys.readouterr().out
+
+
+def test_the_training_benchmark_refuses_a_learner_it_does_not_model_in_one_line(capsys):
+    from gvgai_pcg.rl import benchmark
+
+    assert benchmark.main(["algo=ppo"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "algo=ppo" in err and "algo=a2c only" in err
