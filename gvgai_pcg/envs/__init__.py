@@ -10,7 +10,7 @@ import importlib
 from typing import TYPE_CHECKING
 
 _EXPORTS = {
-    "OBSERVATION_KINDS": "gvgai_pcg.envs.gvgai_env",
+    "OBSERVATION_KINDS": "gvgai_pcg.envs.inputs",
     "GVGAIEnv": "gvgai_pcg.envs.gvgai_env",
     "FixedLevel": "gvgai_pcg.envs.level_sources",
     "GeneratedLevels": "gvgai_pcg.envs.level_sources",
@@ -38,7 +38,8 @@ __all__ = [
 
 if TYPE_CHECKING:
     from gvgai_pcg.envs.difficulty import DifficultyTransform
-    from gvgai_pcg.envs.gvgai_env import OBSERVATION_KINDS, GVGAIEnv
+    from gvgai_pcg.envs.gvgai_env import GVGAIEnv
+    from gvgai_pcg.envs.inputs import OBSERVATION_KINDS
     from gvgai_pcg.envs.level_sources import (
         FixedLevel,
         GeneratedLevels,

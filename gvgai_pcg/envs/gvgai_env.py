@@ -5,7 +5,7 @@ env keeps the Gym's semantics (RULES.md §1.8): reset runs tick 0 with NIL, a st
 the reward is the score delta, and a step limit truncates. Partial resets (the ``"_reset"``
 mask) start a new episode only in the masked envs, each with the next level from its level
 source; for sources that know their levels in advance, those episodes are prepared in bulk ahead
-of time (``gvgai_pcg.envs.ready_episodes``), with the same result.
+of time (``gvgai_pcg.envs.prepared_resets``), with the same result.
 """
 
 from __future__ import annotations
@@ -27,34 +27,22 @@ from gvgai_pcg.envs.inputs import (
     checked_count,
     checked_device,
     checked_difficulty,
+    checked_observation_kind,
     checked_seeds,
 )
 from gvgai_pcg.envs.level_bank import CompiledLevelBank
 from gvgai_pcg.envs.level_sources import LevelSource, as_level_source
-from gvgai_pcg.envs.ready_episodes import ReadyEpisodes
+from gvgai_pcg.envs.prepared_resets import PreparedResets
 from gvgai_pcg.envs.reset_rows import RowResetEnv
 from gvgai_pcg.envs.specs import env_specs
 from gvgai_pcg.envs.states import bucket_entity_tables, merge_states
 from gvgai_pcg.envs.stepping import PlanRunner
 from gvgai_pcg.games import get_game
-from gvgai_pcg.games.base import pad_level
 from gvgai_pcg.games.render import ascii_frame, render_pixels
 from gvgai_pcg.games.rng import derive_seeds, mix64
 from gvgai_pcg.levels import Level
 
-OBSERVATION_KINDS = ("tiles", "pixels")
 COMPILED_LEVEL_CACHE = 64  # distinct levels whose compiled initial state an env keeps
-# Partial resets of up to this many envs take prepared episodes (see ReadyEpisodes). A larger one
-# runs its own reset tick: that batch is already large, and a prepared row costs an extra copy.
-PREPARED_RESETS_MAX = 256
-# Prepared episodes keep their first observations where all of them take at most this much.
-# Episodes are prepared this many envs' worth at a time (up to READY_DEPTH_MAX ahead per env, at
-# least one). 64 Frogs envs under random play end about 10 episodes a step; over 800 steps they
-# prepared episodes 654 times one episode ahead, 92 times four ahead and 35 times eight ahead,
-# and a step went from 3.6 to 1.9 ms (human levels, 2026-11-26).
-READY_ROWS = 512
-READY_DEPTH_MAX = 8
-READY_OBSERVATIONS_MAX_BYTES = 32 << 20
 
 
 class GVGAIEnv(CompleteStepHook, RowResetEnv):
@@ -117,10 +105,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         check_actions: bool | None = None,
         compile_tick: bool = True,
     ) -> None:
-        if obs not in OBSERVATION_KINDS:
-            raise ValueError(
-                f"unknown observation kind {obs!r}; valid kinds are: {', '.join(OBSERVATION_KINDS)}"
-            )
+        obs = checked_observation_kind(obs)
         num_envs, max_steps = checked_count("num_envs", num_envs), checked_count("max_steps", max_steps)
         shards, difficulty = checked_count("shards", shards), checked_difficulty(difficulty)
         device = checked_device(device)
@@ -136,34 +121,25 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         self.grid_height, self.grid_width = fmt.height, fmt.width
         self._env_seeds = checked_seeds(seed, num_envs)
         self._episodes = torch.zeros(num_envs, dtype=torch.int64)
-        self._default_difficulty = float(difficulty)
         self._state: TensorDict | None = None
         self._observed: torch.Tensor | None = None  # the observation of the last output
         self._steps = torch.zeros(num_envs, dtype=torch.int64, device=self.device)
-        self._difficulty = torch.full(
-            (num_envs,), self._default_difficulty, dtype=torch.float64, device=self.device
-        )
+        self._difficulty = torch.full((num_envs,), difficulty, dtype=torch.float64, device=self.device)
         self._levels: list[Level | None] = [None] * num_envs
         self._bank = CompiledLevelBank(
             self.game, self.grid_height, self.grid_width, self.device, COMPILED_LEVEL_CACHE
         )
         self._level_seeds = torch.full((num_envs,), -1, dtype=torch.int64)
         # The d each env's level was made at: the env's difficulty, or the source's own (DR).
-        self._level_difficulties = torch.full((num_envs,), self._default_difficulty, dtype=torch.float64)
+        self._level_difficulties = torch.full((num_envs,), difficulty, dtype=torch.float64)
         for name, spec in env_specs(self.game, obs, num_envs, self.device).items():
             setattr(self, name, spec)
         self._check_action = ActionCheck(num_envs, tuple(self.game.actions), self.device, check_actions)
         # Sources whose next levels are known in advance get their partial resets prepared in bulk.
-        self._ready = None
-        # Generated levels depend on the difficulty: their episodes are prepared at it, and count
-        # only at it (see ``_difficulty_holds``).
-        self._ready_by_difficulty = bool(getattr(self.level_source, "depends_on_difficulty", False))
-        self._last_difficulties: torch.Tensor | None = None
-        if getattr(self.level_source, "prepare_ahead", False):
-            observation_bytes = self.observation_spec[obs].shape.numel()  # uint8
-            depth = max(1, min(READY_DEPTH_MAX, READY_ROWS // num_envs))
-            keeps = depth * observation_bytes <= READY_OBSERVATIONS_MAX_BYTES
-            self._ready = ReadyEpisodes(num_envs, keeps, depth)
+        observation_bytes = self.observation_spec[obs].shape.numel()  # uint8
+        self._prepared_resets = PreparedResets.for_source(
+            self.level_source, num_envs, observation_bytes, round_up=self.game.step_facts.compiles
+        )
 
     @property
     def step_plan(self) -> StepPlan:
@@ -223,18 +199,13 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         the reset tick."""
         partial = self._state is not None and len(index) < self.num_envs
         rows = index.to(self.device)
-        difficulties = self._difficulty.to("cpu", copy=True) if self._ready_by_difficulty else None
-        taken = (
-            partial
-            and self._ready is not None
-            and len(index) <= PREPARED_RESETS_MAX
-            and self._episodes_ready(index, difficulties)
-        )
-        self._last_difficulties = difficulties
-        if taken:
-            self._state, levels, observed = self._ready.take_into(
-                self._state, index, self._episodes[index], self.game.step_facts.compiles
+        taken = None
+        if self._prepared_resets is not None:
+            taken = self._prepared_resets.take(
+                self._state, index, self._episodes, self._difficulty, self._prepare
             )
+        if taken is not None:
+            self._state, levels, observed = taken
             if observed is None:
                 observed = self._runner.render(select_rows(self._state, rows))
         else:
@@ -260,58 +231,6 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
             return difficulties
         return drawn(index, mix64(self._env_seeds[index] ^ mix64(episodes)), difficulties)
 
-    def _episodes_ready(self, index: torch.Tensor, difficulties: torch.Tensor | None) -> bool:
-        """Whether the next episodes of envs ``index`` are prepared (at ``difficulties``, where
-        the levels depend on them), after preparing every missing one in one batch where the
-        difficulty holds (``_difficulty_holds``)."""
-        if self._ready.ready(index, self._episodes[index], difficulties):
-            return True
-        if not self._difficulty_holds(difficulties):
-            return False
-        envs, ahead = self._ready.missing(self._episodes, difficulties)
-        if difficulties is not None:
-            envs, ahead = self._bounded_bulk(index, envs, ahead)
-        states, levels, observed = self._prepare(envs, self._ready.keeps_observations, ahead)
-        prepared_at = None if difficulties is None else difficulties[envs]
-        self._ready.store(
-            envs,
-            ahead,
-            states,
-            levels,
-            observed,
-            round_up=self.game.step_facts.compiles,
-            difficulties=prepared_at,
-        )
-        return True
-
-    def _bounded_bulk(
-        self, index: torch.Tensor, envs: torch.Tensor, episodes: torch.Tensor
-    ) -> tuple[torch.Tensor, torch.Tensor]:
-        """The missing episodes ``envs, episodes`` to prepare in one bulk of generated levels: the
-        resetting envs' own and at most ``READY_ROWS`` others. Each costs a generated level (up to
-        about 1 ms in Boulderdash), and the whole bulk is lost when the difficulty moves before
-        it is used: unbounded, 4,096 envs would prepare 4,096 levels at once."""
-        own = torch.isin(envs, index) & (episodes == self._episodes[envs])
-        others = (~own).nonzero().flatten()[:READY_ROWS]
-        keep = own.clone()
-        keep[others] = True
-        return envs[keep], episodes[keep]
-
-    def _difficulty_holds(self, difficulties: torch.Tensor | None) -> bool:
-        """Whether episodes prepared ahead at these difficulties (every env's, or None where the
-        levels do not depend on them) are likely to be played: every env is at one difficulty,
-        the same as at the last reset. So PCG X and the stretches where PPCG's difficulty stays
-        put (at 0 or 1) prepare ahead, while a difficulty on the move (each env's changes at its
-        next reset) prepares only each reset's own envs, as a bulk would be thrown away."""
-        if difficulties is None:
-            return True
-        last = self._last_difficulties
-        return (
-            bool((difficulties == difficulties[0]).all())
-            and last is not None
-            and torch.equal(difficulties, last)
-        )
-
     def _prepare(
         self, index: torch.Tensor, observe: bool, episodes: torch.Tensor | None = None
     ) -> tuple[TensorDict, list[Level], torch.Tensor | None]:
@@ -322,21 +241,10 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         episode_seeds = mix64(self._env_seeds[index] ^ mix64(episodes))
         difficulties = self._difficulty[index.to(self.device)].cpu()
         levels = self.level_source.next_levels(index, episode_seeds, difficulties)
-        fresh, observed = self._runner.reset_tick(self._compile(levels, episode_seeds), observe, self._state)
-        return fresh, levels, observed
-
-    def _compile(self, levels: list[Level], episode_seeds: torch.Tensor) -> TensorDict:
-        """The initial states of ``levels``. Levels that recur (human levels, a fixed list) come
-        from the bank of compiled levels, so their resets cost a gather, not a parse; a batch of
-        mostly unseen levels is compiled in one call, and so are the levels of a source whose
-        levels do not recur (``levels_recur = False``: generated ones), which the bank would only
-        churn through."""
-        unseen = [level for level in set(levels) if level not in self._bank]
         recurring = getattr(self.level_source, "levels_recur", True)
-        if not recurring or len(unseen) > max(1, len(levels) // 2):
-            padded = [pad_level(lv, self.grid_height, self.grid_width) for lv in levels]
-            return self.game.compile(padded, episode_seeds, self.device)
-        return self._bank.initial_states(levels, episode_seeds)
+        initial = self._bank.fresh_states(levels, episode_seeds, recurring)
+        fresh, observed = self._runner.reset_tick(initial, observe, self._state)
+        return fresh, levels, observed
 
     def _step(self, tensordict: TensorDictBase) -> TensorDict:
         state = self.state
@@ -370,8 +278,8 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         if seed is not None:
             self._env_seeds = derive_seeds(int(seed), self.num_envs)
             self._episodes.zero_()
-            if self._ready is not None:
-                self._ready.clear()
+            if self._prepared_resets is not None:
+                self._prepared_resets.clear()
         return seed
 
     # --- looking at an env ---

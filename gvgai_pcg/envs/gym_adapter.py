@@ -24,7 +24,8 @@ import torch
 from tensordict import TensorDict, TensorDictBase
 
 import gvgai_pcg.envs.quiet_torchrl  # noqa: F401 (first: torchrl without its global side effect)
-from gvgai_pcg.envs.gvgai_env import OBSERVATION_KINDS, GVGAIEnv
+from gvgai_pcg.envs.gvgai_env import GVGAIEnv
+from gvgai_pcg.envs.inputs import checked_observation_kind
 from gvgai_pcg.envs.level_sources import LevelSource
 from gvgai_pcg.envs.regimens import regimen_curriculum, regimen_kind, regimen_source
 from gvgai_pcg.games import get_game
@@ -223,8 +224,7 @@ class ResetOptions:
 
 def observation_space(game: str, obs: str) -> gym.spaces.Box:
     """One env's observation space: ``tiles`` ``[C, H, W]`` in {0, 1}, ``pixels`` ``[3, 10H, 10W]``."""
-    if obs not in OBSERVATION_KINDS:
-        raise ValueError(f"unknown observation kind {obs!r}; valid kinds are: {', '.join(OBSERVATION_KINDS)}")
+    checked_observation_kind(obs)
     rules = get_game(game)
     fmt = rules.level_format
     if obs == "tiles":

@@ -19,6 +19,8 @@ import torch
 from gvgai_pcg._private_apis import assert_async
 from gvgai_pcg.games.rng import derive_seeds
 
+OBSERVATION_KINDS = ("tiles", "pixels")
+
 SHOWN = 8  # bad actions (and their envs) named in an error; the count says how many more
 # The integer dtypes of action indices (torch's wider unsigned ones lack the ops of the check).
 INTEGER_DTYPES = frozenset((torch.uint8, torch.int8, torch.int16, torch.int32, torch.int64))
@@ -48,6 +50,13 @@ def checked_count(name: str, value: object, minimum: int = 1) -> int:
     if not is_integer(value) or value < minimum:
         raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
     return int(value)
+
+
+def checked_observation_kind(obs: object) -> str:
+    """An observation kind: one of ``OBSERVATION_KINDS``."""
+    if obs not in OBSERVATION_KINDS:
+        raise ValueError(f"unknown observation kind {obs!r}; valid kinds are: {', '.join(OBSERVATION_KINDS)}")
+    return obs
 
 
 def checked_difficulty(value: object) -> float:

@@ -37,6 +37,17 @@ class CompiledLevelBank:
     def __contains__(self, level: Level) -> bool:
         return level in self._rows
 
+    def fresh_states(self, levels: Sequence[Level], seeds: torch.Tensor, recurring: bool) -> TensorDict:
+        """The initial states of ``levels``. Levels that recur (human levels, a fixed list) come
+        from the bank, so their resets cost a gather, not a parse; a batch of mostly unseen levels
+        is compiled in one call, and so are the levels of a source whose levels do not recur
+        (``recurring`` False: generated ones), which the bank would only churn through."""
+        unseen = [level for level in set(levels) if level not in self]
+        if not recurring or len(unseen) > max(1, len(levels) // 2):
+            padded = [pad_level(lv, self.height, self.width) for lv in levels]
+            return self.game.compile(padded, seeds, self.device)
+        return self.initial_states(levels, seeds)
+
     def initial_states(self, levels: Sequence[Level], seeds: torch.Tensor) -> TensorDict:
         """The states of ``levels`` before their reset tick, with episode ``seeds``."""
         self._uses += 1

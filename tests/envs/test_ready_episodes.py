@@ -4,7 +4,7 @@ with the reset ticks of many resets run in one batch."""
 import pytest
 import torch
 
-from gvgai_pcg.envs import GVGAIEnv, gvgai_env
+from gvgai_pcg.envs import GVGAIEnv, prepared_resets
 from gvgai_pcg.envs.level_sources import GeneratedLevels
 from gvgai_pcg.levels import human_levels
 
@@ -32,14 +32,14 @@ def count_prepared(env: GVGAIEnv, ahead: list[bool] | None = None) -> list[int]:
     into ``ahead`` whether they were prepared ahead (stored) or were a reset's own envs."""
     sizes = []
     prepare = env._prepare
-    if ahead is not None and env._ready is not None:
-        store = env._ready.store
+    if ahead is not None and env._prepared_resets is not None:
+        store = env._prepared_resets.episodes.store
 
         def stored(*args, **kwargs):
             ahead[-1] = True
             return store(*args, **kwargs)
 
-        env._ready.store = stored
+        env._prepared_resets.episodes.store = stored
 
     def counted(index, observe, episodes=None):
         sizes.append(len(index))
@@ -62,11 +62,14 @@ def count_prepared(env: GVGAIEnv, ahead: list[bool] | None = None) -> list[int]:
 )
 def test_prepared_episodes_give_the_same_trajectories(game, keeps_observations, obs, monkeypatch):
     if not keeps_observations:
-        monkeypatch.setattr(gvgai_env, "READY_OBSERVATIONS_MAX_BYTES", 0)
+        monkeypatch.setattr(prepared_resets, "READY_OBSERVATIONS_MAX_BYTES", 0)
     ahead = GVGAIEnv(game, num_envs=24, levels="human", seed=5, max_steps=60, obs=obs)
     plain = GVGAIEnv(game, num_envs=24, levels="human", seed=5, max_steps=60, obs=obs)
-    plain._ready = None  # every reset compiles and ticks its own envs
-    assert ahead._ready is not None and ahead._ready.keeps_observations == keeps_observations
+    plain._prepared_resets = None  # every reset compiles and ticks its own envs
+    assert (
+        ahead._prepared_resets is not None
+        and ahead._prepared_resets.episodes.keeps_observations == keeps_observations
+    )
     ahead_sizes, plain_sizes = count_prepared(ahead), count_prepared(plain)
     for got, want in zip(rollout(ahead, 150), rollout(plain, 150), strict=True):
         assert (got["next"] == want["next"]).all() and (got["root"] == want["root"]).all()
@@ -74,14 +77,14 @@ def test_prepared_episodes_give_the_same_trajectories(game, keeps_observations, 
     assert len(plain_sizes) > 10  # many steps ended episodes...
     assert len(ahead_sizes) < len(plain_sizes) / 1.5  # ...whose reset ticks ran in fewer batches
     # At most the episodes prepared but not reached: depth per env, and the first reset's own.
-    assert sum(ahead_sizes) <= sum(plain_sizes) + (ahead._ready.depth + 1) * 24
+    assert sum(ahead_sizes) <= sum(plain_sizes) + (ahead._prepared_resets.episodes.depth + 1) * 24
 
 
 def test_large_resets_tick_their_own_envs_and_both_kinds_mix(monkeypatch):
-    monkeypatch.setattr(gvgai_env, "PREPARED_RESETS_MAX", 2)  # resets of 3+ envs tick their own
+    monkeypatch.setattr(prepared_resets, "PREPARED_RESETS_MAX", 2)  # resets of 3+ envs tick their own
     mixed = GVGAIEnv("frogs", num_envs=16, levels="human", seed=7, max_steps=40)
     plain = GVGAIEnv("frogs", num_envs=16, levels="human", seed=7, max_steps=40)
-    plain._ready = None
+    plain._prepared_resets = None
     ahead = []
     sizes = count_prepared(mixed, ahead)
     for got, want in zip(rollout(mixed, 120), rollout(plain, 120), strict=True):
@@ -143,10 +146,10 @@ def test_sources_that_keep_state_of_their_own_are_not_prepared_ahead():
         def next_levels(self, env_indices, episode_seeds, difficulties):
             return [human_levels("zelda")[0]] * len(env_indices)
 
-    assert GVGAIEnv("zelda", num_envs=2, levels=Counting())._ready is None
-    assert GVGAIEnv("zelda", num_envs=2, levels=list(human_levels("zelda")[:2]))._ready is not None
+    assert GVGAIEnv("zelda", num_envs=2, levels=Counting())._prepared_resets is None
+    assert GVGAIEnv("zelda", num_envs=2, levels=list(human_levels("zelda")[:2]))._prepared_resets is not None
     generated = GVGAIEnv("zelda", num_envs=2, levels=GeneratedLevels("zelda"))
-    assert generated._ready is not None and generated._ready_by_difficulty
+    assert generated._prepared_resets is not None and generated._prepared_resets.by_difficulty
 
 
 def ppcg_env(game: str, num_envs: int, alpha: float, **kwargs):
@@ -166,7 +169,7 @@ def test_generated_episodes_prepared_at_their_difficulty_give_the_same_trajector
     timeout raises it) each prepared episode counts only at its own difficulty. Either way the
     trajectories, levels and difficulties are those of an env that prepares nothing ahead."""
     ahead, plain = ppcg_env(game, 16, alpha), ppcg_env(game, 16, alpha)
-    plain.base_env._ready = None
+    plain.base_env._prepared_resets = None
     ahead_sizes, plain_sizes = count_prepared(ahead.base_env), count_prepared(plain.base_env)
     got_all, want_all = rollout(ahead, 120), rollout(plain, 120)
     for got, want in zip(got_all, want_all, strict=True):
@@ -206,7 +209,7 @@ def test_episodes_prepared_ahead_tick_in_the_steps_graph(monkeypatch):
     original = CompiledTick.run
     monkeypatch.setattr(CompiledTick, "run", lambda self, *args: alone.append(1) or original(self, *args))
     env = GVGAIEnv("zelda", num_envs=64, levels="human", seed=3)
-    assert env.step_plan.fused and env.step_plan.compiled_resets and env._ready.depth == 8
+    assert env.step_plan.fused and env.step_plan.compiled_resets and env._prepared_resets.episodes.depth == 8
     sizes = count_prepared(env)
     rollout(env, 60)
     assert max(sizes[1:]) > 256  # prepared ahead, more than the step's graph draws in a step...
@@ -217,10 +220,10 @@ def test_episodes_prepared_before_the_difficulty_moved_are_not_played_after_it()
     """A bulk prepared while the difficulty held at 0 is stale once it moves to 0.5: every reset
     after that plays a level of 0.5, as an env that prepares nothing ahead does."""
     ahead, plain = ppcg_env("frogs", 16, 0.0), ppcg_env("frogs", 16, 0.0)
-    plain.base_env._ready = None
+    plain.base_env._prepared_resets = None
     stored = []
-    store = ahead.base_env._ready.store
-    ahead.base_env._ready.store = lambda *args, **kwargs: (
+    store = ahead.base_env._prepared_resets.episodes.store
+    ahead.base_env._prepared_resets.episodes.store = lambda *args, **kwargs: (
         stored.append(len(args[0])) or store(*args, **kwargs)
     )
 
@@ -247,19 +250,19 @@ def test_episodes_prepared_before_the_difficulty_moved_are_not_played_after_it()
 def test_a_bulk_of_generated_levels_is_bounded(monkeypatch):
     """At most READY_ROWS episodes besides the resetting envs' own are generated in one bulk (a
     bulk is lost when the difficulty moves), and a first bulk smaller than the store works."""
-    monkeypatch.setattr(gvgai_env, "READY_ROWS", 4)
+    monkeypatch.setattr(prepared_resets, "READY_ROWS", 4)
     ahead, plain = ppcg_env("frogs", 16, 0.0), ppcg_env("frogs", 16, 0.0)
-    plain.base_env._ready = None
-    assert ahead.base_env._ready.depth == 1
+    plain.base_env._prepared_resets = None
+    assert ahead.base_env._prepared_resets.episodes.depth == 1
     bulks = []  # (resetting envs, episodes missing, episodes prepared)
-    bound = ahead.base_env._bounded_bulk
+    bound = ahead.base_env._prepared_resets.bounded_bulk
 
-    def bounded(index, envs, episodes):
-        kept = bound(index, envs, episodes)
+    def bounded(index, next_episodes, envs, episodes):
+        kept = bound(index, next_episodes, envs, episodes)
         bulks.append((len(index), len(envs), len(kept[0])))
         return kept
 
-    ahead.base_env._bounded_bulk = bounded
+    ahead.base_env._prepared_resets.bounded_bulk = bounded
     for got, want in zip(rollout(ahead, 80), rollout(plain, 80), strict=True):
         assert (got["next"] == want["next"]).all() and (got["root"] == want["root"]).all()
         assert got["levels"] == want["levels"]
