@@ -184,17 +184,25 @@ def run(args: argparse.Namespace) -> int:
     return _run_levels(args, agent)
 
 
-def _run_protocol_trained(args: argparse.Namespace) -> int:
-    from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
-    from gvgai_pcg.evaluation.evaluator import evaluate_run, run_results_path
-    from gvgai_pcg.evaluation.summary import format_protocol_table
+def _runs_of(args: argparse.Namespace) -> list:
+    """The run directories under ``args.runs``; none found is a usage error naming the paths."""
+    from gvgai_pcg.evaluation.checkpoints import find_runs
 
-    protocol = protocol_from(args)
     runs = find_runs(args.runs)
     if not runs:
         raise ValueError(
             f"no run directories (with config.yaml and a model) in {', '.join(map(str, args.runs))}"
         )
+    return runs
+
+
+def _run_protocol_trained(args: argparse.Namespace) -> int:
+    from gvgai_pcg.evaluation.checkpoints import run_info
+    from gvgai_pcg.evaluation.evaluator import evaluate_run, run_results_path
+    from gvgai_pcg.evaluation.summary import format_protocol_table
+
+    protocol = protocol_from(args)
+    runs = _runs_of(args)
     for path in runs:
         info = run_info(path, args.checkpoint)
         records = evaluate_run(info, protocol, args.device, not args.no_progress, args.force)
@@ -204,7 +212,6 @@ def _run_protocol_trained(args: argparse.Namespace) -> int:
 
 
 def _run_snapshots(args: argparse.Namespace) -> int:
-    from gvgai_pcg.evaluation.checkpoints import find_runs
     from gvgai_pcg.evaluation.held_out import (
         evaluate_snapshots,
         format_held_out_table,
@@ -214,11 +221,7 @@ def _run_snapshots(args: argparse.Namespace) -> int:
     )
 
     protocol = protocol_from(args)
-    runs = find_runs(args.runs)
-    if not runs:
-        raise ValueError(
-            f"no run directories (with config.yaml and a model) in {', '.join(map(str, args.runs))}"
-        )
+    runs = _runs_of(args)
     for path in runs:
         results = evaluate_snapshots(
             path, protocol, args.every, args.device, not args.no_progress, args.force
@@ -255,13 +258,9 @@ def _run_ued(args: argparse.Namespace, agent: str) -> int:
         print(format_ued_summary(f"{args.game}: random agent, UED protocol", summary))
         print(f"  -> {table}")
         return 0
-    from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
+    from gvgai_pcg.evaluation.checkpoints import run_info
 
-    runs = find_runs(args.runs)
-    if not runs:
-        raise ValueError(
-            f"no run directories (with config.yaml and a model) in {', '.join(map(str, args.runs))}"
-        )
+    runs = _runs_of(args)
     for path in runs:
         info = run_info(path, args.checkpoint)
         summary, table = evaluate_run_ued(info, protocol, alphas, args.device, progress, args.force)
