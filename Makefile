@@ -31,11 +31,12 @@ lint: $(STAMP)
 # The study from sweep to Table 1 (BUDGET=smoke|small|medium|paper; JOBS runs side by side), or the
 # curricula comparison (BUDGET=curricula, issue 36); resumable, and what results/BUDGET holds
 # finished is not trained again. A smoke test leaves the page alone; the others write their own.
+# BORROW=reproduce/medium takes the runs that sweep trained exactly as this one would (curricula).
 BUDGET ?= smoke
 JOBS ?= 2
 PAGE := $(if $(filter smoke curricula-smoke,$(BUDGET)),,--budget-page)
 reproduce: $(STAMP)
-	$(BIN)/gvgai-pcg reproduce --budget $(BUDGET) --jobs $(JOBS) --out reproduce/$(BUDGET) --publish results/$(BUDGET) $(PAGE)
+	$(BIN)/gvgai-pcg reproduce --budget $(BUDGET) --jobs $(JOBS) --out reproduce/$(BUDGET) --publish results/$(BUDGET) $(PAGE) $(if $(BORROW),--borrow-from $(BORROW))
 
 # DEVICE=cuda measures the GPU alone; left out, the CPU is measured, and CUDA too where there is one.
 DEVICE ?=

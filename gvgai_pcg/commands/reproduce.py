@@ -9,7 +9,8 @@ arguments are Hydra overrides for every run (e.g. ``hydra.launcher.partition=gpu
 ``--budget curricula`` (and ``curricula-smoke``) runs issue 36's curricula comparison the same way:
 a condition whose curriculum is not registered yet is refused with one line and the rest run; the
 UED protocol evaluates each run where this checkout has it; ``--page docs/results-curricula.md``
-writes the comparison's page from the published data.
+writes the comparison's page from the published data. ``--borrow-from SWEEP`` takes the runs that
+another sweep trained exactly as this one would (``gvgai_pcg.study.borrowed_runs``).
 """
 
 from __future__ import annotations
@@ -47,6 +48,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="COMMIT",
         help="with --page: the commit that trained and evaluated the runs, when not this checkout's "
         "(runs trained from a worktree at a fixed commit)",
+    )
+    parser.add_argument(
+        "--borrow-from",
+        type=Path,
+        metavar="SWEEP",
+        help="take runs that train exactly as another sweep's (its --out folder) did, at this budget's "
+        "frames, instead of training them (the curricula comparison's PCG 1 and PPCG from medium's)",
     )
     parser.add_argument("--no-progress", action="store_true", help="hide progress bars")
     parser.add_argument("overrides", nargs="*", help="Hydra overrides for every run")
@@ -90,6 +98,7 @@ def run(args: argparse.Namespace) -> int:
         publish_to=args.publish,
         progress=not args.no_progress,
         finished_only=args.finished_only,
+        borrow_from=args.borrow_from,
     )
     print(f"runs:   {outcome.runs}")
     print(f"report: {outcome.report / 'results.md'}")

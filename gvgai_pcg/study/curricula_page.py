@@ -12,6 +12,7 @@ import platform
 import shutil
 from pathlib import Path
 
+from gvgai_pcg.study.borrowed_runs import borrowed_lines
 from gvgai_pcg.study.conditions import Budget
 from gvgai_pcg.study.page import _runs_table, replace_block
 
@@ -63,6 +64,8 @@ def curricula_block(published: Path, budget: Budget, images: Path, prefix: str, 
             "",
             _runs_table(published, budget.frames_range[0]) if runs else "No runs published yet.",
             "",
+            *borrowed_lines(runs),
+            *([""] if borrowed_lines(runs) else []),
             "### Scores and the answer",
             "",
             comparison_markdown(games) if games else "No run evaluated yet.",

@@ -32,6 +32,7 @@ from pathlib import Path
 from omegaconf import OmegaConf
 
 from gvgai_pcg.games.registry import find_game_spec
+from gvgai_pcg.study.borrowed_runs import BORROWED, borrow_runs
 from gvgai_pcg.study.conditions import Budget, unregistered
 
 # A trained model (weights, config, frames: no optimizer) is published only below this size: the
@@ -354,7 +355,7 @@ def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = 
         if (target / PUBLISHED).is_file() and published_run_info(target).frames > info.frames:
             continue  # the published run has trained longer
         (target / "eval").mkdir(parents=True, exist_ok=True)
-        for name in ("config.yaml", "log.csv", "sessions.csv", "curve.png", "replay.png"):
+        for name in ("config.yaml", "log.csv", "sessions.csv", "curve.png", "replay.png", BORROWED):
             if (run / name).is_file():
                 shutil.copy2(run / name, target / name)
         # the study protocol's records, and the UED protocol's per-level CSV and summary
@@ -447,11 +448,14 @@ def reproduce(
     publish_to: Path | None = None,
     progress: bool = True,
     finished_only: bool = False,
+    borrow_from: Path | None = None,
 ) -> Outcome:
     """The whole study at ``budget``: sweep, evaluate, report into ``out``, publish to
     ``publish_to``. Runs that ``publish_to`` holds as finished and ``out`` lacks are reported from
     there, not trained again. ``finished_only`` leaves out runs short of the budget's frames (a
-    report taken while the sweep still trains evaluates no model that will change)."""
+    report taken while the sweep still trains evaluates no model that will change). Runs that the
+    sweep in ``borrow_from`` trained exactly as this one would are taken, not trained
+    (``gvgai_pcg.study.borrowed_runs``)."""
     refused = unregistered(conditions)
     if refused:
         raise ValueError("; ".join(refused.values()))
@@ -464,8 +468,13 @@ def reproduce(
     protocol = Protocol(**budget.protocol)
     skip: set[tuple[str, int]] = set()
     elsewhere: list[Path] = []
+    if borrow_from is not None:  # before the published ones: a borrowed run here is finished here
+        skip |= borrow_runs(budget, conditions, overrides, Path(borrow_from), out)
     if publish_to is not None:
-        skip, elsewhere = published_elsewhere(budget, conditions, overrides, out, Path(publish_to), protocol)
+        published_skip, elsewhere = published_elsewhere(
+            budget, conditions, overrides, out, Path(publish_to), protocol
+        )
+        skip |= published_skip
         random = Path(publish_to) / "random"
         if random.is_dir():  # the random agent's records travel too
             shutil.copytree(random, out / "random", dirs_exist_ok=True, copy_function=_keep)

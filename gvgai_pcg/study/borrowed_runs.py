@@ -1,0 +1,154 @@
+"""Runs a sweep takes from another sweep instead of training them again (``reproduce
+--borrow-from``).
+
+The curricula comparison's PCG 1 and PPCG runs (Zelda and Frogs, A2C with the medium setup, seeds
+0-2, 10M frames) train exactly as the ``medium`` sweep's runs of the same names do: their configs
+agree key for key but for ``total_frames`` (and bookkeeping: checkpoints, logs). Nothing in
+training reads ``total_frames`` but the choice of a compiled or an eager tick, and the two compute
+the same (tested per game), so a medium run's model at 10M frames (its final model, or the
+snapshot a 20M run kept at 10M) is the model a 10M run would have trained. Taking it saves a third
+of the comparison's compute.
+
+A borrowed run is a run folder like any other: the config with the borrowing budget's frames, the
+model at those frames, the log and the sessions up to them, the snapshots up to them, and
+``borrowed.json`` naming where it came from. It is never trained: the sweep skips it.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+import shutil
+from collections.abc import Sequence
+from pathlib import Path
+
+from omegaconf import OmegaConf
+
+from gvgai_pcg.study.conditions import Budget
+
+BORROWED = "borrowed.json"
+
+
+def borrow_runs(
+    budget: Budget, conditions: Sequence[str], overrides: Sequence[str], source: Path, out: Path
+) -> set[tuple[str, int]]:
+    """The ``(condition, seed)`` pairs of ``budget`` whose every run is borrowed into ``out/runs``
+    from the sweep folder (or runs folder) ``source``: borrowed now, or on an earlier call. A pair
+    with a run of its own in ``out`` (trained there, even in part) is left to the sweep."""
+    from gvgai_pcg.study.pipeline import planned_configs
+
+    source = Path(source)
+    if not source.is_dir():
+        raise FileNotFoundError(f"{source}: no such sweep folder to borrow runs from")
+    runs_there = source / "runs" if (source / "runs").is_dir() else source
+    borrowed: set[tuple[str, int]] = set()
+    for pair, planned in planned_configs(budget, conditions, overrides).items():
+        frames = budget.frames_of(pair[0])
+        here = {name: out / "runs" / name for name in planned}
+        if all((run / BORROWED).is_file() for run in here.values()):
+            borrowed.add(pair)
+            continue
+        if any(run.exists() for run in here.values()):
+            continue
+        models = {
+            name: borrowable_model(runs_there / name, config, frames) for name, config in planned.items()
+        }
+        if all(models.values()):
+            for name, model in models.items():
+                borrow_run(runs_there / name, model, frames, here[name])
+            borrowed.add(pair)
+    return borrowed
+
+
+def borrowable_model(run: Path, planned: dict, frames: int) -> Path | None:
+    """The model of ``run`` at exactly ``frames`` frames (final model or snapshot) if ``run`` trains
+    as ``planned`` does but for its ``total_frames``; else ``None``."""
+    from gvgai_pcg.evaluation.checkpoints import is_run_dir, load_state, read_run_config, run_info
+    from gvgai_pcg.rl.checkpoint import config_differences
+    from gvgai_pcg.rl.snapshots import snapshot_path
+
+    if not is_run_dir(run):
+        return None
+    config = dict(read_run_config(run) or {})
+    if int(config.get("total_frames", 0)) < frames:
+        return None
+    if config_differences(config, {**planned, "total_frames": config["total_frames"]}):
+        return None
+    info = run_info(run)
+    if info.frames == frames:
+        return info.model_file
+    snapshot = snapshot_path(run, frames)
+    if info.frames > frames and snapshot.is_file() and int(load_state(snapshot).get("frames", -1)) == frames:
+        return snapshot
+    return None
+
+
+def borrow_run(source: Path, model: Path, frames: int, target: Path) -> Path:
+    """``target``: the run ``source`` at ``frames`` frames with ``model`` as its final model, made
+    beside ``target`` and renamed into place, so that a stopped borrow leaves no half run."""
+    from gvgai_pcg.evaluation.checkpoints import FINAL_MODEL, read_run_config
+    from gvgai_pcg.rl.provenance import SESSIONS_NAME
+    from gvgai_pcg.rl.snapshots import SNAPSHOT_DIR, snapshot_paths
+
+    building = target.parent / f".borrowing-{target.name}"
+    shutil.rmtree(building, ignore_errors=True)
+    building.mkdir(parents=True)
+    config = dict(read_run_config(source) or {})
+    trained = int(config["total_frames"])
+    config.update(total_frames=frames, out_dir=str(target.parent.resolve()))
+    OmegaConf.save(OmegaConf.create(config), building / "config.yaml")
+    shutil.copy2(model, building / FINAL_MODEL)
+    _copy_rows(source / "log.csv", building / "log.csv", lambda row: int(row["frames"]) <= frames)
+    _copy_rows(source / SESSIONS_NAME, building / SESSIONS_NAME, lambda row: int(row["frames"]) < frames)
+    kept = [path for path in snapshot_paths(source) if int(path.stem.split("-")[-1]) <= frames]
+    if kept:
+        (building / SNAPSHOT_DIR).mkdir()
+        for path in kept:
+            shutil.copy2(path, building / SNAPSHOT_DIR / path.name)
+    record = {"from": str(source.resolve()), "frames": frames, "trained_frames": trained, "model": model.name}
+    (building / BORROWED).write_text(json.dumps(record, indent=1) + "\n")
+    os.replace(building, target)
+    return target
+
+
+def borrowed_from(run: Path) -> dict | None:
+    """``borrowed.json`` of ``run``, or ``None`` for a run it trained itself."""
+    path = Path(run) / BORROWED
+    return json.loads(path.read_text()) if path.is_file() else None
+
+
+def borrowed_lines(runs: Sequence[Path]) -> list[str]:
+    """One markdown line per borrowed run among ``runs`` (for a results page), or none."""
+    lines = []
+    for run in runs:
+        record = borrowed_from(run)
+        if record is not None:
+            source = Path(record["from"])
+            lines.append(
+                f"- `{Path(run).name}`: the `{source.parent.parent.name}` sweep's run of that name at "
+                f"{record['frames']:,} of the {record['trained_frames']:,} frames it trained "
+                f"(`{record['model']}`)"
+            )
+    if lines:
+        lines.insert(
+            0,
+            "Borrowed from another sweep that trained them exactly so (`reproduce --borrow-from`), "
+            "not trained again:",
+        )
+        lines.insert(1, "")
+    return lines
+
+
+def _copy_rows(source: Path, target: Path, keep) -> None:
+    """The header and the rows of the CSV ``source`` that ``keep`` accepts, into ``target``."""
+    if not source.is_file():
+        return
+    with open(source, newline="") as file:
+        reader = csv.DictReader(file)
+        rows = [row for row in reader if keep(row)]
+        fields = reader.fieldnames or []
+    with open(target, "w", newline="") as file:
+        writer = csv.DictWriter(file, fieldnames=fields)
+        writer.writeheader()
+        writer.writerows(rows)
