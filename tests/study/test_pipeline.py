@@ -265,6 +265,8 @@ def test_the_medium_budget_trains_what_issue_35_asks_and_keeps_models_along_the_
     assert all(len(medium.seeds_of(c)) >= 4 for c in medium.conditions)
     assert all(len(medium.seeds_of(c)) >= 5 for c in ("zelda-pcg0.5", "zelda-pcg1", "zelda-ppcg"))
     assert "checkpoint.keep_every_frames=1000000" in medium.overrides
+    # the claims judged on at least 100 distinct generated levels per difficulty
+    assert medium.protocol == {"test_levels": 100, "test_sets": "large"}
 
 
 def test_each_results_page_keeps_its_own_figures():
