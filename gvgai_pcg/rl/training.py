@@ -54,7 +54,7 @@ from gvgai_pcg.rl.run_log import EpisodeTracker, RunLog
 from gvgai_pcg.rl.run_session import RunSession, open_run
 from gvgai_pcg.rl.snapshots import Snapshots
 from gvgai_pcg.rl.stop_signal import StopSignal, ignoring_stop_signals
-from gvgai_pcg.rl.update_log import UpdateLog
+from gvgai_pcg.rl.update_log import UpdateLog, mean_losses
 
 log = logging.getLogger(__name__)
 
@@ -253,7 +253,7 @@ def _train(
         # --- update log: the first update, then every log.every_update_frames ---
         if frames >= next_update_row:
             now = time.perf_counter()
-            policy_loss, value_loss, entropy = torch.stack(losses_since_update_row).mean(0).tolist()
+            policy_loss, value_loss, entropy = mean_losses(losses_since_update_row)
             losses_since_update_row.clear()
             update_log.write(
                 {
@@ -274,7 +274,7 @@ def _train(
             now = time.perf_counter()
             stats = tracker.take()
             episodes += stats["episodes"]
-            policy_loss, value_loss, entropy = torch.stack(losses_since_row).mean(0).tolist()
+            policy_loss, value_loss, entropy = mean_losses(losses_since_row)
             losses_since_row.clear()
             row = {
                 **stats,

@@ -6,6 +6,10 @@ row after the first update and then whenever ``log.every_update_frames`` more fr
 trained, with the update statistics averaged since its previous row; the same values go to the
 TorchRL loggers as ``update_<column>``. Like ``log.csv`` it is cut back to the checkpoint on
 resume (the TorchRL files are cut with ``log.csv``'s) and synced before every checkpoint.
+
+An update that trained on no step (PLR⊥'s batch without a replayed level) reports NaN losses:
+a row's means leave it out (``mean_losses``), and a row of such updates only has NaN (``nan`` in
+the CSV, which ``read_log`` and ``read_updates`` read back as NaN; the loggers skip it).
 """
 
 from __future__ import annotations
@@ -14,12 +18,16 @@ import csv
 import io
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from gvgai_pcg.rl.atomic_files import atomic_write_text, fsync_file
 
 UPDATE_COLUMNS = ("frames", "updates", "policy_loss", "value_loss", "entropy", "fps", "time")
 UPDATES_NAME = "updates.csv"
 LOGGER_PREFIX = "update_"
+
+if TYPE_CHECKING:
+    import torch
 
 
 class UpdateLog:
@@ -43,7 +51,9 @@ class UpdateLog:
         self._file.flush()
         for logger in self.loggers:
             for key in UPDATE_COLUMNS[1:]:
-                logger.log_scalar(LOGGER_PREFIX + key, row.get(key, math.nan), step=int(row["frames"]))
+                value = row.get(key, math.nan)
+                if not math.isnan(value):
+                    logger.log_scalar(LOGGER_PREFIX + key, value, step=int(row["frames"]))
 
     def sync(self) -> None:
         if not self._file.closed:
@@ -52,6 +62,14 @@ class UpdateLog:
 
     def close(self) -> None:
         self._file.close()
+
+
+def mean_losses(stacked: list[torch.Tensor]) -> list[float]:
+    """``[policy_loss, value_loss, entropy]`` averaged over the updates of a log row (each an
+    ``Update.stacked()``), leaving out those that trained on no step (NaN); NaN if none did."""
+    import torch
+
+    return torch.stack(stacked).nanmean(0).tolist()
 
 
 def read_updates(path: Path) -> list[dict[str, float]]:

@@ -16,6 +16,8 @@ from gvgai_pcg.rl.a2c_loss import A2CLoss
 from gvgai_pcg.rl.learners.a2c import A2C
 from gvgai_pcg.rl.learners.ppo import PPO
 from gvgai_pcg.rl.models import as_tensordict_module, make_actor_critic
+from gvgai_pcg.rl.run_log import RunLog, read_log
+from gvgai_pcg.rl.update_log import UpdateLog, mean_losses, read_updates
 from tests.rl.test_a2c_loss import TableNet
 from tests.rl.test_learners import _rollout
 
@@ -79,6 +81,26 @@ def test_a_mask_without_a_step_takes_no_optimizer_step_but_gives_the_signals(nam
     update = learner.update(rollout, lambda loss, norm: checks.append(loss))
     assert checks == [] and all(torch.equal(a, b) for a, b in zip(before, net.parameters(), strict=True))
     assert update.signals["advantage"].shape == (4, 6)  # still scored by the curriculum
+    # nothing was learnt: the losses are NaN (left out of the log's means), not zeros
+    assert all(math.isnan(value) for value in update.stacked().tolist())
+
+
+def test_a_log_row_averages_the_updates_that_trained_and_is_nan_without_one(tmp_path):
+    trained = torch.tensor([0.5, 2.0, 1.0])
+    untrained = torch.full((3,), math.nan)
+    assert mean_losses([trained, untrained, trained * 3]) == pytest.approx([1.0, 4.0, 2.0])
+    assert all(math.isnan(value) for value in mean_losses([untrained, untrained]))
+    # a row of NaN losses is written and read back as NaN (not taken for a row cut short)
+    log = RunLog(tmp_path, [], resume_frames=None)
+    log.write({"frames": 10, "episodes": 1, "mean_score": 1.0, "policy_loss": math.nan})
+    log.write({"frames": 20, "episodes": 2, "mean_score": 2.0, "policy_loss": 0.5})
+    log.close()
+    rows = read_log(tmp_path / "log.csv")
+    assert len(rows) == 2 and math.isnan(rows[0]["policy_loss"]) and rows[1]["policy_loss"] == 0.5
+    updates = UpdateLog(tmp_path, [], resume_frames=None)
+    updates.write({"frames": 10, "updates": 1, "policy_loss": math.nan})
+    updates.close()
+    assert math.isnan(read_updates(tmp_path / "updates.csv")[0]["policy_loss"])
 
 
 @pytest.mark.parametrize("name", ["a2c", "ppo"])

@@ -36,20 +36,17 @@ class A2C(Learner):
 
     def update(self, rollout: TensorDictBase, check: UpdateCheck) -> Update:
         losses = self.loss_module(rollout)
-        loss = losses["loss_objective"] + losses["loss_critic"] + losses["loss_entropy"]
+        signals = {key: losses[key] for key in ("advantage", "value_target", "state_value")}
         mask = rollout.get(TRAIN_MASK, None)
-        if mask is None or bool(mask.any()):  # a curriculum's mask without a step: no step
-            self.optimizer.zero_grad(set_to_none=True)
-            loss.backward()
-            grad_norm = torch.nn.utils.clip_grad_norm_(self.net.parameters(), self.max_grad_norm)
-            check(loss, grad_norm)  # before it is applied
-            self.optimizer.step()
-        return Update(
-            losses["loss_objective"].detach(),
-            losses["value_loss"],
-            losses["entropy"],
-            {key: losses[key] for key in ("advantage", "value_target", "state_value")},
-        )
+        if mask is not None and not bool(mask.any()):  # a curriculum's mask without a step: no step
+            return Update.untrained(signals)
+        loss = losses["loss_objective"] + losses["loss_critic"] + losses["loss_entropy"]
+        self.optimizer.zero_grad(set_to_none=True)
+        loss.backward()
+        grad_norm = torch.nn.utils.clip_grad_norm_(self.net.parameters(), self.max_grad_norm)
+        check(loss, grad_norm)  # before it is applied
+        self.optimizer.step()
+        return Update(losses["loss_objective"].detach(), losses["value_loss"], losses["entropy"], signals)
 
     def state_dict(self) -> dict[str, Any]:
         return self.optimizer.state_dict()

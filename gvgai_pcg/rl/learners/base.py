@@ -28,7 +28,10 @@ class Update:
     """What one update reports.
 
     Args:
-        policy_loss, value_loss, entropy: detached 0-d tensors (means over the update), logged.
+        policy_loss, value_loss, entropy: detached 0-d tensors (means over the update), logged;
+            NaN where the update trained on no step (a curriculum's ``train_mask`` without one:
+            PLR⊥'s batch without a replayed level), so the log leaves that update out of its means
+            (``update_log.mean_losses``) instead of counting zeros.
         signals: per-step learning signals of the rollout ``[B, T]`` (``advantage``,
             ``value_target``, ``state_value``), detached, for a curriculum's ``observe``; ``None``
             when the learner has none.
@@ -42,6 +45,12 @@ class Update:
     def stacked(self) -> torch.Tensor:
         """``[policy_loss, value_loss, entropy]`` in one tensor (one host read per log row)."""
         return torch.stack([self.policy_loss, self.value_loss, self.entropy])
+
+    @classmethod
+    def untrained(cls, signals: Mapping[str, torch.Tensor] | None = None) -> Update:
+        """An update that trained on no step: NaN losses (nothing was learnt), the signals still."""
+        nan = torch.tensor(float("nan"))
+        return cls(nan, nan.clone(), nan.clone(), signals)
 
 
 class Learner:

@@ -9,8 +9,8 @@ Kostrikov's ``pytorch-a2c-ppo-acktr`` that facebookresearch/level-replay and dcd
 value loss is ``value_coef * 1/2 (V - R)^2`` (TorchRL's ``l2`` with ``critic_coeff = value_coef / 2``).
 The acting passes keep no graph: every minibatch is evaluated again at the current weights.
 Where the rollout has a ``train_mask`` (a curriculum's: PLR⊥), the epochs use its steps only (the
-advantages are still computed over the whole rollout); none: no step. Its checkpoint holds the
-Adam state.
+advantages are still computed over the whole rollout); none: no step, and NaN losses (as A2C's).
+Its checkpoint holds the Adam state.
 """
 
 from __future__ import annotations
@@ -84,8 +84,8 @@ class PPO(Learner):
         mask = rollout.get(TRAIN_MASK, None)
         if mask is not None:  # a curriculum's: only these steps train (PLR⊥)
             flat = flat[mask.reshape(-1)]
-            if flat.shape[0] == 0:
-                return Update(torch.zeros(()), torch.zeros(()), torch.zeros(()), signals)
+            if flat.shape[0] == 0:  # no replayed step: no step, and no losses to log
+                return Update.untrained(signals)
         if self.normalize_advantage:
             advantage = flat.get("advantage")
             flat.set("advantage", (advantage - advantage.mean()) / (advantage.std() + 1e-5))
