@@ -88,6 +88,33 @@ def test_the_training_benchmark_times_the_network_both_ways_and_splits_a_batch(m
     assert "recomputes the acting passes" in text
 
 
+@pytest.mark.slow  # a few PPO updates and a batch of the loop (~5 s on a quiet machine)
+def test_the_training_benchmark_measures_ppo_against_its_epochs_of_minibatches(monkeypatch):
+    monkeypatch.setenv("GVGAI_PCG_COMPILE", "0")  # a compiled tick would take minutes to build here
+    from hydra import compose, initialize_config_dir
+
+    from gvgai_pcg.config import config_dir
+    from gvgai_pcg.rl import benchmark as training
+
+    small = ["env.num_envs=4", "regimen=lv", "model.hidden=16", "algo=ppo", "algo.n_steps=4"]
+    with initialize_config_dir(config_dir=str(config_dir()), version_base="1.3"):
+        cfg = compose("config", overrides=[*small, "algo.epochs=2", "algo.minibatches=2"])
+    assert training.update_shape(cfg.algo) == (2, 2)
+    steps = []
+    original = torch.optim.Adam.step
+    monkeypatch.setattr(torch.optim.Adam, "step", lambda self, *a, **k: steps.append(1) or original(self))
+    once = lambda work, seconds: work() or training.Cost(1.0, 1.0)  # noqa: E731 (one call, no timing)
+    monkeypatch.setattr(training, "time_calls", once)
+    costs = training.network_costs(cfg)
+    assert set(costs) == {"acting_and_update"}  # PPO has no reused-graph shape
+    assert len(steps) == 2 * 2 * 2  # two timed rounds, each epochs x minibatches Adam steps
+    parts = training.batch_breakdown(cfg, batches=1)
+    assert parts["update"].cpu > 0 and parts["acting"].cpu > 0
+    numbers = {**dict.fromkeys(NUMBERS[:8], 1.0), "keeps_acting_graph": 0.0}
+    text = training.describe("ppo-run", numbers)
+    assert "network's whole work" in text and "reused-graph" not in text
+
+
 NUMBERS = ("frames_per_batch", "load", "end_to_end_fps", "end_to_end_cpu_fps", "limit_fps", "limit_cpu_fps")
 NUMBERS += ("ratio", "cpu_ratio", "reused_limit_fps", "reused_limit_cpu_fps", "reused_ratio")
 NUMBERS += ("reused_cpu_ratio", "keeps_acting_graph")

@@ -49,9 +49,10 @@ def test_the_training_benchmark_prints_its_usage_for_help(capsys):
     assert "python -m gvgai_pcg.rl.benchmark [hydra overrides]" in capsys.readouterr().out
 
 
-def test_the_training_benchmark_refuses_a_learner_it_does_not_model_in_one_line(capsys):
+def test_the_training_benchmark_refuses_a_learner_it_does_not_model_in_one_line(capsys, monkeypatch):
     from gvgai_pcg.rl import benchmark
 
+    monkeypatch.setattr(benchmark, "MODELLED", ("a2c",))  # as a plug-in learner would be
     assert benchmark.main(["algo=ppo"]) == 2
     err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "algo=ppo" in err and "algo=a2c only" in err
+    assert len(err.splitlines()) == 1 and "algo=ppo" in err and "modelled for algo=a2c only" in err
