@@ -66,6 +66,10 @@ class Curriculum:
         config: the yaml of a curriculum from outside the package (its defaults), stored as the
             ``regimen`` group's option ``name``; ``None`` for ours (``conf/regimen/<name>.yaml``).
         optional: keys of ``schema`` a section may leave out.
+        learner_needs: what its source needs from the learner beyond the outcome of episodes (level,
+            return, win, length), in words; ``""``: nothing. The Gymnasium API, which has no
+            learner, refuses a curriculum that needs one (PLR⊥, ACCEL: value estimates; SFL: the
+            policy) and feeds the others' ``observe`` one row per finished episode.
     """
 
     name: str = ""
@@ -75,6 +79,7 @@ class Curriculum:
     label: str = ""
     config: str | Path | None = None
     optional: frozenset[str] = frozenset({"win_rule"})
+    learner_needs: str = ""
 
     def check(self, section: Mapping[str, Any], config: Mapping[str, Any]) -> None:
         """Rules across keys of the checked ``section`` (``config``: the whole checked config);

@@ -238,6 +238,7 @@ class PrioritizedLevelReplay(Curriculum):
 
     name, summary, label = "plr", "PLR⊥: robust prioritized level replay of generated levels", "PLR⊥"
     generated = True
+    learner_needs = "the learner's value estimates (it scores levels by positive value loss or MaxMC)"
     schema = {
         "name": Text(),
         "buffer_size": Integer(1, 1_000_000),

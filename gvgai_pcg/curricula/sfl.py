@@ -211,6 +211,7 @@ class SamplingForLearnability(Curriculum):
         "SFL",
     )
     generated = True
+    learner_needs = "the learner's policy (it plays it on a pool of levels between updates)"
     schema = {
         "name": Text(),
         "replay_probability": Number(0.0, 1.0),

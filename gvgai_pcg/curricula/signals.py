@@ -123,6 +123,51 @@ def _mean(values: torch.Tensor, inverse: torch.Tensor, counts: torch.Tensor) -> 
     return torch.zeros(len(counts)).index_add_(0, inverse, values) / counts
 
 
+class EpisodeOutcomes:
+    """The rows of finished episodes, step by step, for a caller without a learner (the Gymnasium
+    API): after each step, one row per episode that ended at it, with the keys above other than
+    the learning ones, ``steps`` and ``length`` both its whole length, ``finished`` true."""
+
+    def __init__(self, num_envs: int) -> None:
+        self._return = torch.zeros(num_envs, dtype=torch.float32)
+        self._length = torch.zeros(num_envs, dtype=torch.int64)
+
+    def restart(self, mask: torch.Tensor) -> None:
+        """The envs in ``mask`` (``[B]`` bool) start a new episode (a reset)."""
+        mask = mask.cpu()
+        self._return[mask], self._length[mask] = 0.0, 0
+
+    def __call__(self, next_td: TensorDictBase, stepped: torch.Tensor) -> TensorDict | None:
+        """Count the step of the envs in ``stepped`` (``[B]`` bool: those that played it, not those
+        restarting); the rows of the episodes that ended at it, ``None`` where none did."""
+
+        def column(key: str) -> torch.Tensor:
+            return next_td.get(key).reshape(-1).cpu()
+
+        stepped = stepped.reshape(-1).cpu()
+        self._return += torch.where(stepped, column("reward").to(torch.float32), 0.0)
+        self._length += stepped.to(torch.int64)
+        ended = stepped & column("done").to(torch.bool)
+        if not bool(ended.any()):
+            return None
+        envs = ended.nonzero().flatten()
+        rows = TensorDict(
+            {
+                "env": envs,
+                "level_seed": column("level_seed")[envs].to(torch.int64),
+                "level_difficulty": column("level_difficulty")[envs].to(torch.float64),
+                "steps": self._length[envs].clone(),
+                "finished": torch.ones(len(envs), dtype=torch.bool),
+                "won": column("won")[envs].to(torch.bool),
+                "return": self._return[envs].clone(),
+                "length": self._length[envs].clone(),
+            },
+            batch_size=[len(envs)],
+        )
+        self.restart(ended)
+        return rows
+
+
 TRAIN_MASK = "train_mask"  # [B, T] bool in a rollout: the steps a learner takes gradients from
 
 

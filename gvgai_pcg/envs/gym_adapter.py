@@ -8,6 +8,12 @@ is owned by a ``DifficultyTransform`` used standalone, so the curriculum rule li
 Once an episode has ended (``terminated`` or ``truncated``), ``step`` refuses until ``reset``:
 the engine would otherwise go on playing (after a truncation) or stay frozen (after a
 termination) without saying so.
+
+A curriculum whose level source learns (``observe``) gets, after every step, one row per episode
+that ended at it: the level (seed and d), return, win and length (``EpisodeOutcomes``). That is
+all a Gymnasium env knows: it has no learner, so a curriculum that needs one (PLR⊥ and ACCEL
+score levels by the learner's value estimates, SFL plays its policy) is refused by name;
+``gvgai-pcg train`` runs those.
 """
 
 from __future__ import annotations
@@ -24,6 +30,8 @@ import torch
 from tensordict import TensorDict, TensorDictBase
 
 import gvgai_pcg.envs.quiet_torchrl  # noqa: F401 (first: torchrl without its global side effect)
+from gvgai_pcg.curricula.signals import EpisodeOutcomes
+from gvgai_pcg.envs.difficulty import DifficultyTransform
 from gvgai_pcg.envs.gvgai_env import GVGAIEnv
 from gvgai_pcg.envs.inputs import checked_observation_kind
 from gvgai_pcg.envs.level_sources import LevelSource
@@ -129,10 +137,17 @@ class Regimen:
         start_seed: int = 0,
     ) -> None:
         kind = regimen_kind(regimen)
+        if kind.learner_needs:
+            raise ValueError(
+                f"regimen {regimen!r} needs {kind.learner_needs}, which a Gymnasium env does not have; "
+                f"train with it through gvgai-pcg train regimen={regimen}"
+            )
         if (levels is not None) != (regimen == "levels"):
             raise ValueError("levels= gives the set of regimen='levels', and that regimen needs it")
         self.game, self.name, self.finite = game, regimen, num_levels > 0
-        self.curriculum = regimen_curriculum(game, regimen, difficulty, alpha, win_rule)
+        state = regimen_curriculum(game, regimen, difficulty, alpha, win_rule)
+        # the difficulty that PCG X and PPCG hand out; another curriculum's state is its own
+        self.curriculum = state if isinstance(state, DifficultyTransform) else None
         given: list[Level] | None = None
         if regimen == "levels":
             given = _level_set(game, levels)
@@ -143,8 +158,10 @@ class Regimen:
             given = [human_level(game, i) for i in range(4)]
         elif not kind.generated:
             given = human_levels(game)
-        source = regimen_source(game, regimen, given, difficulty, num_levels, start_seed)
+        source = regimen_source(game, regimen, given, difficulty, num_levels, start_seed, state)
         self.source = LevelOverrides(source, num_envs)
+        self._observe = getattr(source, "observe", None)
+        self.outcomes = EpisodeOutcomes(num_envs) if callable(self._observe) else None
 
     @property
     def difficulty(self) -> float:
@@ -174,10 +191,23 @@ class Regimen:
             raise ValueError(f"difficulty must be in [0, 1], got {value}")
         return float(value)
 
-    def record(self, next_td: TensorDictBase, finished: torch.Tensor) -> None:
-        """Move the difficulty once per finished episode (``finished``: ``[B]`` bool), in env order."""
+    def record(
+        self, next_td: TensorDictBase, finished: torch.Tensor, stepped: torch.Tensor | None = None
+    ) -> None:
+        """After every step: move the difficulty once per finished episode (``finished``: ``[B]``
+        bool), in env order, and give a learning source the rows of the episodes that ended
+        (``stepped``: the envs that played this step, all by default)."""
         if self.curriculum is not None and bool(finished.any()):
             self.curriculum.update(self.curriculum.wins(next_td)[finished].tolist())
+        if self.outcomes is not None:
+            rows = self.outcomes(next_td, torch.ones_like(finished) if stepped is None else stepped)
+            if rows is not None:
+                self._observe(rows)
+
+    def restart(self, mask: torch.Tensor) -> None:
+        """The envs in ``mask`` (``[B]`` bool) start new episodes (a reset)."""
+        if self.outcomes is not None:
+            self.outcomes.restart(mask)
 
     def reset_tensordict(self, mask: torch.Tensor, device: torch.device) -> TensorDict:
         """The tensordict that asks the env to reset the envs in ``mask`` (``[B]`` bool)."""
@@ -302,6 +332,7 @@ class GVGAIGymEnv(gym.Env):
         self._started = True
         self.regimen.apply_options(checked, [0])
         mask = torch.ones(1, dtype=torch.bool)
+        self.regimen.restart(mask)
         out = self.engine.reset(self.regimen.reset_tensordict(mask, self.engine.device))
         self._ended = None
         self._render_human()
@@ -324,8 +355,8 @@ class GVGAIGymEnv(gym.Env):
         )
         out = self.engine.step(action_td).get("next")
         terminated, truncated = bool(out["terminated"][0, 0]), bool(out["truncated"][0, 0])
+        self.regimen.record(out, torch.tensor([terminated or truncated]))
         if terminated or truncated:
-            self.regimen.record(out, torch.ones(1, dtype=torch.bool))
             self._ended = "terminated" if terminated else "truncated"
         self._render_human()
         return self._obs(out), float(out["reward"][0, 0]), terminated, truncated, self._info(out)

@@ -110,6 +110,7 @@ class GVGAIVectorEnv(VectorEnv):
             mask = torch.ones(self.num_envs, dtype=torch.bool)
         self._started = True
         self.regimen.apply_options(checked, mask.nonzero().flatten().tolist())
+        self.regimen.restart(mask)
         out = self._reset_engine(mask.to(self.engine.device), self._last)
         if self._last is not None and not bool(mask.all()):
             out = _take(mask.to(self.engine.device), out, self._last, self._kept_keys)
@@ -134,7 +135,7 @@ class GVGAIVectorEnv(VectorEnv):
             fresh = self._reset_engine(restarting, out)
             out = self._merge(restarting, fresh, out)
         done = out["done"].reshape(self.num_envs) & ~restarting
-        self.regimen.record(out, done)
+        self.regimen.record(out, done, stepped=~restarting.cpu())
         infos: dict[str, Any] = {}
         if self.autoreset_mode == AutoresetMode.SAME_STEP and bool(done.any()):
             infos = self._final_infos(out, done)

@@ -12,6 +12,7 @@ every episode (DR), or whatever a plug-in curriculum decides.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 from gvgai_pcg.curricula import Curriculum, get_curriculum, registered_curricula
@@ -33,6 +34,27 @@ def regimen_names(generated: bool | None = None) -> tuple[str, ...]:
     )
 
 
+def regimen_defaults(name: str) -> dict[str, Any]:
+    """The keys of regimen ``name``'s yaml (``conf/regimen/<name>.yaml``, or a plug-in's
+    ``Curriculum.config``) that are plain values: a plug-in's own keys (the toy curriculum's
+    ``pool``) reach its source from the Gymnasium API too. Interpolated values (the run tag) are
+    left out: they name runs, which the Gymnasium API has none of."""
+    from omegaconf import OmegaConf
+
+    from gvgai_pcg.config import config_dir
+
+    curriculum = regimen_kind(name)
+    path = (
+        Path(curriculum.config)
+        if curriculum.config is not None
+        else config_dir() / "regimen" / f"{name}.yaml"
+    )
+    if not path.is_file():
+        return {}
+    node = OmegaConf.to_container(OmegaConf.load(path), resolve=False)
+    return {key: value for key, value in node.items() if not (isinstance(value, str) and "${" in value)}
+
+
 def regimen_section(
     name: str,
     difficulty: float = 0.0,
@@ -42,10 +64,11 @@ def regimen_section(
     **more: Any,
 ) -> dict[str, Any]:
     """The config section of regimen ``name`` from the Gymnasium API's arguments (``difficulty``
-    is PCG X's difficulty and PPCG's start)."""
+    is PCG X's difficulty and PPCG's start), over the regimen's own defaults."""
     if (num_levels or start_seed) and name != "pcg":
         raise ValueError(f"num_levels and start_seed are for regimen='pcg', not {name!r}")
-    section: dict[str, Any] = {"name": name, "alpha": alpha, "start": difficulty, **more}
+    section = regimen_defaults(name)
+    section.update({"name": name, "alpha": alpha, "start": difficulty, **more})
     if name == "pcg":
         section.update(difficulty=difficulty, num_levels=num_levels, start_seed=start_seed)
     return section
