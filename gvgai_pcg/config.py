@@ -54,11 +54,26 @@ def config_dir() -> Path:
             from gvgai_pcg.curricula.registry import store_configs
 
             store_configs(candidate)  # plug-in curricula's configs join the regimen group
+            _store_learner_configs(candidate)  # and plug-in learners' the algo group
             return candidate
     raise FileNotFoundError(
         f"the Hydra configs are missing: looked for {CONFIG_NAME}.yaml in {package / 'conf'} (an installed "
         f"wheel) and {package.parent / 'conf'} (a source checkout); reinstall gvgai-pcg"
     )
+
+
+def _store_learner_configs(candidate: Path) -> None:
+    """Plug-in learners' yaml into the ``algo`` group, where there is a plug-in learner: one
+    registered in-process (the learner registry is imported then) or an entry point. Without one
+    nothing is imported (the learners' package imports torch; a usage error is refused before)."""
+    import sys
+    from importlib.metadata import entry_points
+
+    if "gvgai_pcg.rl.learners.registry" not in sys.modules and not entry_points(group="gvgai_pcg.learners"):
+        return
+    from gvgai_pcg.rl.learners.registry import store_configs
+
+    store_configs(candidate)
 
 
 # --- resolvers the config files use (registered on import) ---

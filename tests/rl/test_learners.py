@@ -90,6 +90,19 @@ def test_a_learner_registered_from_outside_trains_and_resumes(toy, tmp_path, mak
     assert torch.load(result.checkpoint_path, weights_only=False)["optimizer"]["updates"] == 4
 
 
+def test_a_learner_from_outside_is_one_module_plus_one_yaml_and_trains_from_the_command_line(
+    toy, tmp_path, monkeypatch
+):
+    from gvgai_pcg.commands.train import run_raw
+
+    monkeypatch.setenv("GVGAI_PCG_COMPILE", "0")
+    cfg = compose_config([*TINY, "algo=toysgd"])  # its yaml, from the config store
+    assert dict(cfg.algo) == {"name": "toysgd", "n_steps": 2, "lr": 0.01}
+    assert run_raw([*TINY, "algo=toysgd", "total_frames=16", f"out_dir={tmp_path}"]) == 0
+    (run,) = tmp_path.iterdir()
+    assert run.name.endswith("-toysgd-seed0") and (run / "model.pt").is_file()
+
+
 def _rollout(batch: int, steps: int, obs_shape: tuple[int, int, int], actions: int) -> TensorDict:
     generator = torch.Generator().manual_seed(0)
     obs = torch.randint(0, 2, (batch, steps + 1, *obs_shape), generator=generator, dtype=torch.uint8)

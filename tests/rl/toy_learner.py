@@ -1,8 +1,10 @@
-"""A learner defined outside the package (as a plug-in would be): A2C's loss with plain SGD and a
-config key of its own. ``SPEC`` is what an entry point of ``gvgai_pcg.learners`` would load."""
+"""A learner defined outside the package (as a plug-in would be): one module (this) plus one yaml
+(toy_learner.yaml): A2C's loss with plain SGD. ``SPEC`` is what an entry point of
+``gvgai_pcg.learners`` would load."""
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 import torch
@@ -39,5 +41,8 @@ class SgdA2C(Learner):
 
 
 SPEC = LearnerSpec(
-    name="toysgd", learner=SgdA2C, schema={"n_steps": Integer(1), "lr": Number(0.0, low_open=True)}
+    name="toysgd",
+    learner=SgdA2C,
+    schema={"n_steps": Integer(1), "lr": Number(0.0, low_open=True)},
+    config=Path(__file__).with_name("toy_learner.yaml"),
 )

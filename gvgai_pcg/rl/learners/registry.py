@@ -9,6 +9,7 @@ module imports neither torch nor a learner's code: ``learner_class`` imports it 
 from __future__ import annotations
 
 import operator
+from pathlib import Path
 
 from gvgai_pcg.games.spec import load_object
 from gvgai_pcg.plugins import load_entry_points
@@ -77,3 +78,26 @@ def learner_class(name: str) -> type:
 def run_tag(name: str) -> str:
     """What ``run_name`` adds for learner ``name`` (``""`` for A2C, ``"-ppo"`` for PPO)."""
     return get_learner_spec(name).tag
+
+
+def store_configs(config_dir: Path | None = None) -> None:
+    """Put the yaml of every plug-in learner (``LearnerSpec.config``) into Hydra's config store as
+    the ``algo`` group's option of its name, unless ``config_dir/algo/<name>.yaml`` exists (ours).
+    Ours are not imported for it (they import torch; their yaml is in ``conf/algo``)."""
+    _discover()
+    plugins = [spec for spec in _SPECS.values() if spec.config is not None]
+    if not plugins:
+        return
+    from hydra.core.config_store import ConfigStore
+    from omegaconf import OmegaConf
+
+    store = ConfigStore.instance()
+    for spec in plugins:
+        if config_dir is not None and (config_dir / "algo" / f"{spec.name}.yaml").is_file():
+            continue
+        store.store(
+            group="algo",
+            name=spec.name,
+            node=OmegaConf.load(Path(spec.config)),
+            provider="gvgai_pcg.learners",
+        )

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 
@@ -24,6 +25,9 @@ class LearnerSpec:
         run_tag: what ``run_name`` adds for it: ``""`` for A2C (the study's learner: the published
             runs' names stay as they were), ``"-<name>"`` by default.
         description: one line for error messages and docs.
+        config: the yaml of a learner from outside the package (its ``algo`` defaults), stored as
+            the ``algo`` group's option ``name`` so that ``gvgai-pcg train algo=<name>`` finds it;
+            ``None`` for ours (``conf/algo/<name>.yaml``).
     """
 
     name: str
@@ -31,6 +35,7 @@ class LearnerSpec:
     schema: Mapping[str, Any] = field(default_factory=dict)
     run_tag: str | None = None
     description: str = ""
+    config: str | Path | None = None
 
     @property
     def tag(self) -> str:
