@@ -151,6 +151,17 @@ def test_an_unfinished_episode_writes_no_score_and_carries_its_partial_sums():
     assert bool(torch.isfinite(source.buffer.score).all())
 
 
+def test_a_maxmc_replay_without_a_complete_episode_never_scores_minus_infinity():
+    buffer = filled(4, [0.5])  # level 100 at d 0.0, its best return 0.0
+    source = source_of(buffer, score="maxmc")
+    # a replay that runs past the batch: no complete episode, so no score (dcd's bug: -inf from
+    # the max over no returns), and the level keeps its own
+    source.observe(signals([dict(env=0, seed=100, d=0.0, steps=5, finished=False, value=0.25, ret=3.0)]))
+    assert float(buffer.score[0]) == 0.5 and float(buffer.max_return[0]) == 0.0
+    source.observe(signals([dict(env=0, seed=100, d=0.0, steps=3, finished=True, value=0.25, ret=2.0)]))
+    assert float(buffer.score[0]) == pytest.approx(2.0 - 0.25) and bool(torch.isfinite(buffer.score).all())
+
+
 def test_a_replayed_level_gets_its_latest_score_and_a_new_one_follows_the_old_on_one_env():
     buffer = filled(4, [0.5])
     source = source_of(buffer, score="maxmc")
