@@ -90,6 +90,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
     """
 
     batch_locked = True
+    complete_reset_outputs = True  # _reset_output has every done entry (envs/reset_rows.py)
 
     def __init__(
         self,
@@ -122,6 +123,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         self._env_seeds = checked_seeds(seed, num_envs)
         self._episodes = torch.zeros(num_envs, dtype=torch.int64)
         self._state: TensorDict | None = None
+        self._own_entries: dict[str, torch.Tensor] | None = None  # difficulty and level entries
         self._observed: torch.Tensor | None = None  # the observation of the last output
         self._steps = torch.zeros(num_envs, dtype=torch.int64, device=self.device)
         self._difficulty = torch.full((num_envs,), difficulty, dtype=torch.float64, device=self.device)
@@ -165,7 +167,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
 
     # --- reset and step ---
     def _reset(self, tensordict: TensorDictBase | None = None, **kwargs) -> TensorDict:
-        self._complete_entries = None
+        self._complete_entries = self._own_entries = None
         mask = None
         if tensordict is not None and "_reset" in tensordict.keys():
             mask = tensordict.get("_reset").reshape(self.num_envs).to(self.device)
@@ -263,15 +265,15 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         """The env's output: the observation ``observed``, ``outputs`` (``episode_outputs``, and
         the reward after a step) and the env's own entries."""
         self._observed = observed  # a partial reset keeps it for the envs it does not restart
-        values = {
-            self.obs_kind: observed,
-            **outputs,
-            "difficulty": self._difficulty.unsqueeze(-1).clone(),
-            "level_seed": self._level_seeds.to(self.device, copy=True).unsqueeze(-1),
-            "level_difficulty": self._level_difficulties.to(self.device, copy=True).unsqueeze(-1),
-        }
-        # Every entry is [num_envs, ...] on self.device, just made: the checks would cost a third
-        # of this method.
+        if self._own_entries is None:
+            # Only a reset changes them: the outputs until the next reset share these copies.
+            self._own_entries = {
+                "difficulty": self._difficulty.unsqueeze(-1).clone(),
+                "level_seed": self._level_seeds.to(self.device, copy=True).unsqueeze(-1),
+                "level_difficulty": self._level_difficulties.to(self.device, copy=True).unsqueeze(-1),
+            }
+        values = {self.obs_kind: observed, **outputs, **self._own_entries}
+        # Every entry is [num_envs, ...] on self.device: the checks would cost a third of this method.
         return unchecked_tensordict(values, self.batch_size, self.device)
 
     def _set_seed(self, seed: int | None) -> int | None:

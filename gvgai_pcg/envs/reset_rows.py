@@ -48,10 +48,9 @@ def merge_reset_rows(
     if reset is None or reset.ndim > tensordict.ndim + 1 or tensordict.ndim != 1:
         return torchrl_reset_merge(tensordict_reset, tensordict, reset_keys)
     tensordict.pop(RESET_KEY)
-    mask = reset.reshape(tensordict.shape)
-    if mask.all():
+    rows = reset.reshape(tensordict.shape).nonzero().squeeze(-1)  # the merge's one host sync
+    if len(rows) == tensordict.numel():
         return tensordict.update(tensordict_reset.exclude(RESET_KEY), update_batch_size=True)
-    rows = mask.nonzero().squeeze(-1)
     complete = complete or {}
     plain = type(tensordict) is TensorDict and type(tensordict_reset) is TensorDict
     ours, theirs = (entries(tensordict), entries(tensordict_reset)) if plain else ({}, {})
@@ -91,12 +90,14 @@ def check_reset_not_done(env: EnvBase, tensordict: TensorDictBase, tensordict_re
         return
     if allows_done_after_reset(env):
         return
-    for key in done_keys:
-        if (tensordict_reset.get(key) & reset).any():
-            raise RuntimeError(
-                f"Env done entry '{key}' was (partially) True after reset on specified '_reset' "
-                "dimensions. This is not allowed."
-            )
+    done_after = [tensordict_reset.get(key) & reset for key in done_keys]
+    if not torch.stack(done_after).any():  # one host sync for every done entry
+        return
+    key = next(key for key, done in zip(done_keys, done_after, strict=True) if done.any())
+    raise RuntimeError(
+        f"Env done entry '{key}' was (partially) True after reset on specified '_reset' "
+        "dimensions. This is not allowed."
+    )
 
 
 def take_complete_entries(env: EnvBase) -> dict | None:
@@ -107,7 +108,25 @@ def take_complete_entries(env: EnvBase) -> dict | None:
     return complete
 
 
-class RowResetEnv(ResetMergeHook, EnvBase):
+class OneReadMaybeReset:
+    """Mixin for an ``EnvBase`` (or ``TransformedEnv``) whose done entries are a root ``"done"``
+    and ``"terminated"`` (TorchRL's "simple done"): ``maybe_reset`` reads ``"done"``'s ``any()``
+    back once, where TorchRL's ``any_done`` and ``maybe_reset`` each convert it to a bool (two
+    host syncs a step on an accelerator). Same result: where some env is done, ``"_reset"`` is a
+    copy of ``"done"`` and the env resets them; other done layouts go to TorchRL's own."""
+
+    def maybe_reset(self, tensordict: TensorDictBase) -> TensorDictBase:
+        done_keys = self.done_keys
+        if "done" not in done_keys or "terminated" not in done_keys:
+            return super().maybe_reset(tensordict)
+        done = tensordict.get("done", None)
+        if done is None or not done.any():
+            return tensordict
+        tensordict.set(RESET_KEY, done.clone())
+        return self.reset(tensordict, select_reset_only=True)
+
+
+class RowResetEnv(OneReadMaybeReset, ResetMergeHook, EnvBase):
     """An ``EnvBase`` whose partial resets are merged by :func:`merge_reset_rows`.
 
     A subclass whose ``_reset`` output holds the running values in the rows it does not reset
@@ -117,9 +136,14 @@ class RowResetEnv(ResetMergeHook, EnvBase):
     """
 
     _complete_entries: dict | None = None
+    # True where every ``_reset`` output holds every done entry of the spec, in the spec's shape:
+    # then TorchRL's completion of the done entries (some 40 us a reset at 64 envs) is skipped,
+    # unless the env runs type checks (as ``CompleteStepHook`` skips it for a step).
+    complete_reset_outputs: bool = False
 
     def merge_reset(self, tensordict, tensordict_reset):
-        complete_done(self, tensordict_reset)
+        if not self.complete_reset_outputs or self.run_type_checks:
+            complete_done(self, tensordict_reset)
         complete = take_complete_entries(self)
         if tensordict is None:
             reset_check_done(self, tensordict, tensordict_reset)
@@ -129,14 +153,16 @@ class RowResetEnv(ResetMergeHook, EnvBase):
         return merge_reset_rows(tensordict_reset, tensordict, self.reset_keys, pool, complete)
 
 
-class RowResetTransformedEnv(ResetMergeHook, TransformedEnv):
+class RowResetTransformedEnv(OneReadMaybeReset, ResetMergeHook, TransformedEnv):
     """A ``TransformedEnv`` whose partial resets are merged by :func:`merge_reset_rows` (entries
     the transforms left as the base env's complete ones are taken whole)."""
 
     def merge_reset(self, tensordict, tensordict_reset):
-        reset_check_done(self, tensordict, tensordict_reset)
         complete = take_complete_entries(self.base_env)
-        if tensordict is not None:
+        if tensordict is None:
+            reset_check_done(self, tensordict, tensordict_reset)
+        else:
+            check_reset_not_done(self, tensordict, tensordict_reset)
             pool = getattr(self.base_env, "buffers", None)
             tensordict_reset = merge_reset_rows(tensordict_reset, tensordict, self.reset_keys, pool, complete)
         return tensordict_reset
