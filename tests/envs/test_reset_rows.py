@@ -185,3 +185,23 @@ def test_the_done_after_reset_check_agrees_with_torchrl(done_rows):
             outcomes.append("raised")
     assert outcomes[0] == outcomes[1]
     assert outcomes[0] == ("raised" if 1 in done_rows else "ok")
+
+
+class TorchRLMaybeResetEnv(GVGAIEnv):
+    """GVGAIEnv with TorchRL's own ``maybe_reset``, as the reference."""
+
+    maybe_reset = EnvBase.maybe_reset
+
+
+def test_maybe_reset_resets_as_torchrls_and_reads_done_once(monkeypatch):
+    ours, theirs = (cls("frogs", num_envs=16, seed=2) for cls in (GVGAIEnv, TorchRLMaybeResetEnv))
+    for a, b in zip(rollout(ours, 30), rollout(theirs, 30), strict=True):
+        assert set(a.keys(True, True)) == set(b.keys(True, True))
+        assert (a == b).all()
+    tds = [env.reset() for env in (ours, theirs)]  # nobody done: maybe_reset resets nothing
+    reads = []
+    to_bool = torch.Tensor.__bool__
+    monkeypatch.setattr(torch.Tensor, "__bool__", lambda t: reads.append(1) or to_bool(t))
+    for env, td in zip((ours, theirs), tds, strict=True):
+        assert env.maybe_reset(td) is td and "_reset" not in td.keys()
+    assert len(reads) == 3  # ours once, TorchRL's twice
