@@ -24,6 +24,7 @@ from typing import Any
 from omegaconf import DictConfig, OmegaConf
 
 from gvgai_pcg.config_rules import (  # noqa: F401 (the rules are this module's API too)
+    CONFIG_NAME,
     DIFFICULTY,
     HUMAN_LEVEL,
     LOG_BACKENDS,
@@ -38,28 +39,21 @@ from gvgai_pcg.config_rules import (  # noqa: F401 (the rules are this module's 
     OneOf,
     Refused,
     Text,
+    config_root,
     level_count_tag,
     level_set_tag,
 )
 
-CONFIG_NAME = "config"
-
 
 def config_dir() -> Path:
-    """The Hydra configs: ``gvgai_pcg/conf`` of an installed wheel, else ``conf/`` of the source
-    checkout this package runs from (an editable install)."""
-    package = Path(__file__).resolve().parent
-    for candidate in (package / "conf", package.parent / "conf"):
-        if (candidate / f"{CONFIG_NAME}.yaml").is_file():
-            from gvgai_pcg.curricula.registry import store_configs
+    """The Hydra configs (``config_root``), with the plug-in curricula's and learners' configs stored
+    in their groups."""
+    candidate = config_root()
+    from gvgai_pcg.curricula.registry import store_configs
 
-            store_configs(candidate)  # plug-in curricula's configs join the regimen group
-            _store_learner_configs(candidate)  # and plug-in learners' the algo group
-            return candidate
-    raise FileNotFoundError(
-        f"the Hydra configs are missing: looked for {CONFIG_NAME}.yaml in {package / 'conf'} (an installed "
-        f"wheel) and {package.parent / 'conf'} (a source checkout); reinstall gvgai-pcg"
-    )
+    store_configs(candidate)  # plug-in curricula's configs join the regimen group
+    _store_learner_configs(candidate)  # and plug-in learners' the algo group
+    return candidate
 
 
 def _store_learner_configs(candidate: Path) -> None:

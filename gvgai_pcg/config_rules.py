@@ -182,3 +182,20 @@ WIN_RULES = ("game", "study")
 LOG_BACKENDS = ("csv", "tensorboard", "wandb")
 HUMAN_LEVEL = Integer(0, 4)
 DIFFICULTY = Number(0.0, 1.0)
+
+
+CONFIG_NAME = "config"
+
+
+def config_root() -> Path:
+    """The folder of the Hydra configs, found without registering anything (``gvgai_pcg.config``'s
+    ``config_dir`` also stores the plug-ins' configs): ``gvgai_pcg/conf`` of an installed wheel,
+    else ``conf/`` of the source checkout this package runs from (an editable install)."""
+    package = Path(__file__).resolve().parent
+    for candidate in (package / "conf", package.parent / "conf"):
+        if (candidate / f"{CONFIG_NAME}.yaml").is_file():
+            return candidate
+    raise FileNotFoundError(
+        f"the Hydra configs are missing: looked for {CONFIG_NAME}.yaml in {package / 'conf'} (an installed "
+        f"wheel) and {package.parent / 'conf'} (a source checkout); reinstall gvgai-pcg"
+    )

@@ -41,13 +41,13 @@ def regimen_defaults(name: str) -> dict[str, Any]:
     left out: they name runs, which the Gymnasium API has none of."""
     from omegaconf import OmegaConf
 
-    from gvgai_pcg.config import config_dir
+    from gvgai_pcg.config_rules import config_root
 
     curriculum = regimen_kind(name)
     path = (
         Path(curriculum.config)
         if curriculum.config is not None
-        else config_dir() / "regimen" / f"{name}.yaml"
+        else config_root() / "regimen" / f"{name}.yaml"
     )
     if not path.is_file():
         return {}

@@ -30,29 +30,26 @@ from gvgai_pcg.study.conditions import Budget
 BORROWED = "borrowed.json"
 
 
-def borrow_runs(
-    budget: Budget, conditions: Sequence[str], overrides: Sequence[str], source: Path, out: Path
-) -> set[tuple[str, int]]:
-    """The ``(condition, seed)`` pairs of ``budget`` whose every run is borrowed into ``out/runs``
-    from the sweep folder (or runs folder) ``source``: borrowed now, or on an earlier call. A pair
+def borrow_runs(planned: dict, budget: Budget, source: Path, out: Path) -> set[tuple[str, int]]:
+    """The ``(condition, seed)`` pairs of ``planned`` (``pipeline.planned_configs``: each pair's
+    run names and configs) whose every run is borrowed into ``out/runs`` from the sweep folder (or
+    runs folder) ``source``, at ``budget``'s frames: borrowed now, or on an earlier call. A pair
     with a run of its own in ``out`` (trained there, even in part) is left to the sweep."""
-    from gvgai_pcg.study.pipeline import planned_configs
-
     source = Path(source)
     if not source.is_dir():
         raise FileNotFoundError(f"{source}: no such sweep folder to borrow runs from")
     runs_there = source / "runs" if (source / "runs").is_dir() else source
     borrowed: set[tuple[str, int]] = set()
-    for pair, planned in planned_configs(budget, conditions, overrides).items():
+    for pair, configs in planned.items():
         frames = budget.frames_of(pair[0])
-        here = {name: out / "runs" / name for name in planned}
+        here = {name: out / "runs" / name for name in configs}
         if all((run / BORROWED).is_file() for run in here.values()):
             borrowed.add(pair)
             continue
         if any(run.exists() for run in here.values()):
             continue
         models = {
-            name: borrowable_model(runs_there / name, config, frames) for name, config in planned.items()
+            name: borrowable_model(runs_there / name, config, frames) for name, config in configs.items()
         }
         if all(models.values()):
             for name, model in models.items():

@@ -469,7 +469,7 @@ def reproduce(
     skip: set[tuple[str, int]] = set()
     elsewhere: list[Path] = []
     if borrow_from is not None:  # before the published ones: a borrowed run here is finished here
-        skip |= borrow_runs(budget, conditions, overrides, Path(borrow_from), out)
+        skip |= borrow_runs(planned_configs(budget, conditions, overrides), budget, Path(borrow_from), out)
     if publish_to is not None:
         published_skip, elsewhere = published_elsewhere(
             budget, conditions, overrides, out, Path(publish_to), protocol

@@ -12,7 +12,7 @@ import torch
 from gvgai_pcg.evaluation.checkpoints import load_state, read_run_config, run_info
 from gvgai_pcg.study import BUDGETS, reproduce
 from gvgai_pcg.study.borrowed_runs import BORROWED, borrow_runs, borrowed_lines
-from gvgai_pcg.study.pipeline import run_sweep
+from gvgai_pcg.study.pipeline import planned_configs, run_sweep
 
 RUN = "zelda-pcg1.0-tiles-compact-seed0"
 
@@ -24,7 +24,8 @@ def test_a_sweep_borrows_another_sweeps_run_at_its_frames_and_trains_none_of_it(
     run_sweep(long, ["zelda-pcg1"], source, overrides=[*short_episodes, "checkpoint.keep_every_frames=800"])
     short, out = replace(long, frames=800), tmp_path / "short"
 
-    assert borrow_runs(short, ["zelda-pcg1"], short_episodes, source, out) == {("zelda-pcg1", 0)}
+    planned = planned_configs(short, ["zelda-pcg1"], short_episodes)
+    assert borrow_runs(planned, short, source, out) == {("zelda-pcg1", 0)}
     run = out / "runs" / RUN
     assert run_info(run).frames == 800 and int(read_run_config(run)["total_frames"]) == 800
     kept = load_state(source / "runs" / RUN / "snapshots" / "model-0000000800.pt")["model"]
@@ -55,10 +56,14 @@ def test_a_run_trained_otherwise_or_short_of_the_frames_is_not_borrowed(tmp_path
     long = BUDGETS["smoke"]
     source = tmp_path / "long"
     run_sweep(long, ["zelda-pcg1"], source, overrides=["total_frames=800"])
+    short = replace(long, frames=800)
     other_lr = borrow_runs(
-        replace(long, frames=800), ["zelda-pcg1"], ["algo.lr=0.001"], source, tmp_path / "a"
+        planned_configs(short, ["zelda-pcg1"], ["algo.lr=0.001"]), short, source, tmp_path / "a"
     )
     assert other_lr == set() and not (tmp_path / "a" / "runs" / RUN).exists()
-    assert borrow_runs(long, ["zelda-pcg1"], [], source, tmp_path / "b") == set()  # 800 < 1,600
+    assert (
+        borrow_runs(planned_configs(long, ["zelda-pcg1"], []), long, source, tmp_path / "b") == set()
+    )  # 800 < 1,600
     # no snapshot at the asked frames: nothing to borrow either
-    assert borrow_runs(replace(long, frames=400), ["zelda-pcg1"], [], source, tmp_path / "c") == set()
+    early = replace(long, frames=400)
+    assert borrow_runs(planned_configs(early, ["zelda-pcg1"], []), early, source, tmp_path / "c") == set()
