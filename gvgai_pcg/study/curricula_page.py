@@ -51,6 +51,7 @@ def curricula_block(published: Path, budget: Budget, images: Path, prefix: str, 
     for stale in [*images.glob("curricula-curves-*.png"), *images.glob("replay-*.png")]:
         stale.unlink()
     games = collect_runs(runs, Protocol(**budget.protocol), budget.ued)
+    borrowed = borrowed_lines(runs)
     curves = write_curves([(info.game, info.label, info.path) for info in infos], images)
     machine = f"{platform.machine()} Linux, {os.cpu_count()} cores, torch CPU, one torch thread per run"
     ued = "the UED protocol's records where a run has them" if budget.ued else "no UED protocol"
@@ -64,8 +65,8 @@ def curricula_block(published: Path, budget: Budget, images: Path, prefix: str, 
             "",
             _runs_table(published, budget.frames_range[0]) if runs else "No runs published yet.",
             "",
-            *borrowed_lines(runs),
-            *([""] if borrowed_lines(runs) else []),
+            *borrowed,
+            *([""] if borrowed else []),
             "### Scores and the answer",
             "",
             comparison_markdown(games) if games else "No run evaluated yet.",
