@@ -98,13 +98,20 @@ class RunInfo:
             return human
         if not self.has_training_set:
             return ()
-        from gvgai_pcg.evaluation.protocol import TRAINING_SET, Protocol, protocol_test_sets
+        from gvgai_pcg.evaluation.protocol import LARGE_PROTOCOL, TRAINING_SET, Protocol, protocol_test_sets
 
         if curriculum.generated:  # generated training levels are held out by their seeds
             return (TRAINING_SET,)
         own = set(self.training_levels())
-        shared = [s.name for s in protocol_test_sets(self.game, Protocol()) if own & set(s.levels)]
-        return (TRAINING_SET, *shared)
+        # Both frozen families (30 and 100 levels per d) share their set names: a set counts as
+        # trained on where either one holds a training level.
+        shared = {
+            s.name
+            for protocol in (Protocol(), LARGE_PROTOCOL)
+            for s in protocol_test_sets(self.game, protocol)
+            if own & set(s.levels)
+        }
+        return (TRAINING_SET, *sorted(shared))
 
 
 # A published run (``gvgai_pcg.study.pipeline.publish``) names its model here instead of holding

@@ -95,3 +95,17 @@ def test_one_set_size_draws_no_level_count_figure(tmp_path):
     make_run(root, "pcg", 0, regimen_config=pcg(0))
     report = build_report([root], tmp_path / "out", PROTOCOL, tmp_path / "cache", progress=False)
     assert not any("generalisation" in p.name for p in report.figures.get("zelda", []))
+
+
+def test_a_level_of_the_large_test_set_marks_that_set_too(tmp_path):
+    from gvgai_pcg.levels.large_test_sets import frozen_large_test_set
+    from gvgai_pcg.levels.test_sets import frozen_test_set
+
+    level = frozen_large_test_set("zelda", 1.0)[-1]
+    assert level not in set(frozen_test_set("zelda", 1.0))  # only the 100-level family holds it
+    folder = tmp_path / "mine"
+    folder.mkdir()
+    (folder / "large_last.txt").write_text(str(level))
+    regimen = {"name": "levels", "path": str(folder), "tag": "levels-mine"}
+    info = run_info(make_run(tmp_path / "runs", "levels", 0, regimen_config=regimen))
+    assert info.training_sets == ("train", "pcg1")
