@@ -195,7 +195,7 @@ def answer_sentences(verdicts: Sequence[Verdict], labels: dict[str, str] | None 
             if winners:
                 head = f"yes: {', '.join(winners)} beat{'s' if len(winners) == 1 else ''} PPCG"
             elif open_:
-                head = f"not shown: none beats PPCG at this budget, {', '.join(open_)} inconclusive"
+                head = f"none shown to beat PPCG at this budget ({', '.join(open_)} inconclusive)"
             elif all(v.outcome == NOT_MEASURED for v in of_metric):
                 head = "not measured"
             else:
