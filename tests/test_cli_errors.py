@@ -36,7 +36,7 @@ def test_a_level_file_that_is_not_utf8_is_named(tmp_path, capsys):
 @pytest.mark.parametrize(
     ("argv", "says"),
     [
-        (["play", "--game", "zelda", "--level", "missing_file.txt"], "No such file"),
+        (["play", "--game", "zelda", "--level", "missing_file.txt"], "'missing_file.txt': no such level"),
         (["play", "--game", "zelda", "--level", "zelda_lvl7"], "0..4"),
         (["play", "--game", "zelda", "--level", "frogs_lvl0"], "frogs level, not a zelda one"),
         (["analyze", "--game", "zelda", "--count", "30", "--eps", "-1"], "eps"),

@@ -41,6 +41,11 @@ def resolve_level(spec: str, game: str | None = None) -> Level:
     stem = spec.rsplit("_lvl", 1)
     if len(stem) == 2 and stem[1].isdigit() and not Path(spec).exists():
         return human_level(stem[0], int(stem[1]))
+    if not Path(spec).exists():
+        named = f"{game}_lvl0 .. {game}_lvl4" if game else "zelda_lvl0 and the like"
+        raise FileNotFoundError(
+            f"{spec!r}: no such level; expected a human level's name ({named}) or a level file"
+        )
     return Level.load(spec, game)
 
 

@@ -124,3 +124,10 @@ def test_a_file_that_is_not_utf8_is_refused_with_its_name_and_place(tmp_path):
     (tmp_path / "zelda_utf16.txt").write_bytes("wAgw\n".encode("utf-16"))
     with pytest.raises(LevelFormatError, match="zelda_utf16.txt, line 1, column 1: not UTF-8 text"):
         resolve_level(str(tmp_path / "zelda_utf16.txt"), "zelda")
+
+
+def test_a_level_that_is_neither_a_name_nor_a_file_is_named_in_one_line():
+    with pytest.raises(
+        FileNotFoundError, match=r"'nosuch': no such level; expected a human level's name \(zelda_lvl0"
+    ):
+        resolve_level("nosuch", "zelda")
