@@ -85,7 +85,12 @@ def protocol_from(args: argparse.Namespace) -> Protocol:
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("runs", nargs="*", type=Path, help="run directories or multirun directories")
-    parser.add_argument("--checkpoint", type=Path, help="a chosen checkpoint file (one run only)")
+    parser.add_argument(
+        "--checkpoint",
+        "--model",
+        type=Path,
+        help="a chosen model or checkpoint file of the run (one run only; a published run's model.pt)",
+    )
     parser.add_argument(
         "--snapshots",
         action="store_true",

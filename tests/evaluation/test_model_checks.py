@@ -38,10 +38,11 @@ def _cache(tmp_path: Path) -> list[str]:
 
 def test_a_checkpoint_of_another_game_is_refused_before_anything_is_filed(tiny_run, tmp_path, capsys):
     frogs = make_run(tmp_path / "other", "lv0", seed=0, game="frogs")
-    argv = ["evaluate", str(tiny_run), "--checkpoint", str(frogs / "model.pt"), *FAST, *_cache(tmp_path)]
-    err = _one_line_error(argv, capsys)
-    assert "is a frogs model" in err and f"the run {tiny_run.resolve()} needs a zelda model" in err
-    assert not (tiny_run / "eval").exists()
+    for flag in ("--checkpoint", "--model"):  # one option, two names
+        argv = ["evaluate", str(tiny_run), flag, str(frogs / "model.pt"), *FAST, *_cache(tmp_path)]
+        err = _one_line_error(argv, capsys)
+        assert "is a frogs model" in err and f"the run {tiny_run.resolve()} needs a zelda model" in err
+        assert not (tiny_run / "eval").exists()
 
 
 def test_a_model_of_another_observation_kind_is_refused(tiny_run, tmp_path, capsys):
