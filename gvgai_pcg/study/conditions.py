@@ -60,6 +60,8 @@ class Budget:
         protocol: the evaluation protocol's settings (``gvgai_pcg.evaluation.Protocol``).
         condition_frames: frames of the conditions that train longer or shorter than ``frames``.
         condition_seeds: seeds of the conditions that need more or fewer than ``seeds``.
+        condition_overrides: Hydra overrides of some conditions only, after ``overrides`` (a key
+            that only their regimen has, as SFL's pool size in a smoke budget).
         extra: the conditions ``--extra`` adds (the study's: those it skipped).
         comparison: ``study`` (the study's claims) or ``curricula`` (``gvgai_pcg.study.comparison``).
         page: the docs page whose results block ``--page`` writes by default.
@@ -77,6 +79,7 @@ class Budget:
     protocol: dict = field(default_factory=dict)
     condition_frames: dict[str, int] = field(default_factory=dict)
     condition_seeds: dict[str, tuple[int, ...]] = field(default_factory=dict)
+    condition_overrides: dict[str, tuple[str, ...]] = field(default_factory=dict)
     extra: tuple[str, ...] = EXTRA_CONDITIONS
     comparison: str = "study"
     page: str = "docs/results.md"
@@ -88,6 +91,10 @@ class Budget:
 
     def seeds_of(self, condition: str) -> tuple[int, ...]:
         return tuple(self.condition_seeds.get(condition, self.seeds))
+
+    def overrides_of(self, condition: str) -> tuple[str, ...]:
+        """Every Hydra override of ``condition``'s runs: the budget's, then its own."""
+        return (*self.overrides, *self.condition_overrides.get(condition, ()))
 
     @property
     def all_seeds(self) -> tuple[int, ...]:
@@ -168,6 +175,12 @@ CURRICULA_BUDGETS = {
             "log.curve=false",
         ),
         protocol={"test_levels": 2, "human_episodes": 1, "max_steps": 50},
+        # SFL's default pool (200 levels x 4 episodes of up to 1,000 steps) took 9 minutes of an
+        # 800-frame run under load; a smoke run needs only that a refresh happens.
+        condition_overrides={
+            f"{game}-sfl": ("regimen.pool_size=8", "regimen.buffer_size=4", "regimen.rollout_steps=50")
+            for game in GAMES
+        },
         extra=CURRICULA_EXTRA,
         comparison="curricula",
         page="docs/results-curricula.md",

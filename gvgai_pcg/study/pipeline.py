@@ -88,18 +88,21 @@ def sweep_arguments(
     seeds: Sequence[int] | None = None,
 ) -> list[str]:
     """The ``gvgai-pcg train -m`` arguments of one multirun over ``conditions`` x ``seeds`` (the
-    budget's by default), conditions of one frame budget. Seeds vary slowest, so a sweep cut short
-    holds every condition at its first seed."""
+    budget's by default), conditions of one frame budget and the same overrides. Seeds vary
+    slowest, so a sweep cut short holds every condition at its first seed."""
     frames = {budget.frames_of(c) for c in conditions}
     if len(frames) > 1:
         raise ValueError(f"one multirun trains one frame budget; {', '.join(conditions)} have several")
+    own = {budget.overrides_of(c) for c in conditions}
+    if len(own) > 1:
+        raise ValueError(f"one multirun has one set of overrides; {', '.join(conditions)} have several")
     arguments = [
         "-m",
         "seed=" + ",".join(map(str, budget.seeds if seeds is None else seeds)),
         "condition=" + ",".join(conditions),
         f"total_frames={frames.pop() if frames else budget.frames}",
         f"out_dir={runs_dir}",
-        *budget.overrides,
+        *(own.pop() if own else budget.overrides),
     ]
     if launcher:
         arguments.append(f"hydra/launcher={launcher}")
@@ -110,17 +113,24 @@ def sweep_plan(
     budget: Budget, conditions: Sequence[str], skip: Iterable[tuple[str, int]] = ()
 ) -> list[tuple[tuple[int, ...], list[str]]]:
     """The multiruns that train ``conditions`` x their seeds less the ``(condition, seed)`` pairs
-    in ``skip``, in order: seeds in turn, one multirun per frame budget of a seed (longest first),
-    consecutive seeds with the same conditions in one multirun (so nothing skipped, at one frame
-    budget, is one multirun over every seed)."""
+    in ``skip``, in order: seeds in turn, one multirun per frame budget of a seed (longest first)
+    and per set of condition overrides (in the conditions' order), consecutive seeds with the same
+    conditions in one multirun (so nothing skipped, at one frame budget and no condition
+    overrides, is one multirun over every seed)."""
     skip = set(skip)
     plan: list[tuple[tuple[int, ...], list[str]]] = []
+
+    def key(condition: str) -> tuple[int, tuple[str, ...]]:
+        return -budget.frames_of(condition), budget.overrides_of(condition)
+
     for seed in budget.all_seeds:
         left = [c for c in conditions if seed in budget.seeds_of(c) and (c, seed) not in skip]
-        budgets = sorted({budget.frames_of(c) for c in left}, reverse=True)
-        for frames in budgets:
-            group = [c for c in left if budget.frames_of(c) == frames]
-            if len(budgets) == 1 and plan and plan[-1][1] == group:
+        keys = sorted(
+            {key(c) for c in left}, key=lambda k: (k[0], min(left.index(c) for c in left if key(c) == k))
+        )
+        for group_key in keys:
+            group = [c for c in left if key(c) == group_key]
+            if len(keys) == 1 and plan and plan[-1][1] == group:
                 plan[-1] = ((*plan[-1][0], seed), group)
             else:
                 plan.append(((seed,), group))

@@ -23,6 +23,7 @@ from gvgai_pcg.study.conditions import EXTRA_CONDITIONS, known_conditions
 from gvgai_pcg.study.page import write_results_page
 from gvgai_pcg.study.pipeline import (
     MODEL_LIMIT_BYTES,
+    planned_configs,
     published_elsewhere,
     run_sweep,
     share_conditions,
@@ -300,3 +301,37 @@ def test_publish_refuses_a_folder_holding_a_run_of_another_config(tmp_path):
         "into another folder, or move that run away first"
     )
     assert sorted(p.relative_to(dest) for p in dest.rglob("*")) == before  # nothing published
+
+
+def test_conditions_with_overrides_of_their_own_train_in_a_multirun_of_their_own():
+    budget = replace(
+        BUDGETS["smoke"],
+        name="own",
+        conditions=("zelda-pcg1", "zelda-sfl", "zelda-dr"),
+        seeds=(0, 1),
+        frames=800,
+        overrides=("env.num_envs=8",),
+        condition_overrides={"zelda-sfl": ("regimen.pool_size=8", "regimen.buffer_size=4")},
+    )
+    conditions = list(budget.conditions)
+    assert sweep_plan(budget, conditions) == [
+        ((0,), ["zelda-pcg1", "zelda-dr"]),
+        ((0,), ["zelda-sfl"]),
+        ((1,), ["zelda-pcg1", "zelda-dr"]),
+        ((1,), ["zelda-sfl"]),
+    ]
+    arguments = sweep_arguments(budget, ["zelda-sfl"], Path("/r"), seeds=(0,))
+    assert arguments[-3:] == ["env.num_envs=8", "regimen.pool_size=8", "regimen.buffer_size=4"]
+    assert "regimen.pool_size=8" not in sweep_arguments(budget, ["zelda-dr"], Path("/r"))
+    with pytest.raises(ValueError, match="one set of overrides"):
+        sweep_arguments(budget, conditions, Path("/r"))
+    planned = planned_configs(budget, ["zelda-sfl", "zelda-dr"])
+    (sfl,) = planned["zelda-sfl", 0].values()
+    assert (sfl["regimen"]["pool_size"], sfl["regimen"]["buffer_size"], sfl["env"]["num_envs"]) == (8, 4, 8)
+
+
+def test_the_curricula_smoke_budget_shrinks_only_sfl_s_pool():
+    smoke = BUDGETS["curricula-smoke"]
+    assert "regimen.pool_size=8" in smoke.overrides_of("frogs-sfl")
+    assert smoke.overrides_of("frogs-plr") == smoke.overrides
+    assert BUDGETS["curricula"].condition_overrides == {}  # the comparison runs the reference pool
