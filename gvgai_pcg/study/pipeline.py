@@ -125,9 +125,8 @@ def sweep_plan(
 
     for seed in budget.all_seeds:
         left = [c for c in conditions if seed in budget.seeds_of(c) and (c, seed) not in skip]
-        keys = sorted(
-            {key(c) for c in left}, key=lambda k: (k[0], min(left.index(c) for c in left if key(c) == k))
-        )
+        # longest first, then in the order the conditions first name them (a stable sort)
+        keys = sorted(dict.fromkeys(key(c) for c in left), key=lambda k: k[0])
         for group_key in keys:
             group = [c for c in left if key(c) == group_key]
             if len(keys) == 1 and plan and plan[-1][1] == group:
