@@ -80,16 +80,26 @@ def ued_values(summary: dict) -> dict[str, float]:
     return values
 
 
-def read_ued_summary(run: Path, settings: dict) -> dict | None:
-    """The newest UED summary in ``run/eval`` whose protocol has ``settings`` (``ued-*.json``),
-    read as data: the page needs no ``gvgai_pcg.evaluation.ued``."""
+def ued_record(run: Path, settings: dict) -> tuple[Path, dict] | None:
+    """The newest UED record in ``run/eval`` whose protocol has ``settings``: its ``ued-*.json``
+    path (the per-level CSV shares its stem) and its contents, read as data: the page needs no
+    ``gvgai_pcg.evaluation.ued``."""
     found = []
     for path in sorted((run / "eval").glob("ued-*.json")):
         record = json.loads(path.read_text())
         protocol = record.get("protocol", {})
         if "summary" in record and all(protocol.get(k) == v for k, v in settings.items()):
-            found.append((int(record.get("frames", 0)), record["summary"]))
-    return max(found, key=lambda item: item[0])[1] if found else None
+            found.append((int(record.get("frames", 0)), path, record))
+    if not found:
+        return None
+    _, path, record = max(found, key=lambda item: item[0])
+    return path, record
+
+
+def read_ued_summary(run: Path, settings: dict) -> dict | None:
+    """The summary of ``ued_record``'s record, or None."""
+    found = ued_record(run, settings)
+    return found[1]["summary"] if found else None
 
 
 def collect_runs(runs: Iterable[Path], protocol, ued_settings: dict) -> dict[str, dict[str, CurriculumRuns]]:

@@ -43,16 +43,20 @@ def curricula_block(published: Path, budget: Budget, images: Path, prefix: str, 
     from gvgai_pcg.evaluation.protocol import Protocol
     from gvgai_pcg.study.comparison import collect_runs, comparison_markdown
     from gvgai_pcg.study.curricula_runs import write_curves
+    from gvgai_pcg.study.ued_by_difficulty import write_solved_by_difficulty
 
     runs_dir = published / "runs"
     runs = find_runs([runs_dir]) if runs_dir.is_dir() and any(runs_dir.iterdir()) else []
     infos = [run_info(run) for run in runs]
     images.mkdir(parents=True, exist_ok=True)
-    for stale in [*images.glob("curricula-curves-*.png"), *images.glob("replay-*.png")]:
+    stale_figures = ("curricula-curves-*.png", "replay-*.png", "ued-solved-by-d-*.png")
+    for stale in [path for pattern in stale_figures for path in images.glob(pattern)]:
         stale.unlink()
     games = collect_runs(runs, Protocol(**budget.protocol), budget.ued)
     borrowed = borrowed_lines(runs)
-    curves = write_curves([(info.game, info.label, info.path) for info in infos], images)
+    labelled = [(info.game, info.label, info.path) for info in infos]
+    curves = write_curves(labelled, images)
+    by_difficulty = write_solved_by_difficulty(labelled, budget.ued, images)
     machine = f"{platform.machine()} Linux, {os.cpu_count()} cores, torch CPU, one torch thread per run"
     ued = "the UED protocol's records where a run has them" if budget.ued else "no UED protocol"
     return "\n".join(
@@ -70,6 +74,15 @@ def curricula_block(published: Path, budget: Budget, images: Path, prefix: str, 
             "### Scores and the answer",
             "",
             comparison_markdown(games) if games else "No run evaluated yet.",
+            "### The UED levels solved, by difficulty",
+            "",
+            f"Each run's {budget.ued.get('levels', 0):,} UED levels binned by d (every evaluation "
+            "seed of a level counts): where each curriculum's tail lies."
+            if by_difficulty
+            else "No run has per-level UED records yet.",
+            "",
+            *[f"![{path.stem}]({prefix}/{path.name})" for path in by_difficulty],
+            "",
             "### Curves over training",
             "",
             *(

@@ -242,3 +242,37 @@ def test_the_smoke_comparison_trains_evaluates_publishes_and_writes_the_page(tmp
     assert "(images/results-curricula/curricula-curves-zelda.png)" in text
     assert (page.parent / "images" / "results-curricula" / "curricula-curves-zelda.png").is_file()
     assert "No run's curriculum replays levels yet" in text
+
+
+def test_the_ued_levels_are_binned_by_difficulty_over_every_evaluation_seed():
+    from gvgai_pcg.study.ued_by_difficulty import solved_by_bin
+
+    rows = [
+        {"difficulty": "0.0", "won_0": "1", "won_1": "0"},
+        {"difficulty": "0.05", "won_0": "1", "won_1": "1"},
+        {"difficulty": "0.5", "won_0": "0", "won_1": "0"},
+        {"difficulty": "1", "won_0": "1", "won_1": "0"},  # d = 1 falls in the last bin
+    ]
+    assert solved_by_bin(rows, bins=4) == [0.75, None, 0.0, 0.5]
+
+
+def test_the_page_draws_each_curriculum_s_solved_rate_by_difficulty(tmp_path):
+    from gvgai_pcg.study.ued_by_difficulty import write_solved_by_difficulty
+
+    settings = {"levels": 4, "seeds": 2}
+    runs = []
+    for label, won in (("DR", "1"), ("PPCG", "0"), ("PPCG", "1")):
+        run = tmp_path / f"{label}-{len(runs)}"
+        (run / "eval").mkdir(parents=True)
+        record = {"protocol": {**settings, "seed": 0}, "frames": 800, "summary": SUMMARY}
+        (run / "eval" / "ued-abc.json").write_text(json.dumps(record))
+        lines = ["index,difficulty,level_seed,score_0,won_0,length_0,score_1,won_1,length_1"]
+        lines += [f"{i},{i / 3:.4f},{i},1,{won},5,1,{won},5" for i in range(4)]
+        (run / "eval" / "ued-abc.csv").write_text("\n".join(lines) + "\n")
+        runs.append(("zelda", label, run))
+    runs.append(("frogs", "DR", tmp_path / "no-records"))  # no UED record: no figure
+    (tmp_path / "no-records" / "eval").mkdir(parents=True)
+    written = write_solved_by_difficulty(runs, settings, tmp_path / "images")
+    assert [p.name for p in written] == ["ued-solved-by-d-zelda.png"]
+    assert written[0].read_bytes().startswith(b"\x89PNG")
+    assert write_solved_by_difficulty(runs, {"levels": 1000}, tmp_path / "images") == []  # other protocol
