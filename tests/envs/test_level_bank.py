@@ -89,3 +89,27 @@ def test_generated_levels_do_not_go_through_the_bank():
         mask[rows] = True
         env.reset(TensorDict({"_reset": mask}, batch_size=[6]))
     assert len(env._bank) == 0  # a level comes back once in 2**31 episodes: banking it only churns
+
+
+def test_adding_a_level_to_a_full_bank_does_not_rebuild_it(monkeypatch):
+    import gvgai_pcg.envs.level_bank as level_bank
+
+    store = bank("zelda", capacity=3)
+    a, b, c, d = human_levels("zelda")[:4]
+    zero = torch.zeros(1, dtype=torch.int64)
+    for level in (a, b, c):
+        store.initial_states([level], zero)
+    joined = []
+    concatenate = level_bank.concatenate_states
+    monkeypatch.setattr(
+        level_bank, "concatenate_states", lambda states: joined.append(len(states)) or concatenate(states)
+    )
+    got = store.initial_states([d, b], torch.tensor([5, 6]))  # d comes in, a (used longest ago) goes
+    assert joined == [2]  # the kept rows and the one new level, not every level again
+    assert set(store._rows) == {b, c, d}
+    game = store.game
+    padded = [pad_level(lv, store.height, store.width) for lv in (d, b)]
+    want = game.compile(padded, torch.tensor([5, 6]), torch.device("cpu"))
+    for state in (got, want):
+        game.tick(state, torch.zeros(2, dtype=torch.int64))
+    assert [game.snapshot(got, i) for i in range(2)] == [game.snapshot(want, i) for i in range(2)]
