@@ -11,7 +11,7 @@ Usage: python docs/experiments/auto_reset_step.py GAME ENVS [STEPS ROUNDS] [--un
 (``--unsafe`` skips dynamo's guards on B's call). Prints process-CPU µs a step for A and B, and
 B's compiled call alone, round by round (A and B alternate).
 
-Measured at main @ 1be7ba7 (2026-11-29): a point-in-time script, not kept in step with the
+Measured at main @ 1be7ba7 and 6f66b7f (2026-11-29): a point-in-time script, not kept in step with the
 package; docs/benchmarks.md has its numbers.
 """
 
