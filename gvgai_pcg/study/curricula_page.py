@@ -2,7 +2,8 @@
 ``<!-- curricula:start -->`` and ``<!-- curricula:end -->``, written from the published folder
 (``results/curricula``) alone: the runs, the tables and the answer (``gvgai_pcg.study.comparison``,
 recomputed from the published records), the curves of d over training and the levels each
-curriculum replays at the end.
+curriculum replays at the end, and what the levels it holds contain beside the generator's and the
+human ones.
 """
 
 from __future__ import annotations
@@ -19,8 +20,72 @@ from gvgai_pcg.study.page import _runs_table, replace_block
 START, END = "<!-- curricula:start -->", "<!-- curricula:end -->"
 
 
+# The generated levels the curricula's held levels are set beside: this many at d = 1 per game.
+REFERENCE_LEVELS = 100
+
+
+def _summary_cells(summary: dict, names: list[str]) -> str:
+    counts = summary.get("counts", {})
+    cells = [
+        f"{counts[name]['median']:g} ({counts[name]['p90']:g}, {counts[name]['max']})"
+        if name in counts
+        else "-"
+        for name in names
+    ]
+    return " | ".join(cells)
+
+
+def _reference_summaries(game: str) -> list[tuple[str, dict]]:
+    """The human levels' and the generator's at d = 1 (seeds 0 to ``REFERENCE_LEVELS`` - 1)."""
+    from gvgai_pcg.generators import get_generator
+    from gvgai_pcg.levels import human_levels
+    from gvgai_pcg.study.curricula_runs import level_count_summary
+
+    generate = get_generator(game)
+    return [
+        (
+            f"generator, d = 1 ({REFERENCE_LEVELS} levels)",
+            level_count_summary([generate(1.0, seed) for seed in range(REFERENCE_LEVELS)]),
+        ),
+        ("human levels", level_count_summary(human_levels(game))),
+    ]
+
+
+def _held_levels_tables(runs: list) -> list[str]:
+    """Per game, what the levels each replaying curriculum holds at the end contain (its
+    ``replay-levels.json``), beside the generator's at d = 1 and the human levels."""
+    import json
+
+    from gvgai_pcg.games.registry import get_game_spec
+    from gvgai_pcg.study.curricula_runs import REPLAY_STATS
+
+    held: dict[str, list[tuple[str, dict]]] = {}
+    for info in runs:
+        path = info.path / REPLAY_STATS
+        if path.is_file():
+            summary = json.loads(path.read_text())
+            held.setdefault(info.game, []).append(
+                (f"{info.label} seed {info.seed}, {summary['levels']:,} held", summary)
+            )
+    lines = []
+    for game, rows in sorted(held.items()):
+        rows = [*rows, *_reference_summaries(game)]
+        names = sorted({name for _, summary in rows for name in summary.get("counts", {})})
+        lines += [
+            "",
+            f"{get_game_spec(game).title}: each count of the game's level checks (`GameSpec.counts`), "
+            "median (90th percentile, most) over the levels.",
+            "",
+            "| levels | " + " | ".join(names) + " |",
+            "|---|" + "---:|" * len(names),
+            *[f"| {label} | {_summary_cells(summary, names)} |" for label, summary in rows],
+        ]
+    return lines
+
+
 def _replay_section(runs: list, images: Path, prefix: str) -> list[str]:
-    """The replay pictures of the published runs, copied into ``images``, one line each."""
+    """The replay pictures of the published runs, copied into ``images``, one line each, then the
+    tables of what the levels each curriculum holds contain."""
     from gvgai_pcg.study.curricula_runs import REPLAY_PICTURE
 
     lines = []
@@ -34,7 +99,7 @@ def _replay_section(runs: list, images: Path, prefix: str) -> list[str]:
             )
     if not lines:
         return ["No run's curriculum replays levels yet (PCG 1, PPCG and DR play a new level every episode)."]
-    return lines
+    return lines + _held_levels_tables(runs)
 
 
 def curricula_block(published: Path, budget: Budget, images: Path, prefix: str, commit: str) -> str:

@@ -34,6 +34,7 @@ from omegaconf import OmegaConf
 from gvgai_pcg.games.registry import find_game_spec
 from gvgai_pcg.study.borrowed_runs import BORROWED, borrow_runs
 from gvgai_pcg.study.conditions import Budget, unregistered
+from gvgai_pcg.study.curricula_runs import REPLAY_PICTURE, REPLAY_STATS
 
 # A trained model (weights, config, frames: no optimizer) is published only below this size: the
 # compact CNN's 295k float32 weights are 1.2 MB, the Nature CNN's on pixels far more.
@@ -364,7 +365,15 @@ def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = 
         if (target / PUBLISHED).is_file() and published_run_info(target).frames > info.frames:
             continue  # the published run has trained longer
         (target / "eval").mkdir(parents=True, exist_ok=True)
-        for name in ("config.yaml", "log.csv", "sessions.csv", "curve.png", "replay.png", BORROWED):
+        for name in (
+            "config.yaml",
+            "log.csv",
+            "sessions.csv",
+            "curve.png",
+            REPLAY_PICTURE,
+            REPLAY_STATS,
+            BORROWED,
+        ):
             if (run / name).is_file():
                 shutil.copy2(run / name, target / name)
         # the study protocol's records, and the UED protocol's per-level CSV and summary
@@ -429,12 +438,18 @@ def write_curricula(
     answer, ``gvgai_pcg.study.comparison``) and the curves of d over training."""
     from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
     from gvgai_pcg.study.comparison import collect_runs, comparison_markdown
-    from gvgai_pcg.study.curricula_runs import evaluate_ued, write_curves, write_replay_picture
+    from gvgai_pcg.study.curricula_runs import (
+        evaluate_ued,
+        write_curves,
+        write_replay_picture,
+        write_replay_stats,
+    )
 
     here = find_runs(list(here)) if here else []
     for run in here:
         evaluate_ued(run, budget.ued, progress)
         write_replay_picture(run)
+        write_replay_stats(run)
     runs = [*here, *(find_runs(list(elsewhere)) if elsewhere else [])]
     games = collect_runs(runs, protocol, budget.ued)
     path = report_dir / "curricula.md"

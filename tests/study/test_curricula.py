@@ -35,9 +35,12 @@ from gvgai_pcg.study.conditions import (
 )
 from gvgai_pcg.study.curricula_runs import (
     REPLAY_PICTURE,
+    REPLAY_STATS,
+    level_count_summary,
     ued_available,
     write_levels_picture,
     write_replay_picture,
+    write_replay_stats,
 )
 
 SUMMARY = {
@@ -206,6 +209,58 @@ def test_a_run_pictures_the_levels_its_curriculum_replays_from_its_last_checkpoi
     assert path == tmp_path / REPLAY_PICTURE and path.read_bytes().startswith(b"\x89PNG")
     levels = [generate_level("zelda", d, 1) for d in (0.2, 0.8)]
     assert write_levels_picture(levels, tmp_path / "two.png", "two").stat().st_size > 1000
+
+
+def test_a_level_count_summary_gives_each_counts_median_90th_percentile_and_most():
+    from gvgai_pcg.levels import human_levels
+
+    levels = human_levels("zelda")
+    enemies = sorted(sum(level.count(c) for c in "123") for level in levels)
+    summary = level_count_summary(levels)
+    assert summary["levels"] == 5 and set(summary["counts"]) >= {"enemies", "interior_walls"}
+    assert summary["counts"]["enemies"]["median"] == enemies[2]
+    assert summary["counts"]["enemies"]["max"] == enemies[-1]
+    assert enemies[2] <= summary["counts"]["enemies"]["p90"] <= enemies[-1]
+    assert level_count_summary([]) == {"levels": 0}
+
+
+def test_a_run_summarises_every_level_its_curriculum_holds_once_per_checkpoint(tmp_path):
+    import torch
+    import yaml
+
+    (tmp_path / "checkpoints").mkdir()
+    config = {"game": {"name": "zelda"}, "regimen": {"name": "toy-replay"}}
+    (tmp_path / "config.yaml").write_text(yaml.safe_dump(config))
+    torch.save({"model": {}, "config": config, "difficulty": {}}, tmp_path / "checkpoints" / "last.pt")
+    assert write_replay_stats(tmp_path) is None  # its curriculum is not registered here
+    register_curriculum(ReplaysFromItsState())
+    try:
+        path = write_replay_stats(tmp_path)
+        expected = level_count_summary(ReplaysFromItsState().replay_levels(None, 10))
+        assert path == tmp_path / REPLAY_STATS and json.loads(path.read_text()) == expected
+        assert expected["levels"] == 3  # all it holds, not the picture's few
+        path.write_text('{"levels": -1}')  # newer than the checkpoint: kept
+        assert json.loads(write_replay_stats(tmp_path).read_text()) == {"levels": -1}
+    finally:
+        unregister_curriculum("toy-replay")
+
+
+def test_the_page_sets_the_held_levels_beside_the_generators_and_the_human_ones(tmp_path):
+    from types import SimpleNamespace
+
+    from gvgai_pcg.study.curricula_page import REFERENCE_LEVELS, _held_levels_tables
+
+    run = tmp_path / "zelda-accel-seed0"
+    run.mkdir()
+    held = {"levels": 4000, "counts": {"enemies": {"median": 32.0, "p90": 41.0, "max": 50}}}
+    (run / REPLAY_STATS).write_text(json.dumps(held))
+    info = SimpleNamespace(path=run, game="zelda", label="ACCEL", seed=0)
+    lines = _held_levels_tables([info, SimpleNamespace(path=tmp_path, game="zelda", label="DR", seed=0)])
+    table = "\n".join(lines)
+    assert "| ACCEL seed 0, 4,000 held | - | 32 (41, 50) |" in table
+    assert f"| generator, d = 1 ({REFERENCE_LEVELS} levels) |" in table and "| human levels |" in table
+    assert "DR" not in table  # a run without the file has no row
+    assert table.count("\n| ") == 4  # the header and three rows, none for DR
 
 
 @pytest.mark.slow
