@@ -60,10 +60,10 @@ STREAM_MONSTER_DIRECTION = 1
 ALIGNED = True
 # The widest monster table that ticks compiled. Compiled, the ordered stepBack runs all its rounds
 # (one per slot: no early exit in a graph), so its cost grows as slots cubed; eagerly it stops when
-# nothing changes (about 4 rounds). At 64 envs on human levels with monsters added (tables of 16,
-# 32 and 64 slots; /tmp-style loop, one thread, 2026-11-29, other work on the second core):
-# compiled 16.3k / 2.7k / 0.6k steps/s, eager 12.1k / 4.2k / 4.2k. Human and generated levels have
-# at most 4 monsters; ACCEL's edited levels reach 50.
+# nothing changes (about 4 rounds). At 64 envs, env steps per CPU second with tables of 16, 32 and
+# 64 slots, compiled: 31-48k, 11.2k, 2.4k; with a wider table eager: 17.7k (32), 11.9k (64);
+# eager at 16: 22k (docs/experiments/crowded_zelda.py, docs/benchmarks.md "Crowded Zelda levels").
+# Human and generated levels have at most 4 monsters; ACCEL's edited levels reach 50.
 COMPILED_MONSTER_SLOTS = 16
 sprites_overlap = overlaps_aligned if ALIGNED else overlaps
 
