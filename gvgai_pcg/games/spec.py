@@ -63,7 +63,7 @@ class StepFacts:
         compiles: whether ``Game.tick`` traces as one graph (no data-dependent shapes or host
             syncs), so that the engine may run it compiled (``gvgai_pcg.engine.compiled``).
         eager_when: bool host arguments (``Game.host_arguments``) whose graph the compiler gets
-            wrong: a tick where one is true runs eagerly (a miscompile opt-out).
+            wrong, or runs slower than eager (measured): a tick where one is true runs eagerly.
         max_compiled_batch: the largest batch that steps compiled, where the compiled tick stops
             paying above it (measured); ``None``: no limit.
         parallel_graph: whether a large batch on several threads may tick through the graph whose

@@ -152,6 +152,36 @@ def test_a_branch_the_compiler_gets_wrong_ticks_eagerly(monkeypatch):
     assert state.get("tick").tolist() == [0] * len(levels)
 
 
+def test_a_zelda_batch_with_a_wide_monster_table_ticks_eagerly(monkeypatch):
+    """Compiled, the ordered stepBack runs one round per monster slot; eagerly it stops early, and
+    past ``COMPILED_MONSTER_SLOTS`` the eager tick is the faster (ACCEL's edited levels)."""
+    from gvgai_pcg.games.zelda.rules import COMPILED_MONSTER_SLOTS
+
+    game = get_game("zelda")
+    assert "crowded" in game.step_facts.eager_when
+    free = "." * 11
+    rows = (
+        ("wwwwwwwwwwwww", "wA+........gw")
+        + tuple(f"w{free}w" for _ in range(4))
+        + ("w" + "1" * 11 + "w",) * 2
+    )
+    crowded = Level("zelda", rows + ("wwwwwwwwwwwww",))
+    assert crowded.count("1") > COMPILED_MONSTER_SLOTS
+    seeds = torch.arange(6)
+    human = game.compile(human_levels("zelda"), seeds[:5], torch.device("cpu"))
+    assert game.host_arguments(human) == {"crowded": False}
+    state = game.compile(human_levels("zelda") + [crowded], seeds, torch.device("cpu"))
+    assert game.host_arguments(state) == {"crowded": True}
+    tick = CompiledTick(game)
+    monkeypatch.setattr(tick, "_compiled", lambda *args, **kwargs: pytest.fail("ticked compiled"))
+    eager, before = state.clone(), state.get("tick").clone()
+    action = torch.tensor([0, 1, 2, 3, 4, 0])
+    tick(state, action)
+    game.tick(eager, action)
+    assert_same_states(eager, state)
+    assert torch.equal(state.get("tick"), before + 1)
+
+
 @pytest.mark.parametrize("game_name", COMPILED_GAMES)
 def test_a_batch_as_wide_as_an_entity_table_ticks_as_eagerly(game_name):
     """Sizes that are equal when first traced once shared a symbol (duck shaping), and inductor

@@ -35,5 +35,5 @@ SPEC = GameSpec(
     study_index=0,
     bench_target=250_000,
     frame_cost=1.0,
-    step_facts=StepFacts(compiles=True),
+    step_facts=StepFacts(compiles=True, eager_when=("crowded",)),
 )

@@ -58,6 +58,13 @@ SWORD_LIMIT = 5
 STREAM_MONSTER_DIRECTION = 1
 # Every Zelda sprite moves by whole cells and starts on one, so each covers exactly one cell.
 ALIGNED = True
+# The widest monster table that ticks compiled. Compiled, the ordered stepBack runs all its rounds
+# (one per slot: no early exit in a graph), so its cost grows as slots cubed; eagerly it stops when
+# nothing changes (about 4 rounds). At 64 envs on human levels with monsters added (tables of 16,
+# 32 and 64 slots; /tmp-style loop, one thread, 2026-11-29, other work on the second core):
+# compiled 16.3k / 2.7k / 0.6k steps/s, eager 12.1k / 4.2k / 4.2k. Human and generated levels have
+# at most 4 monsters; ACCEL's edited levels reach 50.
+COMPILED_MONSTER_SLOTS = 16
 sprites_overlap = overlaps_aligned if ALIGNED else overlaps
 
 
@@ -139,7 +146,12 @@ class Zelda(Game):
         }
         return TensorDict(state, batch_size=[batch], device=device)
 
-    def tick(self, state: TensorDict, action: torch.Tensor) -> None:
+    def host_arguments(self, state: TensorDict) -> dict[str, object]:
+        """Whether the monster table is wider than ``COMPILED_MONSTER_SLOTS`` (its shape, no sync)."""
+        return {"crowded": state.get("monsters").batch_size[1] > COMPILED_MONSTER_SLOTS}
+
+    def tick(self, state: TensorDict, action: torch.Tensor, crowded: bool | None = None) -> None:
+        """RULES.md §4; ``crowded`` only chooses how the engine runs it (``StepFacts.eager_when``)."""
         state.set("tick", state.get("tick") + 1)
         self._update_avatar(state, action)
         self._update_monsters(state)
