@@ -6,10 +6,13 @@ from __future__ import annotations
 from gvgai_pcg.levels.level import Level
 
 STREET, WATER = set(".lx_-"), set("0=13")
+VEHICLES = "xl_-"
 
 
 def counts(level: Level) -> dict[str, int]:
-    """Active size and lane types; the goal and start rows are not counted as lanes."""
+    """Active size and lane types (the goal and start rows are not counted as lanes), and the
+    logs and vehicles in them (what ACCEL's editor adds and removes; a frog that starts on a log,
+    B, counts as a log)."""
     rows = [row for row in level.rows if set(row) != {"w"}]
     columns = [c for c in range(level.width) if any(row[c] != "w" for row in rows)]
     lanes = rows[1:-1]
@@ -22,6 +25,8 @@ def counts(level: Level) -> dict[str, int]:
         "street_lanes": street,
         "water_lanes": water,
         "grass_lanes": len(lanes) - street - water,
+        "logs": level.count("=") + level.count("B"),
+        "vehicles": sum(level.count(c) for c in VEHICLES),
     }
 
 
