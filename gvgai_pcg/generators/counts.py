@@ -1,7 +1,8 @@
 """What a generated level contains, counted from its text: the numbers GENERATORS.md states ranges
-for (active size, enemies, gems, boulders, walls, pills, lane types). Each game counts its own
-(``GameSpec.counts``, in its folder's ``checks``); used by the distribution tests and for the
-tables in docs/generators.md."""
+for (active size, enemies, gems, boulders, walls, pills, lane types), and Frogs' logs and vehicles.
+Each game counts its own (``GameSpec.counts``, in its folder's ``checks``); used by the
+distribution tests, the tables in docs/generators.md, and the curricula page's table of the levels
+each curriculum holds."""
 
 from __future__ import annotations
 
