@@ -117,11 +117,11 @@ def write_replay_stats(run: Path) -> Path | None:
     """``run/replay-levels.json``: :func:`level_count_summary` of every level the run's curriculum
     holds at the end (its whole buffer or pool); none where it holds none. Rebuilding a buffer of
     generated levels takes a while (Zelda PLR⊥'s 4,000: about 20 s), so it is written once per
-    last checkpoint."""
+    last checkpoint and version of the game's counts (their names)."""
     from gvgai_pcg.evaluation.checkpoints import LAST_CHECKPOINT
 
     path, checkpoint = run / REPLAY_STATS, run / LAST_CHECKPOINT
-    if path.is_file() and checkpoint.is_file() and path.stat().st_mtime >= checkpoint.stat().st_mtime:
+    if _summary_is_current(path, checkpoint, run):
         return path
     levels = replay_levels_of(run, ALL_LEVELS)
     if not levels:
@@ -130,6 +130,19 @@ def write_replay_stats(run: Path) -> Path | None:
     partial.write_text(json.dumps(level_count_summary(levels), indent=1) + "\n")
     partial.replace(path)
     return path
+
+
+def _summary_is_current(path: Path, checkpoint: Path, run: Path) -> bool:
+    """Whether ``path`` is newer than ``checkpoint`` and counts what the game counts now."""
+    if not (path.is_file() and checkpoint.is_file() and path.stat().st_mtime >= checkpoint.stat().st_mtime):
+        return False
+    from gvgai_pcg.evaluation.checkpoints import read_run_config
+    from gvgai_pcg.games.registry import get_game_spec
+    from gvgai_pcg.levels import human_level
+
+    game = (read_run_config(run) or {}).get("game", {}).get("name")
+    saved = json.loads(path.read_text()).get("counts", {})
+    return game is None or set(saved) == set(get_game_spec(game).counts(human_level(game, 0)))
 
 
 def curve_columns(rows: Sequence[dict]) -> list[str]:

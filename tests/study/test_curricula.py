@@ -239,8 +239,11 @@ def test_a_run_summarises_every_level_its_curriculum_holds_once_per_checkpoint(t
         expected = level_count_summary(ReplaysFromItsState().replay_levels(None, 10))
         assert path == tmp_path / REPLAY_STATS and json.loads(path.read_text()) == expected
         assert expected["levels"] == 3  # all it holds, not the picture's few
-        path.write_text('{"levels": -1}')  # newer than the checkpoint: kept
-        assert json.loads(write_replay_stats(tmp_path).read_text()) == {"levels": -1}
+        kept = {**expected, "levels": -1}
+        path.write_text(json.dumps(kept))  # newer than the checkpoint, the same counts: kept
+        assert json.loads(write_replay_stats(tmp_path).read_text()) == kept
+        path.write_text(json.dumps({"levels": -1, "counts": {"gone": {}}}))  # counts renamed since
+        assert json.loads(write_replay_stats(tmp_path).read_text()) == expected
     finally:
         unregister_curriculum("toy-replay")
 
