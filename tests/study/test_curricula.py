@@ -191,15 +191,20 @@ class ReplaysFromItsState(Curriculum):
         return [generate_level("zelda", d, seed) for d, seed in ((0.1, 3), (0.9, 4), (0.5, 5))][:k]
 
 
-@pytest.mark.slow  # importing the renderer: half a minute on the loaded 2-core machine
-def test_a_run_pictures_the_levels_its_curriculum_replays_from_its_last_checkpoint(tmp_path):
+def write_toy_replay_run(run):
+    """A run folder of the toy curriculum: its config and a last checkpoint with an empty state."""
     import torch
     import yaml
 
-    (tmp_path / "checkpoints").mkdir()
+    (run / "checkpoints").mkdir()
     config = {"game": {"name": "zelda"}, "regimen": {"name": "toy-replay"}}
-    (tmp_path / "config.yaml").write_text(yaml.safe_dump(config))
-    torch.save({"model": {}, "config": config, "difficulty": {}}, tmp_path / "checkpoints" / "last.pt")
+    (run / "config.yaml").write_text(yaml.safe_dump(config))
+    torch.save({"model": {}, "config": config, "difficulty": {}}, run / "checkpoints" / "last.pt")
+
+
+@pytest.mark.slow  # importing the renderer: half a minute on the loaded 2-core machine
+def test_a_run_pictures_the_levels_its_curriculum_replays_from_its_last_checkpoint(tmp_path):
+    write_toy_replay_run(tmp_path)
     assert write_replay_picture(tmp_path) is None  # its curriculum is not registered here
     register_curriculum(ReplaysFromItsState())
     try:
@@ -225,13 +230,7 @@ def test_a_level_count_summary_gives_each_counts_median_90th_percentile_and_most
 
 
 def test_a_run_summarises_every_level_its_curriculum_holds_once_per_checkpoint(tmp_path):
-    import torch
-    import yaml
-
-    (tmp_path / "checkpoints").mkdir()
-    config = {"game": {"name": "zelda"}, "regimen": {"name": "toy-replay"}}
-    (tmp_path / "config.yaml").write_text(yaml.safe_dump(config))
-    torch.save({"model": {}, "config": config, "difficulty": {}}, tmp_path / "checkpoints" / "last.pt")
+    write_toy_replay_run(tmp_path)
     assert write_replay_stats(tmp_path) is None  # its curriculum is not registered here
     register_curriculum(ReplaysFromItsState())
     try:
