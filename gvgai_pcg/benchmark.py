@@ -145,7 +145,7 @@ def measure_engine(game: str, batch: int = 4096, shards: int = 1, min_seconds: f
     tick = engine_tick(engine)
     levels = [human_levels(game)[i % 5] for i in range(batch)]  # of mixed sizes in Frogs
     state = engine.compile(levels, torch.arange(batch), torch.device("cpu"))
-    stepper = ShardedStepper(shards, min_shard=1)
+    stepper = ShardedStepper(shards)
     generator = torch.Generator().manual_seed(0)
 
     def step(part: TensorDict, action: torch.Tensor) -> torch.Tensor:

@@ -21,31 +21,29 @@ from concurrent.futures import ThreadPoolExecutor
 import torch
 from tensordict import TensorDict
 
-MIN_SHARD = 256  # envs per shard below which the threads' overhead outweighs the gain
-
 StepFn = Callable[[TensorDict, torch.Tensor], torch.Tensor]
 
 
 class ShardedStepper:
     """Runs ``step(state, action) -> observation`` on up to ``shards`` contiguous slices of a
-    batch, each of at least ``min_shard`` envs (a smaller batch is stepped whole).
+    batch, one env at least each (whoever asks for shards has chosen them for the batch).
 
     ``step`` may replace the entries of the state it is given (games ``update`` them); each
     shard's replaced entries are copied back into the full state by its own thread, so no two
     entries of the full state may share memory (tested for every game).
     """
 
-    def __init__(self, shards: int, min_shard: int = MIN_SHARD) -> None:
+    def __init__(self, shards: int) -> None:
         if shards < 1:
             raise ValueError(f"shards must be at least 1, got {shards}")
-        self.shards, self.min_shard = shards, max(1, min_shard)
+        self.shards = shards
         self._pool = None
         if shards > 1:
             self._pool = ThreadPoolExecutor(shards, thread_name_prefix="gvgai-shard")
             weakref.finalize(self, self._pool.shutdown, wait=False)
 
     def slices(self, num_envs: int) -> list[slice]:
-        count = max(1, min(self.shards, num_envs // self.min_shard))
+        count = max(1, min(self.shards, num_envs))
         bounds = [num_envs * k // count for k in range(count + 1)]
         return [slice(a, b) for a, b in zip(bounds[:-1], bounds[1:], strict=True)]
 

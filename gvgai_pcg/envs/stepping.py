@@ -40,7 +40,7 @@ class PlanRunner:
         self.game, self.plan, self.obs = game, plan, obs
         self.num_envs, self.max_steps, self.buffers = num_envs, max_steps, buffers
         self.compiled_tick = engine_tick(game) if plan.compiled else None
-        self.sharded = ShardedStepper(shards, min_shard=1)
+        self.sharded = ShardedStepper(shards)
 
     def step(
         self, state: TensorDict, action: torch.Tensor, steps: torch.Tensor

@@ -4,7 +4,7 @@ import pytest
 import torch
 
 from gvgai_pcg.envs import GVGAIEnv
-from gvgai_pcg.envs.shards import MIN_SHARD, ShardedStepper
+from gvgai_pcg.envs.shards import ShardedStepper
 from gvgai_pcg.games import get_game
 from gvgai_pcg.levels import human_levels
 
@@ -26,12 +26,11 @@ def test_sharded_steps_equal_unsharded_steps_across_resets(game):
         assert (envs[0].state == envs[1].state).all()
 
 
-def test_shards_cover_the_batch_in_order_and_keep_their_minimum_size():
-    stepper = ShardedStepper(3, min_shard=1)
+def test_shards_cover_the_batch_in_order_one_env_at_least_each():
+    stepper = ShardedStepper(3)
     assert [(s.start, s.stop) for s in stepper.slices(10)] == [(0, 3), (3, 6), (6, 10)]
-    assert len(stepper.slices(2)) == 2
-    assert len(ShardedStepper(2).slices(2 * MIN_SHARD - 1)) == 1
-    assert len(ShardedStepper(2).slices(2 * MIN_SHARD)) == 2
+    assert [(s.start, s.stop) for s in stepper.slices(2)] == [(0, 1), (1, 2)]
+    assert [(s.start, s.stop) for s in stepper.slices(1)] == [(0, 1)]
 
 
 def test_the_callers_torch_threads_are_restored():
