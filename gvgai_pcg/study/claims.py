@@ -590,9 +590,9 @@ def _estimate_text(comparison: Comparison, value: Estimate, adjusted: float | No
         return f"{text} (claim {comparison.claim_text()})"
     if not value.has_interval:
         return f"{text}, no interval (one seed) (claim {comparison.claim_text()})"
-    interval = (
-        f"[{value.low:+.2f}, {value.high:+.2f}]" if value.low < value.high else "(no spread: seeds equal)"
-    )
+    if value.low == value.high:  # no t statistic: its p (0 or 1) is a decision, not a test's
+        return f"{text}, no spread in the data, so decided without a test (claim {comparison.claim_text()})"
+    interval = f"[{value.low:+.2f}, {value.high:+.2f}]"
     return f"{text} {interval}, Holm p {adjusted:.3g} (claim {comparison.claim_text()})"
 
 

@@ -36,6 +36,7 @@ from scipy import stats
 
 LEVEL = 0.95  # two-sided interval level, and family-wise 1 - alpha for Holm
 ALPHA = 1 - LEVEL
+NO_SPREAD = 1e-12  # a standard error this small (relative) is rounding, not spread
 SEEDS_AND_LEVELS_INTERVAL = (
     "two-sided 95 % t interval over seeds and levels (the seeds' variance, Welch's for a difference, plus "
     "the generated test sets' level-sampling variance, the same levels for every model; "
@@ -67,7 +68,9 @@ def _mean_var(values: Sequence[float]) -> tuple[float, float]:
 def _from_t(value: float, se: float, df: float, bound: float, seeds: int) -> Estimate:
     if not math.isfinite(se) or not math.isfinite(df) or df <= 0:
         return Estimate(value, -math.inf, math.inf, 1.0, seeds)
-    if se == 0.0:  # every seed gave the same value: the data show no spread at all
+    # Every seed gave the same value (to rounding: equal per-seed means of floats can differ in
+    # the last bits, which would give a t statistic of 1e16 and a p of 1e-33): no spread at all.
+    if se <= NO_SPREAD * max(1.0, abs(value)):
         return Estimate(value, value, value, 1.0 if value == bound else 0.0, seeds)
     half = float(stats.t.ppf(1 - ALPHA / 2, df)) * se
     p = float(2 * stats.t.sf(abs(value - bound) / se, df))

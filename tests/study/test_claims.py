@@ -88,6 +88,19 @@ def test_a_single_seed_gives_no_interval_and_no_verdict():
     assert verdict.verdict == "inconclusive" and "no interval (one seed)" in verdict.evidence
 
 
+def test_seeds_without_spread_are_decided_without_a_test_and_say_so():
+    same = Table(
+        "boulderdash",
+        {"PCG 1": {s: [0.5, 0.5, 0.5] for s in TEST_SETS}, "PPCG": {s: [0.1, 0.1, 0.1] for s in TEST_SETS}},
+        False,
+        {},
+    )
+    [verdict] = judge([pcg1_beats_ppcg_generated(same)])
+    assert verdict.verdict == "holds"
+    assert "no spread in the data, so decided without a test" in verdict.evidence
+    assert "Holm p" not in verdict.evidence  # a p of 0 would read as a test that was run
+
+
 def test_holm_corrects_across_the_claims_comparisons():
     adjusted, rejected = holm([0.01, 0.04, 0.03, 0.005])
     assert adjusted == pytest.approx([0.03, 0.06, 0.06, 0.02]) and rejected == [True, False, False, True]
