@@ -134,8 +134,14 @@ def find_runs(paths: list[Path]) -> list[Path]:
         if not path.exists():
             raise FileNotFoundError(f"{path}: no such run or multirun directory")
         candidates = [path] if is_run_dir(path) else sorted(p.parent for p in path.rglob("config.yaml"))
-        # an earlier run that a fresh start moved aside is not a run of the sweep
-        candidates = [p for p in candidates if ASIDE_DIR not in p.relative_to(path).parts]
+        # an earlier run that a fresh start moved aside is not a run of the sweep, nor is a hidden
+        # folder (a run being published or borrowed, or one a publish is replacing)
+        candidates = [
+            p
+            for p in candidates
+            if ASIDE_DIR not in (parts := p.relative_to(path).parts)
+            and not any(x.startswith(".") for x in parts)
+        ]
         # Compared resolved: one run named twice (relative and absolute, via a link) counts once.
         found += [p for p in map(Path.resolve, candidates) if is_run_dir(p) and p not in found]
     return found

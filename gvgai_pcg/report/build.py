@@ -24,6 +24,7 @@ from gvgai_pcg.report.curves import plot_curves, pool_runs
 from gvgai_pcg.report.generalisation import LEVEL_COUNT_FIGURE, level_count_curves, plot_level_counts
 from gvgai_pcg.report.render import html_report, markdown_report, write_csv
 from gvgai_pcg.report.table import GameTable, RunResults, build_table
+from gvgai_pcg.rl.atomic_files import atomic_write_text
 
 log = logging.getLogger(__name__)
 
@@ -175,7 +176,7 @@ def _build_report(
             stem = out_dir / f"{LEVEL_COUNT_FIGURE}-{game}"
             figures.setdefault(game, []).extend(plot_level_counts(level_counts, stem))
     markdown = out_dir / "results.md"
-    markdown.write_text(markdown_report(tables, figures) + "\n")
+    atomic_write_text(markdown, markdown_report(tables, figures) + "\n")
     html = out_dir / "results.html"
-    html.write_text(html_report(tables, figures) + "\n")
+    atomic_write_text(html, html_report(tables, figures) + "\n")
     return Report(tables, markdown, write_csv(tables, out_dir / "results.csv"), html, figures)

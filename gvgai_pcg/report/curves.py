@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from gvgai_pcg.rl.atomic_files import atomic_savefig
 from gvgai_pcg.rl.curves import smooth
 from gvgai_pcg.rl.run_log import LOG_NAME, read_log
 
@@ -105,6 +106,6 @@ def save_figure(fig, out_stem: Path) -> list[Path]:
     out_stem.parent.mkdir(parents=True, exist_ok=True)
     paths = [out_stem.with_suffix(".png"), out_stem.with_suffix(".svg")]
     for path in paths:
-        fig.savefig(path, dpi=120)
+        atomic_savefig(fig, path, dpi=120)
     plt.close(fig)
     return paths

@@ -5,10 +5,12 @@ from __future__ import annotations
 
 import csv
 import html
+import io
 from collections.abc import Sequence
 from pathlib import Path
 
 from gvgai_pcg.report.table import COLUMN_LABELS, Cell, GameTable
+from gvgai_pcg.rl.atomic_files import atomic_write_text
 
 CSV_COLUMNS = (
     "game",
@@ -72,7 +74,7 @@ def markdown_report(tables: Sequence[GameTable], figures: dict[str, list[Path]] 
 
 
 def write_csv(tables: Sequence[GameTable], path: Path) -> Path:
-    with open(path, "w", newline="") as handle:
+    with io.StringIO() as handle:  # written whole: a kill leaves the old file
         writer = csv.writer(handle, lineterminator="\n")
         writer.writerow(CSV_COLUMNS)
         for table in tables:
@@ -99,6 +101,7 @@ def write_csv(tables: Sequence[GameTable], path: Path) -> Path:
                             "" if cell.ci95 is None else f"{cell.ci95[1]:.6g}",
                         )
                     )
+        atomic_write_text(path, handle.getvalue())
     return path
 
 

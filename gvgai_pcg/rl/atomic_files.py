@@ -5,12 +5,17 @@ moment (SIGKILL, a crash, a power cut once the fsyncs have returned). Temporary 
 writer's PID, so two processes never write into one temporary file, and the temporary file of a
 writer killed mid-write (SIGKILL leaves no chance to remove it) is recognised as stale by its
 dead PID: ``remove_stale_temporaries`` deletes those.
+
+A folder (a published run, a report) is built beside its place and swapped in by two renames
+(``swap_in_folder``); what a kill between them leaves, ``recover_folders`` repairs. One writer per
+parent folder at a time: a second one's staging folder counts as stale.
 """
 
 from __future__ import annotations
 
 import os
 import re
+import shutil
 from collections.abc import Callable
 from pathlib import Path
 from typing import BinaryIO
@@ -85,3 +90,67 @@ def atomic_write(path: Path, write: Callable[[BinaryIO], object]) -> Path:
 
 def atomic_write_text(path: Path, text: str) -> Path:
     return atomic_write(path, lambda handle: handle.write(text.encode()))
+
+
+def atomic_copy(source: Path, target: Path) -> Path:
+    """Copy ``source`` (with its times) over ``target`` atomically, so a reader never sees half of it."""
+    target = Path(target)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = temporary_path(target)
+    try:
+        shutil.copy2(source, tmp)
+        fsync_file(tmp)
+        os.replace(tmp, target)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    fsync_directory(target.parent)
+    return target
+
+
+def atomic_savefig(fig, path: Path, **savefig_kwargs) -> Path:
+    """``fig.savefig(path)`` through a temporary file: a kill mid-render leaves the old figure."""
+    path = Path(path)
+    return atomic_write(path, lambda handle: fig.savefig(handle, format=path.suffix[1:], **savefig_kwargs))
+
+
+def staging_folder(target: Path) -> Path:
+    """Where a new ``target`` folder is built before ``swap_in_folder`` puts it in place."""
+    return target.with_name(f".staging-{target.name}")
+
+
+def _moved_aside(target: Path) -> Path:
+    return target.with_name(f".replaced-{target.name}")
+
+
+def swap_in_folder(staged: Path, target: Path) -> Path:
+    """Put the folder ``staged`` in ``target``'s place: the old one is renamed aside, ``staged``
+    renamed in, the old one removed. SIGINT and SIGTERM wait for the two renames; only a SIGKILL
+    between them leaves ``target`` missing, and ``recover_folders`` then puts the old one back."""
+    from gvgai_pcg.rl.stop_signal import stop_signals_deferred
+
+    aside = _moved_aside(target)
+    shutil.rmtree(aside, ignore_errors=True)
+    with stop_signals_deferred():
+        if target.exists():
+            os.replace(target, aside)
+        os.replace(staged, target)
+    fsync_directory(target.parent)
+    shutil.rmtree(aside, ignore_errors=True)
+    return target
+
+
+def recover_folders(parent: Path) -> None:
+    """Undo what a killed ``swap_in_folder`` or staging left in ``parent``: a folder moved aside
+    whose replacement never arrived goes back; stale staging and moved-aside folders go."""
+    if not parent.is_dir():
+        return
+    for path in sorted(parent.iterdir()):
+        for prefix in (".replaced-", ".staging-"):
+            if not (path.name.startswith(prefix) and path.is_dir()):
+                continue
+            target = path.with_name(path.name.removeprefix(prefix))
+            if prefix == ".replaced-" and not target.exists():
+                os.replace(path, target)
+            else:
+                shutil.rmtree(path, ignore_errors=True)

@@ -131,6 +131,18 @@ class StopSignal:
                 time.sleep(0.2)
 
 
+@contextlib.contextmanager
+def stop_signals_deferred() -> Iterator[None]:
+    """SIGINT and SIGTERM received inside the block act once it has ended, as they would have
+    acted then (for the few steps that must not be cut in two: a folder's two renames). In a
+    thread other than the main one, nothing changes."""
+    stop = StopSignal()
+    with stop.arming():
+        yield
+    for signum in stop.signals[:1]:
+        signal.raise_signal(signum)
+
+
 class ignoring_stop_signals:  # noqa: N801 (wraps a factory, like functools.partial)
     """``factory`` (picklable) that, called in another process than the one that wrapped it (a
     collector worker), first makes that process ignore SIGINT and SIGTERM."""

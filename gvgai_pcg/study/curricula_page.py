@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import os
 import platform
-import shutil
 from pathlib import Path
 
 from gvgai_pcg.study.borrowed_runs import borrowed_lines
@@ -86,6 +85,7 @@ def _held_levels_tables(runs: list) -> list[str]:
 def _replay_section(runs: list, images: Path, prefix: str) -> list[str]:
     """The replay pictures of the published runs, copied into ``images``, one line each, then the
     tables of what the levels each curriculum holds contain."""
+    from gvgai_pcg.rl.atomic_files import atomic_copy
     from gvgai_pcg.study.curricula_runs import REPLAY_PICTURE
 
     lines = []
@@ -93,7 +93,7 @@ def _replay_section(runs: list, images: Path, prefix: str) -> list[str]:
         picture = info.path / REPLAY_PICTURE
         if picture.is_file():
             name = f"replay-{info.path.name}.png"
-            shutil.copy2(picture, images / name)
+            atomic_copy(picture, images / name)
             lines.append(
                 f"- {info.game}, {info.label} (seed {info.seed}): ![levels it replays]({prefix}/{name})"
             )

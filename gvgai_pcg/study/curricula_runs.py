@@ -68,6 +68,8 @@ def write_levels_picture(levels: Sequence, path: Path, title: str = "") -> Path 
         return None
     import matplotlib
 
+    from gvgai_pcg.rl.atomic_files import atomic_savefig
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -81,7 +83,7 @@ def write_levels_picture(levels: Sequence, path: Path, title: str = "") -> Path 
     if title:
         fig.suptitle(title)
     fig.tight_layout()
-    fig.savefig(path, dpi=80)
+    atomic_savefig(fig, path, dpi=80)
     plt.close(fig)
     return path
 
@@ -160,6 +162,8 @@ def write_curves(runs: Sequence[tuple[str, str, Path]], folder: Path) -> list[Pa
     frames, one line per run, coloured by curriculum. ``runs``: ``(game, label, run dir)``."""
     import matplotlib
 
+    from gvgai_pcg.rl.atomic_files import atomic_savefig
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -192,7 +196,7 @@ def write_curves(runs: Sequence[tuple[str, str, Path]], folder: Path) -> list[Pa
         fig.suptitle(f"{game}: the curricula over training (one line per run)")
         fig.tight_layout()
         path = folder / f"curricula-curves-{game}.png"
-        fig.savefig(path, dpi=80)
+        atomic_savefig(fig, path, dpi=80)
         plt.close(fig)
         written.append(path)
     return written

@@ -11,7 +11,6 @@ import json
 import os
 import platform
 import re
-import shutil
 from pathlib import Path
 
 START, END = "<!-- results:start -->", "<!-- results:end -->"
@@ -48,12 +47,14 @@ def _runs_table(published: Path, target_frames: int) -> str:
 def results_block(published: Path, images: Path, image_prefix: str, target_frames: int, commit: str) -> str:
     """The page's results block from ``published``; the curve images are copied into ``images``
     and referenced as ``image_prefix/<name>``."""
+    from gvgai_pcg.rl.atomic_files import atomic_copy
+
     report = (published / "report" / "results.md").read_text()
     images.mkdir(parents=True, exist_ok=True)
     for stale in images.glob("curves-*.png"):  # a game no longer in the report keeps no figure
         stale.unlink()
     for figure in sorted((published / "report").glob("curves-*.png")):
-        shutil.copy2(figure, images / figure.name)
+        atomic_copy(figure, images / figure.name)
     report = re.sub(r"\]\((curves-[\w-]+\.(?:png|svg))\)", rf"]({image_prefix}/\1)", report)
     report = report.replace("# Results\n", "", 1).replace("\n## ", "\n### ")
     claims_path = published / "report" / "claims.md"
@@ -99,10 +100,12 @@ def write_results_page(
 
 def replace_block(page: Path, block: str, start: str = START, end: str = END) -> Path:
     """Replace ``page``'s text from ``start`` to ``end`` by ``block`` (which holds both markers)."""
+    from gvgai_pcg.rl.atomic_files import atomic_write_text
+
     text = page.read_text()
     if start not in text or end not in text:
         raise ValueError(f"{page}: no {start} ... {end} block to write the results into")
     before, rest = text.split(start, 1)
     after = rest.split(end, 1)[1]
-    page.write_text(before + block + after)
+    atomic_write_text(page, before + block + after)
     return page

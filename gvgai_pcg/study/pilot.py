@@ -25,6 +25,7 @@ from pathlib import Path
 
 import yaml
 
+from gvgai_pcg.rl.atomic_files import atomic_write_text
 from gvgai_pcg.rl.run_log import read_log
 
 WINDOW_FRAMES = 500_000  # the training score is averaged over this many frames (about 100 episodes)
@@ -144,7 +145,7 @@ def write_page(page: Path, table: str) -> None:
     """Put ``table`` between the page's pilot markers."""
     text = Path(page).read_text()
     head, rest = text.split(START, 1)
-    Path(page).write_text(f"{head}{START}\n{table}\n{END}{rest.split(END, 1)[1]}")
+    atomic_write_text(Path(page), f"{head}{START}\n{table}\n{END}{rest.split(END, 1)[1]}")
 
 
 def main(argv: list[str]) -> int:

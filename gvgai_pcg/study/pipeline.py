@@ -350,12 +350,15 @@ def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = 
     by a copy that has trained fewer frames."""
     from gvgai_pcg.evaluation.checkpoints import PUBLISHED, find_runs, published_run_info, run_info
     from gvgai_pcg.evaluation.evaluator import read_records, run_results_path
+    from gvgai_pcg.rl.atomic_files import atomic_copy, recover_folders
 
     if runs is None:
         runs = [out / "runs"] if (out / "runs").is_dir() else []
     found = find_runs(list(runs)) if runs else []
     refuse_other_configs(found, dest / "runs")
     dest.mkdir(parents=True, exist_ok=True)
+    recover_folders(dest / "runs")
+    recover_folders(dest)
     for run in found:
         records_path = run_results_path(run, protocol) if protocol is not None else None
         if records_path is not None and not records_path.is_file():
@@ -364,44 +367,76 @@ def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = 
         target = dest / "runs" / run.name
         if (target / PUBLISHED).is_file() and published_run_info(target).frames > info.frames:
             continue  # the published run has trained longer
-        (target / "eval").mkdir(parents=True, exist_ok=True)
-        for name in (
-            "config.yaml",
-            "log.csv",
-            "sessions.csv",
-            "curve.png",
-            REPLAY_PICTURE,
-            REPLAY_STATS,
-            BORROWED,
-        ):
-            if (run / name).is_file():
-                shutil.copy2(run / name, target / name)
-        # the study protocol's records, and the UED protocol's per-level CSV and summary
-        for pattern in ("*.jsonl", "ued-*.csv", "ued-*.json"):
-            for results in sorted((run / "eval").glob(pattern)):
-                shutil.copy2(results, target / "eval" / results.name)
-        # the held-out score over training (``evaluate --snapshots``): records and figure, not the models
-        if (run / "eval" / "snapshots").is_dir():
-            shutil.copytree(
-                run / "eval" / "snapshots",
-                target / "eval" / "snapshots",
-                dirs_exist_ok=True,
-                ignore=WRITER_LOCKS,
-            )
         model = {"checkpoint": str(info.checkpoint), "frames": info.frames}
         if records_path is not None:
             first = read_records(records_path)[0]
             model = {"checkpoint": first.checkpoint, "frames": first.frames}
-        if model["frames"] == info.frames and info.model_file.stat().st_size < MODEL_LIMIT_BYTES:
-            shutil.copy2(info.model_file, target / info.model_file.name)
-            model["copied"] = info.model_file.name
-        (target / PUBLISHED).write_text(json.dumps(model, indent=1) + "\n")
-    if (out / "report").is_dir():
-        shutil.rmtree(dest / "report", ignore_errors=True)  # no figure of an earlier report stays
-        shutil.copytree(out / "report", dest / "report", ignore=WRITER_LOCKS)
+        with staged_folder(target) as staged:
+            _stage_run(run, staged, model, info.frames, info.model_file)
+    if (out / "report").is_dir():  # replaced whole: no figure of an earlier report stays
+        with staged_folder(dest / "report", keep=False) as staged:
+            shutil.copytree(out / "report", staged, ignore=WRITER_LOCKS, dirs_exist_ok=True)
     if (out / "random").is_dir():
-        shutil.copytree(out / "random", dest / "random", dirs_exist_ok=True, ignore=WRITER_LOCKS)
+        shutil.copytree(
+            out / "random",
+            dest / "random",
+            dirs_exist_ok=True,
+            ignore=WRITER_LOCKS,
+            copy_function=atomic_copy,
+        )
     return dest
+
+
+@contextlib.contextmanager
+def staged_folder(target: Path, keep: bool = True) -> Iterator[Path]:
+    """A folder to build ``target``'s new content in (``keep``: starting from a copy of what
+    ``target`` holds now), swapped in when the block ends; a block cut short leaves ``target`` as
+    it was and removes the staging folder."""
+    from gvgai_pcg.rl.atomic_files import staging_folder, swap_in_folder
+
+    staged = staging_folder(target)
+    shutil.rmtree(staged, ignore_errors=True)
+    if keep and target.is_dir():
+        shutil.copytree(target, staged)
+    staged.mkdir(parents=True, exist_ok=True)
+    try:
+        yield staged
+    except BaseException:
+        shutil.rmtree(staged, ignore_errors=True)
+        raise
+    swap_in_folder(staged, target)
+
+
+def _stage_run(run: Path, staged: Path, model: dict, frames: int, model_file: Path) -> None:
+    """Into ``staged``: ``run``'s config, logs, pictures and evaluation records, its model when it
+    is small and the one evaluated, and ``published.json`` naming that model."""
+    from gvgai_pcg.evaluation.checkpoints import PUBLISHED
+
+    (staged / "eval").mkdir(parents=True, exist_ok=True)
+    for name in (
+        "config.yaml",
+        "log.csv",
+        "sessions.csv",
+        "curve.png",
+        REPLAY_PICTURE,
+        REPLAY_STATS,
+        BORROWED,
+    ):
+        if (run / name).is_file():
+            shutil.copy2(run / name, staged / name)
+    # the study protocol's records, and the UED protocol's per-level CSV and summary
+    for pattern in ("*.jsonl", "ued-*.csv", "ued-*.json"):
+        for results in sorted((run / "eval").glob(pattern)):
+            shutil.copy2(results, staged / "eval" / results.name)
+    # the held-out score over training (``evaluate --snapshots``): records and figure, not the models
+    if (run / "eval" / "snapshots").is_dir():
+        shutil.copytree(
+            run / "eval" / "snapshots", staged / "eval" / "snapshots", dirs_exist_ok=True, ignore=WRITER_LOCKS
+        )
+    if model["frames"] == frames and model_file.stat().st_size < MODEL_LIMIT_BYTES:
+        shutil.copy2(model_file, staged / model_file.name)
+        model["copied"] = model_file.name
+    (staged / PUBLISHED).write_text(json.dumps(model, indent=1) + "\n")
 
 
 def write_claims(
@@ -416,11 +451,12 @@ def write_claims(
     ``level_sampling``: intervals over seeds and the generated sets' levels (off for the
     published budgets, whose pages rebuild as they were)."""
     from gvgai_pcg.evaluation.checkpoints import find_runs
+    from gvgai_pcg.rl.atomic_files import atomic_write_text
     from gvgai_pcg.study.claims import claims_markdown, collect, study_claims
 
     games = collect(find_runs(list(runs)), random_cache, protocol, target_frames)
-    path.write_text(
-        claims_markdown(study_claims(games, target_frames, level_sampling), games, level_sampling)
+    atomic_write_text(
+        path, claims_markdown(study_claims(games, target_frames, level_sampling), games, level_sampling)
     )
     return path
 
@@ -437,6 +473,7 @@ def write_curricula(
     replay picture of each run trained here, then ``report_dir/curricula.md`` (tables and the
     answer, ``gvgai_pcg.study.comparison``) and the curves of d over training."""
     from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
+    from gvgai_pcg.rl.atomic_files import atomic_write_text
     from gvgai_pcg.study.comparison import collect_runs, comparison_markdown
     from gvgai_pcg.study.curricula_runs import (
         evaluate_ued,
@@ -453,7 +490,7 @@ def write_curricula(
     runs = [*here, *(find_runs(list(elsewhere)) if elsewhere else [])]
     games = collect_runs(runs, protocol, budget.ued)
     path = report_dir / "curricula.md"
-    path.write_text(comparison_markdown(games))
+    atomic_write_text(path, comparison_markdown(games))
     for stale in report_dir.glob("curricula-curves-*.png"):
         stale.unlink()
     infos = [run_info(run) for run in runs]

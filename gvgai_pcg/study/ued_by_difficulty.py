@@ -56,6 +56,8 @@ def write_solved_by_difficulty(
 def _figure(game: str, by_label: dict[str, list[list[float | None]]], folder: Path) -> Path:
     import matplotlib
 
+    from gvgai_pcg.rl.atomic_files import atomic_savefig
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -88,6 +90,6 @@ def _figure(game: str, by_label: dict[str, list[list[float | None]]], folder: Pa
     )
     fig.tight_layout()
     path = folder / f"ued-solved-by-d-{game}.png"
-    fig.savefig(path, dpi=80)
+    atomic_savefig(fig, path, dpi=80)
     plt.close(fig)
     return path
