@@ -56,6 +56,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="take runs that train exactly as another sweep's (its --out folder) did, at this budget's "
         "frames, instead of training them (the curricula comparison's PCG 1 and PPCG from medium's)",
     )
+    parser.add_argument(
+        "--status",
+        action="store_true",
+        help="show each planned run's frames and state and the run-hours left, and train nothing",
+    )
     parser.add_argument("--no-progress", action="store_true", help="hide progress bars")
     parser.add_argument("overrides", nargs="*", help="Hydra overrides for every run")
 
@@ -83,6 +88,18 @@ def run(args: argparse.Namespace) -> int:
     if args.jobs < 1:
         raise ValueError(f"--jobs must be at least 1, got {args.jobs}")
     out = args.out or Path("reproduce") / budget.name
+    if args.status:
+        from gvgai_pcg.study.sweep_status import status_text, sweep_status
+
+        published = Path(args.publish) if args.publish else None
+        borrow = Path(args.borrow_from) if args.borrow_from else None
+        print(f"reproduce --status: budget {budget.name}, {len(conditions)} conditions, into {out}")
+        print(
+            status_text(
+                sweep_status(budget, conditions, Path(out), args.overrides, published, borrow), args.jobs
+            )
+        )
+        return 0
     low, high = budget.frames_range
     frames = f"{low:,} frames each" if low == high else f"{low:,}-{high:,} frames each"
     runs = sum(len(budget.seeds_of(c)) for c in conditions)

@@ -1,0 +1,185 @@
+"""Where a sweep stands (``reproduce --status``): each planned run, how far it has trained, whether
+a process is training it now, and the run-hours left, so that a sweep spread over sittings can be
+planned without opening its logs.
+
+The estimate of a run that has started is its own pace (its training wall time over its frames);
+of one not started, the pace of the budget's finished runs of its condition, or else of its
+game's runs, per frame. It is a plan, not a promise: a run's speed depends on what else runs
+beside it.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import os
+import statistics
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from gvgai_pcg.study.borrowed_runs import BORROWED
+from gvgai_pcg.study.conditions import Budget
+
+
+@dataclass(frozen=True)
+class RunStatus:
+    """One planned run: ``state`` is ``finished``, ``training``, ``stopped``, ``not started``,
+    ``borrowed`` or ``to borrow``; ``hours`` its training wall time so far; ``left`` the estimated
+    run-hours to finish it (``None``: no estimate, or none needed)."""
+
+    condition: str
+    seed: int
+    name: str
+    target: int
+    frames: int
+    state: str
+    hours: float
+    where: Path | None
+    left: float | None = None
+
+    @property
+    def game(self) -> str:
+        return self.condition.split("-", 1)[0]
+
+
+def training_holder(run: Path) -> str | None:
+    """The holder note of ``run``'s lock while a process trains it (``None``: no one does)."""
+    from gvgai_pcg.rl.run_lock import LOCK_NAME, describe_holder
+
+    path = run / LOCK_NAME
+    if not path.is_file():
+        return None
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
+    except BlockingIOError:
+        return describe_holder(path.read_bytes())
+    else:
+        fcntl.flock(fd, fcntl.LOCK_UN)
+        return None
+    finally:
+        os.close(fd)
+
+
+def _progress(run: Path) -> tuple[int, float]:
+    """Frames and training wall hours of ``run`` by its log's last row (0, 0.0 without a log)."""
+    from gvgai_pcg.rl.run_log import LOG_NAME, read_log
+
+    rows = read_log(run / LOG_NAME) if (run / LOG_NAME).is_file() else []
+    return (int(rows[-1]["frames"]), float(rows[-1]["time"]) / 3600) if rows else (0, 0.0)
+
+
+def _checkpoint_frames(run: Path, logged: int) -> int:
+    """The frames of ``run``'s newest model or checkpoint (what a resume continues from); its
+    log's ``logged`` frames where it has written none yet."""
+    from gvgai_pcg.evaluation.checkpoints import run_info
+
+    try:
+        return run_info(run).frames
+    except FileNotFoundError:
+        return logged
+
+
+def _published_frames(run: Path) -> int:
+    from gvgai_pcg.evaluation.checkpoints import PUBLISHED, published_run_info
+
+    return published_run_info(run).frames if (run / PUBLISHED).is_file() else 0
+
+
+def run_status(
+    condition: str,
+    seed: int,
+    name: str,
+    target: int,
+    out: Path,
+    published: Path | None = None,
+    borrow_from: Path | None = None,
+) -> RunStatus:
+    """The state of the run ``name`` of ``(condition, seed)``, trained into ``out/runs``
+    (finished there, or published under ``published/runs``, or in ``borrow_from``'s runs)."""
+    here = out / "runs" / name
+    status = {"condition": condition, "seed": seed, "name": name, "target": target}
+    if here.is_dir():
+        logged, hours = _progress(here)
+        frames = _checkpoint_frames(here, logged)
+        if (here / BORROWED).is_file():
+            return RunStatus(**status, frames=frames, state="borrowed", hours=0.0, where=here)
+        holder = training_holder(here)
+        state = "finished" if frames >= target else "training" if holder else "stopped"
+        return RunStatus(**status, frames=frames, state=state, hours=hours, where=here)
+    if published is not None and _published_frames(there := published / "runs" / name) >= target:
+        frames, hours = _progress(there)
+        return RunStatus(**status, frames=target, state="finished", hours=hours, where=there)
+    if borrow_from is not None:
+        source = borrow_from / "runs" / name if (borrow_from / "runs").is_dir() else borrow_from / name
+        if source.is_dir():
+            frames, _ = _progress(source)
+            return RunStatus(**status, frames=frames, state="to borrow", hours=0.0, where=source)
+    return RunStatus(**status, frames=0, state="not started", hours=0.0, where=None)
+
+
+def with_estimates(runs: Sequence[RunStatus]) -> list[RunStatus]:
+    """``runs`` with ``left`` filled in where a pace is known (see the module docstring)."""
+
+    def pace(rows: list[RunStatus]) -> float | None:
+        paces = [r.hours / r.frames for r in rows if r.state == "finished" and r.frames and r.hours]
+        return statistics.median(paces) if paces else None
+
+    estimated = []
+    for run in runs:
+        left = None
+        if run.state in ("training", "stopped") and run.frames and run.hours:
+            left = run.hours / run.frames * (run.target - run.frames)
+        elif run.state == "not started":
+            known = pace([r for r in runs if r.condition == run.condition]) or pace(
+                [r for r in runs if r.game == run.game]
+            )
+            left = None if known is None else known * run.target
+        estimated.append(RunStatus(**{**run.__dict__, "left": left}))
+    return estimated
+
+
+def sweep_status(
+    budget: Budget,
+    conditions: Sequence[str],
+    out: Path,
+    overrides: Sequence[str] = (),
+    published: Path | None = None,
+    borrow_from: Path | None = None,
+) -> list[RunStatus]:
+    """Every run the sweep plans, in the order it trains them (seed by seed), with its state."""
+    from gvgai_pcg.study.pipeline import planned_configs
+
+    planned = planned_configs(budget, conditions, overrides)
+    order = {condition: i for i, condition in enumerate(conditions)}
+    runs = [
+        run_status(condition, seed, name, budget.frames_of(condition), Path(out), published, borrow_from)
+        for (condition, seed), configs in sorted(planned.items(), key=lambda kv: (kv[0][1], order[kv[0][0]]))
+        for name in configs
+    ]
+    return with_estimates(runs)
+
+
+def status_text(runs: Sequence[RunStatus], jobs: int = 1) -> str:
+    """A table of ``runs`` and a summary: how many are in each state, run-hours spent and left,
+    and the wall hours left on ``jobs`` runs side by side."""
+    lines = [f"{'run':<44} {'frames':>23}  {'state':<11} {'hours':>6} {'left (h)':>8}"]
+    for run in runs:
+        frames = f"{run.frames:,} / {run.target:,}"
+        left = "-" if run.left is None else f"{run.left:.2f}"
+        lines.append(f"{run.name:<44} {frames:>23}  {run.state:<11} {run.hours:>6.2f} {left:>8}")
+    counts = {state: sum(r.state == state for r in runs) for state in dict.fromkeys(r.state for r in runs)}
+    spent = sum(r.hours for r in runs if r.state != "borrowed")
+    unfinished = [r for r in runs if r.state in ("training", "stopped", "not started")]
+    left = sum(r.left for r in unfinished if r.left is not None)
+    unknown = sum(r.left is None for r in unfinished)
+    summary = ", ".join(f"{count} {state}" for state, count in counts.items())
+    lines += ["", f"{len(runs)} runs: {summary}; {spent:.2f} run-hours trained."]
+    if unfinished:
+        guess = f"about {left:.2f} run-hours left, {left / jobs:.2f} h on {jobs} job(s) side by side"
+        if unknown:
+            guess += f" (and {unknown} run(s) with no estimate yet: no run of their game has finished)"
+        lines.append(guess + ".")
+    else:
+        lines.append("Nothing left to train.")
+    return "\n".join(lines)

@@ -1,0 +1,93 @@
+"""``reproduce --status``: each planned run's state, and the run-hours left from the runs' own pace."""
+
+from __future__ import annotations
+
+import csv
+import subprocess
+import sys
+from pathlib import Path
+
+from gvgai_pcg.rl.run_lock import FolderLock
+from gvgai_pcg.rl.run_log import COLUMNS
+from gvgai_pcg.study import BUDGETS
+from gvgai_pcg.study.sweep_status import RunStatus, run_status, status_text, sweep_status, with_estimates
+from tests.evaluation.conftest import make_run
+
+
+def _trained(root: Path, regimen: str, seed: int, frames: int, hours: float) -> Path:
+    """A run with a model at ``frames`` and a log whose last row is ``frames`` after ``hours``."""
+    run = make_run(root, regimen, seed, frames=frames)
+    with open(run / "log.csv", "w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=COLUMNS)
+        writer.writeheader()
+        writer.writerow({**dict.fromkeys(COLUMNS, 0), "frames": frames, "time": hours * 3600})
+    return run
+
+
+def test_each_state_is_told_apart_and_a_lock_means_training(tmp_path):
+    out = tmp_path / "out"
+    finished = _trained(out / "runs", "lv0", 0, 1000, 0.5)
+    stopped = _trained(out / "runs", "lv0", 1, 400, 0.2)
+    training = _trained(out / "runs", "lv0", 2, 250, 0.1)
+    (make_run(out / "runs", "ppcg", 0) / "borrowed.json").write_text("{}")
+
+    def status(name: str) -> RunStatus:
+        return run_status("zelda-lv0", 0, name, 1000, out)
+
+    assert status(finished.name).state == "finished" and status(finished.name).hours == 0.5
+    assert status(stopped.name).state == "stopped" and status(stopped.name).frames == 400
+    with FolderLock(training, "a test holds it"):
+        assert status(training.name).state == "training"
+    assert status(training.name).state == "stopped"  # the lock went with its holder
+    assert status("zelda-ppcg-seed0").state == "borrowed"
+    assert status("zelda-lv0-seed9").state == "not started"
+
+
+def test_a_run_published_elsewhere_is_finished_and_a_run_of_the_other_sweep_is_to_borrow(tmp_path):
+    published, other = tmp_path / "published", tmp_path / "other"
+    run = _trained(published / "runs", "lv0", 0, 1000, 0.4)
+    (run / "published.json").write_text('{"checkpoint": "model.pt", "frames": 1000}')
+    _trained(other / "runs", "ppcg", 0, 300, 0.1)
+    here = tmp_path / "out"
+    assert run_status("zelda-lv0", 0, run.name, 1000, here, published).state == "finished"
+    to_borrow = run_status("zelda-ppcg", 0, "zelda-ppcg-seed0", 1000, here, published, other)
+    assert (to_borrow.state, to_borrow.frames, to_borrow.left) == ("to borrow", 300, None)
+
+
+def test_the_estimate_is_a_runs_own_pace_else_its_conditions_else_its_games():
+    def run(condition, seed, frames, state, hours, target=1000):
+        return RunStatus(condition, seed, f"{condition}-{seed}", target, frames, state, hours, None)
+
+    runs = with_estimates(
+        [
+            run("zelda-lv0", 0, 1000, "finished", 1.0),
+            run("zelda-lv0", 1, 1000, "finished", 3.0),
+            run("zelda-lv0", 2, 250, "stopped", 0.5),  # its own pace: 0.5 h per 250 frames
+            run("zelda-lv0", 3, 0, "not started", 0.0),  # the condition's median: 2 h per 1000
+            run("zelda-lv4", 0, 0, "not started", 0.0, target=500),  # the game's: 1 h per 500
+            run("frogs-ppcg", 0, 0, "not started", 0.0),  # no Frogs run has finished
+        ]
+    )
+    assert [r.left for r in runs] == [None, None, 1.5, 2.0, 1.0, None]
+    text = status_text(runs, jobs=2)
+    assert "6 runs: 2 finished, 1 stopped, 3 not started; 4.50 run-hours trained." in text
+    assert "about 4.50 run-hours left, 2.25 h on 2 job(s) side by side (and 1 run(s) with no estimate" in text
+
+
+def test_the_status_of_a_fresh_sweep_lists_every_planned_run_in_order_and_trains_nothing(tmp_path):
+    budget = BUDGETS["smoke"]
+    runs = sweep_status(budget, ["zelda-lv0", "frogs-pcg1"], tmp_path / "out")
+    assert [(r.condition, r.seed) for r in runs] == [
+        (c, s) for s in budget.all_seeds for c in ["zelda-lv0", "frogs-pcg1"] if s in budget.seeds_of(c)
+    ]
+    assert {r.state for r in runs} == {"not started"} and not (tmp_path / "out").exists()
+    assert runs[0].name == "zelda-lv0-tiles-compact-seed0"
+
+
+def test_reproduce_status_prints_the_table_and_exits_0(tmp_path):
+    command = [sys.executable, "-m", "gvgai_pcg.cli", "reproduce", "--budget", "smoke", "--status"]
+    command += ["--conditions", "zelda-lv0", "--out", str(tmp_path / "out")]
+    done = subprocess.run(command, capture_output=True, text=True, check=False)
+    assert done.returncode == 0, done.stderr
+    assert "zelda-lv0-tiles-compact-seed0" in done.stdout and "not started" in done.stdout
+    assert "with no estimate yet" in done.stdout and not (tmp_path / "out").exists()
