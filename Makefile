@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: setup run test lint bench docs clean reproduce
+.PHONY: setup run test lint bench docs clean reproduce status
 
 setup: $(STAMP)
 
@@ -37,6 +37,10 @@ JOBS ?= 2
 PAGE := $(if $(filter smoke curricula-smoke,$(BUDGET)),,--budget-page)
 reproduce: $(STAMP)
 	$(BIN)/gvgai-pcg reproduce --budget $(BUDGET) --jobs $(JOBS) --out reproduce/$(BUDGET) --publish results/$(BUDGET) $(PAGE) $(if $(BORROW),--borrow-from $(BORROW))
+
+# Where `make reproduce` stands: each run's frames and state, and the run-hours left.
+status: $(STAMP)
+	$(BIN)/gvgai-pcg reproduce --budget $(BUDGET) --jobs $(JOBS) --out reproduce/$(BUDGET) --publish results/$(BUDGET) --status $(if $(BORROW),--borrow-from $(BORROW))
 
 # DEVICE=cuda measures the GPU alone; left out, the CPU is measured, and CUDA too where there is one.
 DEVICE ?=
