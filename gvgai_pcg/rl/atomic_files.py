@@ -94,18 +94,14 @@ def atomic_write_text(path: Path, text: str) -> Path:
 
 def atomic_copy(source: Path, target: Path) -> Path:
     """Copy ``source`` (with its times) over ``target`` atomically, so a reader never sees half of it."""
-    target = Path(target)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = temporary_path(target)
-    try:
-        shutil.copy2(source, tmp)
-        fsync_file(tmp)
-        os.replace(tmp, target)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    fsync_directory(target.parent)
-    return target
+
+    def copy(handle: BinaryIO) -> None:
+        with open(source, "rb") as reader:
+            shutil.copyfileobj(reader, handle)
+
+    atomic_write(Path(target), copy)
+    shutil.copystat(source, target)
+    return Path(target)
 
 
 def atomic_savefig(fig, path: Path, **savefig_kwargs) -> Path:

@@ -120,3 +120,14 @@ def test_a_signal_inside_the_deferred_block_acts_only_when_the_block_has_ended()
             os.kill(os.getpid(), signal.SIGINT)
             steps.append("Ctrl-C waited too")
     assert steps[-1] == "Ctrl-C waited too"
+
+
+def test_an_atomic_copy_keeps_the_times_and_leaves_no_temporary_file(tmp_path):
+    from gvgai_pcg.rl.atomic_files import atomic_copy
+
+    source = tmp_path / "records.jsonl"
+    source.write_text("{}\n")
+    os.utime(source, (1_000_000, 1_000_000))
+    target = atomic_copy(source, tmp_path / "random" / "records.jsonl")
+    assert target.read_text() == "{}\n" and target.stat().st_mtime == 1_000_000
+    assert [p.name for p in target.parent.iterdir()] == ["records.jsonl"]
