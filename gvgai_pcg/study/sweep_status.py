@@ -71,12 +71,13 @@ def _progress(run: Path) -> tuple[int, float]:
 
 def _checkpoint_frames(run: Path, logged: int) -> int:
     """The frames of ``run``'s newest model or checkpoint (what a resume continues from); its
-    log's ``logged`` frames where it has written none yet."""
+    log's ``logged`` frames where it has written none yet, or none it can read (a status never
+    stops at one bad run: training it says what is wrong)."""
     from gvgai_pcg.evaluation.checkpoints import run_info
 
     try:
         return run_info(run).frames
-    except FileNotFoundError:
+    except Exception:  # noqa: BLE001 (no model yet, a diverged or unreadable one: the log's count)
         return logged
 
 

@@ -91,3 +91,10 @@ def test_reproduce_status_prints_the_table_and_exits_0(tmp_path):
     assert done.returncode == 0, done.stderr
     assert "zelda-lv0-tiles-compact-seed0" in done.stdout and "not started" in done.stdout
     assert "with no estimate yet" in done.stdout and not (tmp_path / "out").exists()
+
+
+def test_a_run_whose_checkpoint_cannot_be_read_is_counted_by_its_log(tmp_path):
+    run = _trained(tmp_path / "out" / "runs", "lv0", 0, 400, 0.2)
+    (run / "model.pt").write_bytes(b"not a checkpoint")
+    status = run_status("zelda-lv0", 0, run.name, 1000, tmp_path / "out")
+    assert (status.state, status.frames) == ("stopped", 400)
