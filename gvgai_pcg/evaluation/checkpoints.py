@@ -114,7 +114,7 @@ class RunInfo:
         return (TRAINING_SET, *sorted(shared))
 
 
-# A published run (``gvgai_pcg.study.pipeline.publish``) names its model here instead of holding
+# A published run (``gvgai_pcg.study.publish.publish``) names its model here instead of holding
 # it: its results and logs rebuild a report (``--no-evaluate``) without the model file.
 PUBLISHED = "published.json"
 

@@ -22,7 +22,6 @@ from gvgai_pcg.study import BUDGETS, STUDY_CONDITIONS, reproduce
 from gvgai_pcg.study.conditions import EXTRA_CONDITIONS, known_conditions
 from gvgai_pcg.study.page import write_results_page
 from gvgai_pcg.study.pipeline import (
-    MODEL_LIMIT_BYTES,
     planned_configs,
     published_elsewhere,
     run_sweep,
@@ -30,6 +29,7 @@ from gvgai_pcg.study.pipeline import (
     sweep_arguments,
     sweep_plan,
 )
+from gvgai_pcg.study.publish import MODEL_LIMIT_BYTES
 
 PROTOCOL = Protocol(**BUDGETS["smoke"].protocol)
 REGIMEN_NAMES = {"lv0": "lv", "lv4": "lv", "lv0-3": "lv0-3", "pcg0.5": "pcg", "pcg1": "pcg", "ppcg": "ppcg"}
@@ -283,7 +283,7 @@ def test_publish_refuses_a_folder_holding_a_run_of_another_config(tmp_path):
 
     import yaml
 
-    from gvgai_pcg.study.pipeline import publish
+    from gvgai_pcg.study.publish import publish
     from tests.evaluation.conftest import make_run
 
     out, dest = tmp_path / "out", tmp_path / "published"

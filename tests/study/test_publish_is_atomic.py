@@ -14,7 +14,7 @@ import pytest
 from gvgai_pcg.evaluation.checkpoints import find_runs
 from gvgai_pcg.rl.atomic_files import recover_folders, staging_folder
 from gvgai_pcg.rl.stop_signal import stop_signals_deferred
-from gvgai_pcg.study import pipeline
+from gvgai_pcg.study import publish as publishing
 from tests.evaluation.conftest import make_run, write_log
 
 
@@ -28,7 +28,7 @@ def _published_once(tmp_path: Path) -> tuple[Path, Path, Path]:
     write_log(run, [(500, 1.0, 0.0), (1000, 2.0, 0.0)])
     (out / "report").mkdir(parents=True)
     (out / "report" / "results.md").write_text("# Results\n\nfirst\n")
-    pipeline.publish(out, dest)
+    publishing.publish(out, dest)
     return out, dest, run
 
 
@@ -41,9 +41,9 @@ def test_a_publish_interrupted_while_staging_a_run_leaves_the_published_run_as_i
         (staged / "log.csv").write_text("frames\n")  # half of the new publication is written
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(pipeline, "_stage_run", cut_short)
+    monkeypatch.setattr(publishing, "_stage_run", cut_short)
     with pytest.raises(KeyboardInterrupt):
-        pipeline.publish(out, dest)
+        publishing.publish(out, dest)
     assert _contents(dest) == before
     assert [p.name for p in (dest / "runs").iterdir()] == [run.name]  # no staging folder left
 
@@ -51,16 +51,16 @@ def test_a_publish_interrupted_while_staging_a_run_leaves_the_published_run_as_i
 def test_a_publish_interrupted_while_copying_the_report_keeps_the_old_report(tmp_path, monkeypatch):
     out, dest, _ = _published_once(tmp_path)
     (out / "report" / "results.md").write_text("# Results\n\nsecond\n")
-    real_copytree = pipeline.shutil.copytree
+    real_copytree = publishing.shutil.copytree
 
     def copy_then_stop(source, target, *args, **kwargs):
         real_copytree(source, target, *args, **kwargs)
         if Path(source) == out / "report":
             raise KeyboardInterrupt
 
-    monkeypatch.setattr(pipeline.shutil, "copytree", copy_then_stop)
+    monkeypatch.setattr(publishing.shutil, "copytree", copy_then_stop)
     with pytest.raises(KeyboardInterrupt):
-        pipeline.publish(out, dest)
+        publishing.publish(out, dest)
     assert (dest / "report" / "results.md").read_text() == "# Results\n\nfirst\n"
     assert not staging_folder(dest / "report").exists()
 
@@ -70,7 +70,7 @@ def test_a_second_publish_replaces_the_run_and_the_report_and_keeps_no_stale_fig
     (dest / "report" / "curves-frogs.png").write_bytes(b"an earlier report's figure")
     write_log(run, [(500, 1.0, 0.0), (1000, 3.0, 0.0)])
     (out / "report" / "results.md").write_text("# Results\n\nsecond\n")
-    pipeline.publish(out, dest)
+    publishing.publish(out, dest)
     assert (dest / "runs" / run.name / "log.csv").read_bytes() == (run / "log.csv").read_bytes()
     assert json.loads((dest / "runs" / run.name / "published.json").read_text())["frames"] == 1000
     assert sorted(p.name for p in (dest / "report").iterdir()) == ["results.md"]

@@ -12,7 +12,7 @@ from gvgai_pcg.evaluation.checkpoints import published_run_info, run_info
 from gvgai_pcg.evaluation.evaluator import evaluate_policy
 from gvgai_pcg.evaluation.policy import load_policy
 from gvgai_pcg.evaluation.protocol import Protocol
-from gvgai_pcg.study.pipeline import publish
+from gvgai_pcg.study.publish import publish
 from tests.evaluation.conftest import make_run
 
 TINY = Protocol(test_levels=2, test_episodes=1, human_episodes=1, max_steps=30)

@@ -1,0 +1,143 @@
+"""Publishing a sweep (``reproduce --publish``): what rebuilds its report, copied into a folder
+that is committed beside the code (``results/<budget>``).
+
+Each run, and the report, is built in a staging folder beside its place and swapped in
+(``gvgai_pcg.rl.atomic_files``), so a publish cut short by a signal, a full disk or a kill leaves
+the published folder as it was, and the next publish repairs what a SIGKILL left.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import shutil
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+
+from gvgai_pcg.study.borrowed_runs import BORROWED
+from gvgai_pcg.study.curricula_runs import REPLAY_PICTURE, REPLAY_STATS
+
+MODEL_LIMIT_BYTES = 2_000_000
+WRITER_LOCKS = shutil.ignore_patterns(".lock", ".*.lock")  # the evaluator's, never published
+
+
+def refuse_other_configs(runs: Sequence[Path], published: Path) -> None:
+    """``ValueError`` before anything is published when ``published`` holds a run of one of
+    ``runs``' names but another training config: kept (it may have trained longer) beside a new
+    report, it would leave a folder whose runs no longer rebuild its table."""
+    from gvgai_pcg.evaluation.checkpoints import PUBLISHED, published_run_info, run_info
+    from gvgai_pcg.rl.checkpoint import config_differences
+
+    for run in runs:
+        target = published / run.name
+        if not (target / PUBLISHED).is_file():
+            continue
+        differences = [
+            difference.replace(" in the checkpoint, ", " published, ", 1).removesuffix(" now") + " here"
+            for difference in config_differences(published_run_info(target).config, run_info(run).config)
+        ]
+        if differences:
+            raise ValueError(
+                f"{target} is a published run of another config ({'; '.join(differences)}); publish "
+                "into another folder, or move that run away first"
+            )
+
+
+def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = None) -> Path:
+    """Copy what rebuilds the report into ``dest``: each run's config, log, evaluation results and
+    a ``published.json`` naming its model (the model itself only below 1 MB), the random agent's
+    results, and the report. ``gvgai-pcg report --no-evaluate DEST/runs --cache-dir DEST/random``
+    then rebuilds the tables and curves from ``dest`` alone. With ``protocol``, only runs with its
+    records are published, and the model named is the one they were made from, so a run that
+    trained on after its evaluation is published as evaluated. ``runs`` (default: all under
+    ``out/runs``) are the runs to publish: those of the report; a published run is never replaced
+    by a copy that has trained fewer frames."""
+    from gvgai_pcg.evaluation.checkpoints import PUBLISHED, find_runs, published_run_info, run_info
+    from gvgai_pcg.evaluation.evaluator import read_records, run_results_path
+    from gvgai_pcg.rl.atomic_files import atomic_copy, recover_folders
+
+    if runs is None:
+        runs = [out / "runs"] if (out / "runs").is_dir() else []
+    found = find_runs(list(runs)) if runs else []
+    refuse_other_configs(found, dest / "runs")
+    dest.mkdir(parents=True, exist_ok=True)
+    recover_folders(dest / "runs")
+    recover_folders(dest)
+    for run in found:
+        records_path = run_results_path(run, protocol) if protocol is not None else None
+        if records_path is not None and not records_path.is_file():
+            continue  # not evaluated yet: nothing of it is in the report
+        info = run_info(run)
+        target = dest / "runs" / run.name
+        if (target / PUBLISHED).is_file() and published_run_info(target).frames > info.frames:
+            continue  # the published run has trained longer
+        model = {"checkpoint": str(info.checkpoint), "frames": info.frames}
+        if records_path is not None:
+            first = read_records(records_path)[0]
+            model = {"checkpoint": first.checkpoint, "frames": first.frames}
+        with staged_folder(target) as staged:
+            _stage_run(run, staged, model, info.frames, info.model_file)
+    if (out / "report").is_dir():  # replaced whole: no figure of an earlier report stays
+        with staged_folder(dest / "report", keep=False) as staged:
+            shutil.copytree(out / "report", staged, ignore=WRITER_LOCKS, dirs_exist_ok=True)
+    if (out / "random").is_dir():
+        shutil.copytree(
+            out / "random",
+            dest / "random",
+            dirs_exist_ok=True,
+            ignore=WRITER_LOCKS,
+            copy_function=atomic_copy,
+        )
+    return dest
+
+
+@contextlib.contextmanager
+def staged_folder(target: Path, keep: bool = True) -> Iterator[Path]:
+    """A folder to build ``target``'s new content in (``keep``: starting from a copy of what
+    ``target`` holds now), swapped in when the block ends; a block cut short leaves ``target`` as
+    it was and removes the staging folder."""
+    from gvgai_pcg.rl.atomic_files import staging_folder, swap_in_folder
+
+    staged = staging_folder(target)
+    shutil.rmtree(staged, ignore_errors=True)
+    if keep and target.is_dir():
+        shutil.copytree(target, staged)
+    staged.mkdir(parents=True, exist_ok=True)
+    try:
+        yield staged
+    except BaseException:
+        shutil.rmtree(staged, ignore_errors=True)
+        raise
+    swap_in_folder(staged, target)
+
+
+def _stage_run(run: Path, staged: Path, model: dict, frames: int, model_file: Path) -> None:
+    """Into ``staged``: ``run``'s config, logs, pictures and evaluation records, its model when it
+    is small and the one evaluated, and ``published.json`` naming that model."""
+    from gvgai_pcg.evaluation.checkpoints import PUBLISHED
+
+    (staged / "eval").mkdir(parents=True, exist_ok=True)
+    for name in (
+        "config.yaml",
+        "log.csv",
+        "sessions.csv",
+        "curve.png",
+        REPLAY_PICTURE,
+        REPLAY_STATS,
+        BORROWED,
+    ):
+        if (run / name).is_file():
+            shutil.copy2(run / name, staged / name)
+    # the study protocol's records, and the UED protocol's per-level CSV and summary
+    for pattern in ("*.jsonl", "ued-*.csv", "ued-*.json"):
+        for results in sorted((run / "eval").glob(pattern)):
+            shutil.copy2(results, staged / "eval" / results.name)
+    # the held-out score over training (``evaluate --snapshots``): records and figure, not the models
+    if (run / "eval" / "snapshots").is_dir():
+        shutil.copytree(
+            run / "eval" / "snapshots", staged / "eval" / "snapshots", dirs_exist_ok=True, ignore=WRITER_LOCKS
+        )
+    if model["frames"] == frames and model_file.stat().st_size < MODEL_LIMIT_BYTES:
+        shutil.copy2(model_file, staged / model_file.name)
+        model["copied"] = model_file.name
+    (staged / PUBLISHED).write_text(json.dumps(model, indent=1) + "\n")
