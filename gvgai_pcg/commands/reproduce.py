@@ -88,6 +88,9 @@ def run(args: argparse.Namespace) -> int:
     if args.jobs < 1:
         raise ValueError(f"--jobs must be at least 1, got {args.jobs}")
     out = args.out or Path("reproduce") / budget.name
+    for flag, folder in (("--out", out), ("--publish", args.publish), ("--borrow-from", args.borrow_from)):
+        if folder is not None and Path(folder).exists() and not Path(folder).is_dir():
+            raise ValueError(f"{flag} {folder} is a file, not a folder")
     if args.status:
         from gvgai_pcg.study.sweep_status import status_text, sweep_status
 

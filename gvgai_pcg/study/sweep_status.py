@@ -151,6 +151,8 @@ def sweep_status(
     """Every run the sweep plans, in the order it trains them (seed by seed), with its state."""
     from gvgai_pcg.study.pipeline import planned_configs
 
+    if borrow_from is not None and not Path(borrow_from).is_dir():
+        raise FileNotFoundError(f"--borrow-from {borrow_from}: no such sweep folder to borrow runs from")
     planned = planned_configs(budget, conditions, overrides)
     order = {condition: i for i, condition in enumerate(conditions)}
     runs = [
@@ -176,11 +178,12 @@ def status_text(runs: Sequence[RunStatus], jobs: int = 1) -> str:
     unknown = sum(r.left is None for r in unfinished)
     summary = ", ".join(f"{count} {state}" for state, count in counts.items())
     lines += ["", f"{len(runs)} runs: {summary}; {spent:.2f} run-hours trained."]
-    if unfinished:
+    no_estimate = f"{unknown} run(s) with no estimate yet: no run of their game has finished"
+    if unfinished and unknown == len(unfinished):
+        lines.append(f"{len(unfinished)} run(s) left to train, {no_estimate}.")
+    elif unfinished:
         guess = f"about {left:.2f} run-hours left, {left / jobs:.2f} h on {jobs} job(s) side by side"
-        if unknown:
-            guess += f" (and {unknown} run(s) with no estimate yet: no run of their game has finished)"
-        lines.append(guess + ".")
+        lines.append(guess + (f" (and {no_estimate})" if unknown else "") + ".")
     else:
         lines.append("Nothing left to train.")
     return "\n".join(lines)

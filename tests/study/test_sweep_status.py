@@ -90,7 +90,8 @@ def test_reproduce_status_prints_the_table_and_exits_0(tmp_path):
     done = subprocess.run(command, capture_output=True, text=True, check=False)
     assert done.returncode == 0, done.stderr
     assert "zelda-lv0-tiles-compact-seed0" in done.stdout and "not started" in done.stdout
-    assert "with no estimate yet" in done.stdout and not (tmp_path / "out").exists()
+    assert "1 run(s) left to train, 1 run(s) with no estimate yet" in done.stdout
+    assert not (tmp_path / "out").exists()
 
 
 def test_a_run_whose_checkpoint_cannot_be_read_is_counted_by_its_log(tmp_path):
@@ -98,3 +99,29 @@ def test_a_run_whose_checkpoint_cannot_be_read_is_counted_by_its_log(tmp_path):
     (run / "model.pt").write_bytes(b"not a checkpoint")
     status = run_status("zelda-lv0", 0, run.name, 1000, tmp_path / "out")
     assert (status.state, status.frames) == ("stopped", 400)
+
+
+def test_a_file_for_a_sweep_folder_or_a_missing_sweep_to_borrow_from_is_one_line(tmp_path):
+    """With and without --status: refused before anything is read or written."""
+    afile = tmp_path / "afile"
+    afile.write_text("")
+    command = [
+        sys.executable,
+        "-m",
+        "gvgai_pcg.cli",
+        "reproduce",
+        "--budget",
+        "smoke",
+        "--conditions",
+        "zelda-lv0",
+    ]
+    for extra, message in (
+        (["--out", str(afile), "--no-train"], f"--out {afile} is a file, not a folder"),
+        (["--publish", str(afile), "--status"], f"--publish {afile} is a file, not a folder"),
+        (
+            ["--borrow-from", str(tmp_path / "none"), "--status"],
+            f"--borrow-from {tmp_path / 'none'}: no such sweep folder",
+        ),
+    ):
+        done = subprocess.run([*command, *extra], capture_output=True, text=True, check=False)
+        assert done.returncode == 2 and message in done.stderr and len(done.stderr.splitlines()) == 1
