@@ -771,3 +771,29 @@ def test_a_run_on_a_level_folder_refuses_to_resume_on_changed_files(tmp_path, ca
         err.startswith("gvgai-pcg train: error: the run directory ") and "changed since it was saved" in err
     )
     assert _saved_frames(tmp_path / "run") == 40
+
+
+@pytest.mark.parametrize(
+    ("argv", "flag"),
+    [
+        (["report", "RUNS", "--no-evaluate", "--out", "FILE"], "--out"),
+        (["report", "RUNS", "--no-evaluate", "--cache-dir", "FILE"], "--cache-dir"),
+        (["analyze", "--game", "zelda", "--out", "FILE"], "--out"),
+        (["evaluate", "--game", "zelda", "--cache-dir", "FILE"], "--cache-dir"),
+        (["reproduce", "--budget", "smoke", "--no-train", "--publish", "FILE"], "--publish"),
+    ],
+)
+def test_a_file_where_a_folder_goes_is_one_line_naming_the_flag(argv, flag, tmp_path, capsys):
+    from gvgai_pcg.cli import main
+
+    afile = tmp_path / "afile"
+    afile.write_text("")
+    runs = tmp_path / "runs"
+    runs.mkdir()
+    argv = [str(afile) if a == "FILE" else str(runs) if a == "RUNS" else a for a in argv]
+    with pytest.raises(SystemExit) as stopped:
+        main(argv)
+    assert stopped.value.code == 2
+    err = capsys.readouterr().err
+    assert f"error: {flag} {afile}: a file; expected a folder" in err and len(err.strip().splitlines()) == 1
+    assert afile.read_text() == "" and list(runs.iterdir()) == []

@@ -77,12 +77,15 @@ def level_files(folder: Path) -> list[Path]:
 
 def check_arguments(args: argparse.Namespace) -> None:
     """What can be refused before the analysis imports (seconds of scikit-learn and matplotlib)."""
+    from gvgai_pcg.commands.folders import refuse_files_for_folders
+
     if args.levels is not None:
         level_files(args.levels)
     elif args.count < 2:
         raise ValueError(f"--count must be at least 2, got {args.count}")
     if args.min_samples < 1:
         raise ValueError(f"--min-samples must be at least 1, got {args.min_samples}")
+    refuse_files_for_folders({"--out": args.out})
 
 
 def generated_levels(args: argparse.Namespace) -> tuple[list[Level], list[float | None]]:

@@ -163,6 +163,9 @@ def _levels(spec: str, game: str) -> list[Level]:
 
 
 def run(args: argparse.Namespace) -> int:
+    from gvgai_pcg.commands.folders import refuse_files_for_folders
+
+    refuse_files_for_folders({"--cache-dir": args.cache_dir})
     agent = args.agent or ("trained" if args.runs else "random")
     if agent == "trained" and not args.runs:
         raise ValueError("--agent trained needs at least one RUN directory")

@@ -13,6 +13,7 @@ import argparse
 from pathlib import Path
 
 from gvgai_pcg.commands.evaluate import add_protocol_arguments, protocol_from
+from gvgai_pcg.commands.folders import refuse_files_for_folders
 from gvgai_pcg.evaluation.checkpoints import is_run_dir
 
 
@@ -31,6 +32,7 @@ def run(args: argparse.Namespace) -> int:
 
     first = args.runs[0]
     out = args.out or (first.parent if is_run_dir(first) else first) / "report"
+    refuse_files_for_folders({"--out": out, "--cache-dir": args.cache_dir})
     report = build_report(
         args.runs,
         out,

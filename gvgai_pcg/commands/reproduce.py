@@ -66,6 +66,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from gvgai_pcg.commands.folders import refuse_files_for_folders
     from gvgai_pcg.study import BUDGETS, conditions_of, reproduce
     from gvgai_pcg.study.conditions import known_conditions, unregistered
 
@@ -88,9 +89,7 @@ def run(args: argparse.Namespace) -> int:
     if args.jobs < 1:
         raise ValueError(f"--jobs must be at least 1, got {args.jobs}")
     out = args.out or Path("reproduce") / budget.name
-    for flag, folder in (("--out", out), ("--publish", args.publish), ("--borrow-from", args.borrow_from)):
-        if folder is not None and Path(folder).exists() and not Path(folder).is_dir():
-            raise ValueError(f"{flag} {folder} is a file, not a folder")
+    refuse_files_for_folders({"--out": out, "--publish": args.publish, "--borrow-from": args.borrow_from})
     if args.status:
         from gvgai_pcg.study.sweep_status import status_text, sweep_status
 

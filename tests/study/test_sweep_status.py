@@ -116,8 +116,8 @@ def test_a_file_for_a_sweep_folder_or_a_missing_sweep_to_borrow_from_is_one_line
         "zelda-lv0",
     ]
     for extra, message in (
-        (["--out", str(afile), "--no-train"], f"--out {afile} is a file, not a folder"),
-        (["--publish", str(afile), "--status"], f"--publish {afile} is a file, not a folder"),
+        (["--out", str(afile), "--no-train"], f"--out {afile}: a file; expected a folder"),
+        (["--publish", str(afile), "--status"], f"--publish {afile}: a file; expected a folder"),
         (
             ["--borrow-from", str(tmp_path / "none"), "--status"],
             f"--borrow-from {tmp_path / 'none'}: no such sweep folder",
