@@ -797,3 +797,35 @@ def test_a_file_where_a_folder_goes_is_one_line_naming_the_flag(argv, flag, tmp_
     err = capsys.readouterr().err
     assert f"error: {flag} {afile}: a file; expected a folder" in err and len(err.strip().splitlines()) == 1
     assert afile.read_text() == "" and list(runs.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (
+            ["bench", "--output", "DIR", "--seconds", "0.1"],
+            "--output DIR: a folder; expected a file to write",
+        ),
+        (
+            ["bench", "--output", "DIR/none/bench.md"],
+            "--output DIR/none/bench.md: no folder DIR/none to write it in",
+        ),
+        (["replay", "RUN", "--level", "zelda_lvl0", "--out", "DIR"], "--out DIR: a folder; expected a file"),
+        (
+            ["replay", "RUN", "--level", "zelda_lvl0", "--out", "DIR/a.png"],
+            "--out DIR/a.png: expected a .gif file",
+        ),
+    ],
+)
+def test_a_folder_where_a_file_goes_is_one_line_before_any_work(argv, message, tmp_path, capsys):
+    from gvgai_pcg.cli import main
+    from tests.evaluation.conftest import make_run
+
+    run = make_run(tmp_path / "runs", "lv0", 0)
+    argv = [a.replace("DIR", str(tmp_path)).replace("RUN", str(run)) for a in argv]
+    with pytest.raises(SystemExit) as stopped:
+        main(argv)
+    assert stopped.value.code == 2
+    err = capsys.readouterr().err
+    assert message.replace("DIR", str(tmp_path)) in err and len(err.strip().splitlines()) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["runs"]

@@ -38,6 +38,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def check_arguments(args: argparse.Namespace) -> None:
     """Bad options in one line, before any measurement (and not as a torch traceback)."""
+    from gvgai_pcg.commands.folders import refuse_folders_for_files
+
+    refuse_folders_for_files({"--output": args.output})
     if not args.seconds > 0 or args.seconds == float("inf"):
         raise ValueError(f"--seconds must be a finite number > 0, got {args.seconds}")
     if args.threads is not None and args.threads < 1:

@@ -49,10 +49,12 @@ def resolve_any_level(spec: str, game: str):
 
 
 def run(args: argparse.Namespace) -> int:
+    from gvgai_pcg.commands.folders import refuse_folders_for_files
     from gvgai_pcg.evaluation.checkpoints import run_info
     from gvgai_pcg.evaluation.policy import load_policy
     from gvgai_pcg.evaluation.replay import record_episode, write_gif
 
+    refuse_folders_for_files({"--out": args.out}, suffix=".gif")
     info = run_info(args.run, args.checkpoint)
     level = resolve_any_level(args.level, info.game)
     if level.game != info.game:
