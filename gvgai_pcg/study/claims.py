@@ -35,11 +35,13 @@ from pathlib import Path
 from gvgai_pcg.study.intervals import (
     ALPHA,
     LEVEL,
+    MOST_SEEDS,
     SEEDS_AND_LEVELS_INTERVAL,
     Estimate,
     estimate,
     holm,
     random_estimate,
+    seeds_to_decide,
 )
 from gvgai_pcg.study.table1 import (
     GENERATED_SETS,
@@ -604,11 +606,17 @@ def judge(claims: Sequence[Claim], point: bool = False) -> list[Verdict]:
     adjusted, rejected = holm([v.p for v in values]) if not point else ([math.nan] * len(values), [])
     outcomes: dict[int, list[str]] = {}
     texts: dict[int, list[str]] = {}
+    needs: dict[int, list[tuple[int | None, str]]] = {}
     for k, ((i, comparison), value) in enumerate(zip(tested, values, strict=True)):
         on_claim_side = value.value > comparison.bound if comparison.above else value.value < comparison.bound
         decided = value.value != comparison.bound if point else rejected[k]
         outcomes.setdefault(i, []).append("?" if not decided else "claim" if on_claim_side else "against")
         texts.setdefault(i, []).append(_estimate_text(comparison, value, None if point else adjusted[k]))
+        if not decided and not point:  # Bonferroni's alpha / K: Holm never needs more seeds than it
+            bonferroni = ALPHA / len(tested)
+            needs.setdefault(i, []).append(
+                seeds_to_decide(comparison.a, comparison.b, comparison.bound, bonferroni, comparison.levels)
+            )
     verdicts = []
     for i, claim in enumerate(claims):
         if claim.status:
@@ -622,8 +630,20 @@ def judge(claims: Sequence[Claim], point: bool = False) -> list[Verdict]:
             if outcome and set(outcome) == {"claim"}
             else "inconclusive"
         )
-        verdicts.append(Verdict(claim.text, verdict, "; ".join(texts.get(i, [])), len(outcome)))
+        evidence = "; ".join(texts.get(i, []))
+        if verdict == "inconclusive" and needs.get(i):
+            evidence += f". Undecided at this budget: {seeds_needed_text(needs[i])}"
+        verdicts.append(Verdict(claim.text, verdict, evidence, len(outcome)))
     return verdicts
+
+
+def seeds_needed_text(needs: Sequence[tuple[int | None, str]]) -> str:
+    """What would decide a claim's undecided comparisons (``intervals.seeds_to_decide`` each)."""
+    reasons = sorted({why for seeds, why in needs if seeds is None})
+    if reasons:
+        return "; ".join(reasons) + "."
+    most = max(seeds for seeds, _ in needs if seeds is not None)
+    return f"about {most} seeds per condition would decide it, if the means and spreads seen held."
 
 
 def study_verdicts() -> list[tuple[str, Verdict]]:
@@ -791,6 +811,10 @@ def statistics_note(verdicts: Sequence[tuple[str, Verdict]], level_sampling: boo
             f"after Holm's correction over all {family} comparisons below (family-wise alpha {ALPHA:.2f}).",
             "A claim holds when every comparison is decided on its side (Holm p <= 0.05), does not hold",
             "when one is decided against it, and is inconclusive otherwise.",
+            "An inconclusive claim says what would decide it: the seeds per condition at which its",
+            f"undecided comparisons would reach Bonferroni's alpha / {family} (Holm never needs more), if",
+            f"the means and per-seed spreads seen were the truth ({MOST_SEEDS} at most), or why no number",
+            "of seeds would.",
             *left_out,
         ]
     )

@@ -128,6 +128,42 @@ def estimate(
     return Estimate(value, wider.low, wider.high, max(both.p, over_seeds.p), seeds)
 
 
+MOST_SEEDS = 30  # the projection below stops here: more seeds than any budget of this package trains
+
+
+def seeds_to_decide(
+    a: Sequence[float],
+    b: Sequence[float] | None,
+    bound: float,
+    alpha: float,
+    levels: Sequence[Sequence[float]] = (),
+    most: int = MOST_SEEDS,
+) -> tuple[int | None, str]:
+    """How many seeds per condition ``estimate`` would need to decide "the statistic equals
+    ``bound``" at two-sided ``alpha``, if the observed mean and per-seed variance were the truth:
+    ``(seeds, "")``, or ``(None, why not)``. The seeds' variance shrinks with more seeds; the
+    test sets' level-sampling variance does not (the same levels for every seed), so where it
+    alone keeps the comparison undecided, no number of seeds decides it."""
+    if len(a) < 2 or (b is not None and len(b) < 2):
+        return None, "one seed: no spread to project from"
+    mean_a, var_a = _mean_var(a)
+    mean_b, var_b = _mean_var(b) if b is not None else (0.0, 0.0)
+    value = mean_a - mean_b
+    if value == bound:
+        return None, "the estimate sits on the bound"
+    sampled = level_terms(levels)
+    if sampled and _from_t(value, *_satterthwaite(sampled), bound, 0).p > alpha:
+        return None, "the test sets' level sampling alone leaves it undecided (larger sets would decide it)"
+    for seeds in range(min(len(a), len(b) if b is not None else len(a)), most + 1):
+        terms = [(var_a / seeds, seeds - 1)] + ([(var_b / seeds, seeds - 1)] if b is not None else [])
+        p = _from_t(value, *_satterthwaite(terms), bound, seeds).p
+        if sampled:
+            p = max(p, _from_t(value, *_satterthwaite(terms + sampled), bound, seeds).p)
+        if p <= alpha:
+            return seeds, ""
+    return None, f"more than {most} seeds"
+
+
 def random_estimate(scores: Sequence[float], bound: float = 0.0) -> Estimate:
     """The random agent's mean score on a test set with its t interval over episodes (a fixed
     policy: its episodes are independent draws; ``seeds`` counts the episodes)."""
