@@ -23,7 +23,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from gvgai_pcg.study.intervals import ALPHA, LEVEL, Estimate, estimate, holm
+from gvgai_pcg.study.intervals import ALPHA, LEVEL, MOST_SEEDS, Estimate, estimate, holm, seeds_to_decide
 from gvgai_pcg.study.table1 import GENERATED_SETS, HUMAN_SETS
 
 BASELINE = "PPCG"
@@ -69,6 +69,7 @@ class Verdict:
     outcome: str
     difference: Estimate | None = None
     adjusted_p: float = math.nan
+    decides: str = ""  # inconclusive: what would decide it (``intervals.seeds_to_decide``)
 
 
 def ued_values(summary: dict) -> dict[str, float]:
@@ -166,7 +167,11 @@ def judge(games: dict[str, dict[str, CurriculumRuns]], baseline: str = BASELINE)
             outcome = DOES_NOT_HOLD  # every seed of each side the same value: not ahead on any
         else:
             outcome = INCONCLUSIVE
-        verdicts[i] = Verdict(v.game, v.label, v.metric, outcome, difference, p)
+        decides = ""
+        if outcome == INCONCLUSIVE and difference.has_interval:  # Holm never needs more than alpha / K
+            seeds, why = seeds_to_decide(ours, theirs, 0.0, ALPHA / len(tested))
+            decides = why or f"about {seeds} seeds each would decide it, if the means and spreads seen held"
+        verdicts[i] = Verdict(v.game, v.label, v.metric, outcome, difference, p, decides)
     return verdicts
 
 
@@ -187,7 +192,8 @@ def _difference_text(verdict: Verdict) -> str:
     if not d.has_interval:
         return f"difference {d.value:+.2f}, one seed: no interval, Holm p {verdict.adjusted_p:.3g}"
     interval = f"{LEVEL * 100:.0f} % Welch t interval [{d.low:+.2f}, {d.high:+.2f}]"
-    return f"difference {d.value:+.2f}, {interval}, Holm p {verdict.adjusted_p:.3g}"
+    decides = f"; {verdict.decides}" if verdict.decides else ""
+    return f"difference {d.value:+.2f}, {interval}, Holm p {verdict.adjusted_p:.3g}{decides}"
 
 
 def answer_sentences(verdicts: Sequence[Verdict], labels: dict[str, str] | None = None) -> list[str]:
@@ -255,7 +261,9 @@ def comparison_markdown(games: dict[str, dict[str, CurriculumRuns]]) -> str:
             f"Welch t interval over seeds; Holm's correction over all {tested} comparisons together "
             f"(family-wise alpha {ALPHA:.2f}). holds: decided with the curriculum ahead; does not hold: "
             "decided with PPCG ahead, or no spread on either side and the curriculum not ahead; "
-            "inconclusive: not decided.",
+            "inconclusive: not decided, with the seeds per side that would decide it at Bonferroni's "
+            f"alpha / {tested} (Holm never needs more) if the means and spreads seen held ("
+            f"{MOST_SEEDS} at most).",
             "",
             *answer_sentences(verdicts),
             "",

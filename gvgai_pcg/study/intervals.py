@@ -161,7 +161,7 @@ def seeds_to_decide(
             p = max(p, _from_t(value, *_satterthwaite(terms + sampled), bound, seeds).p)
         if p <= alpha:
             return seeds, ""
-    return None, f"more than {most} seeds"
+    return None, f"more than {most} seeds would be needed"
 
 
 def random_estimate(scores: Sequence[float], bound: float = 0.0) -> Estimate:

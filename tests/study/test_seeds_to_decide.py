@@ -23,7 +23,7 @@ def test_the_projected_seeds_decide_the_comparison_when_the_spread_stays_the_sam
     assert estimate(_seeds_like(0.4, 0.1, seeds - 1), None, 0.25).p > 0.01  # one fewer does not
     assert seeds_to_decide(a, None, 0.25, alpha=0.01, most=seeds - 1) == (
         None,
-        f"more than {seeds - 1} seeds",
+        f"more than {seeds - 1} seeds would be needed",
     )
 
 
@@ -52,3 +52,26 @@ def test_an_inconclusive_claim_says_how_many_seeds_would_decide_it():
         f"Undecided at this budget: about {seeds} seeds per condition would decide it, if the means and "
         "spreads seen held."
     )
+
+
+def test_an_open_curriculum_comparison_says_how_many_seeds_each_would_decide_it():
+    import re
+
+    from gvgai_pcg.study.comparison import CurriculumRuns, answer_sentences
+    from gvgai_pcg.study.comparison import judge as judge_curricula
+
+    games = {
+        "zelda": {
+            "PPCG": CurriculumRuns("PPCG", "ppcg", [800] * 3, {"human": [1.0, 1.2, 0.8]}),
+            "DR": CurriculumRuns("DR", "dr", [800] * 3, {"human": [1.3, 1.9, 1.0]}),
+        }
+    }
+    [verdict] = [v for v in judge_curricula(games) if v.metric == "human"]
+    assert verdict.outcome == "inconclusive"
+    seeds = int(
+        re.fullmatch(
+            r"about (\d+) seeds each would decide it, if the means and spreads seen held", verdict.decides
+        ).group(1)
+    )
+    assert seeds == seeds_to_decide([1.3, 1.9, 1.0], [1.0, 1.2, 0.8], 0.0, alpha=0.05)[0] and seeds > 3
+    assert f"Holm p {verdict.adjusted_p:.3g}; {verdict.decides})." in "\n".join(answer_sentences([verdict]))
