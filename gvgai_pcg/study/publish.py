@@ -45,9 +45,10 @@ def refuse_other_configs(runs: Sequence[Path], published: Path) -> None:
 
 def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = None) -> Path:
     """Copy what rebuilds the report into ``dest``: each run's config, log, evaluation results and
-    a ``published.json`` naming its model (the model itself only below 1 MB), the random agent's
-    results, and the report. ``gvgai-pcg report --no-evaluate DEST/runs --cache-dir DEST/random``
-    then rebuilds the tables and curves from ``dest`` alone. With ``protocol``, only runs with its
+    a ``published.json`` naming its model (the model itself only below ``MODEL_LIMIT_BYTES``), the
+    random agent's results, and the report.
+    ``gvgai-pcg report --no-evaluate DEST/runs --cache-dir DEST/random`` then rebuilds the tables
+    and curves from ``dest`` alone. With ``protocol``, only runs with its
     records are published, and the model named is the one they were made from, so a run that
     trained on after its evaluation is published as evaluated. ``runs`` (default: all under
     ``out/runs``) are the runs to publish: those of the report; a published run is never replaced
