@@ -16,6 +16,7 @@ another sweep trained exactly as this one would (``gvgai_pcg.study.borrowed_runs
 from __future__ import annotations
 
 import argparse
+from dataclasses import replace
 from pathlib import Path
 
 
@@ -57,12 +58,30 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "frames, instead of training them (the curricula comparison's PCG 1 and PPCG from medium's)",
     )
     parser.add_argument(
+        "--seeds",
+        type=_seed_list,
+        metavar="S,S,...",
+        help="the seeds of every condition run (instead of the budget's): more seeds of some "
+        "conditions in the same sweep folder, e.g. --conditions solarfox-pcg1 --seeds 0,1,2,3,4,5",
+    )
+    parser.add_argument(
         "--status",
         action="store_true",
         help="show each planned run's frames and state and the run-hours left, and train nothing",
     )
     parser.add_argument("--no-progress", action="store_true", help="hide progress bars")
     parser.add_argument("overrides", nargs="*", help="Hydra overrides for every run")
+
+
+def _seed_list(text: str) -> tuple[int, ...]:
+    """An argparse type: comma-separated seeds, each a whole number >= 0, none twice."""
+    try:
+        seeds = tuple(int(part) for part in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected comma-separated whole numbers, got {text!r}") from None
+    if any(seed < 0 for seed in seeds) or len(set(seeds)) != len(seeds):
+        raise argparse.ArgumentTypeError(f"expected distinct seeds >= 0, got {text!r}")
+    return seeds
 
 
 def run(args: argparse.Namespace) -> int:
@@ -88,6 +107,10 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError("no condition left to run: every one's curriculum is not registered")
     if args.jobs < 1:
         raise ValueError(f"--jobs must be at least 1, got {args.jobs}")
+    if args.seeds is not None:  # finished runs are kept as they are: only the new seeds train
+        budget = replace(
+            budget, condition_seeds={**budget.condition_seeds, **dict.fromkeys(conditions, args.seeds)}
+        )
     out = args.out or Path("reproduce") / budget.name
     refuse_files_for_folders({"--out": out, "--publish": args.publish, "--borrow-from": args.borrow_from})
     if args.status:

@@ -125,3 +125,15 @@ def test_a_file_for_a_sweep_folder_or_a_missing_sweep_to_borrow_from_is_one_line
     ):
         done = subprocess.run([*command, *extra], capture_output=True, text=True, check=False)
         assert done.returncode == 2 and message in done.stderr and len(done.stderr.splitlines()) == 1
+
+
+def test_seeds_replace_the_budgets_for_the_conditions_run_and_bad_seeds_are_one_line(tmp_path):
+    command = [sys.executable, "-m", "gvgai_pcg.cli", "reproduce", "--budget", "smoke", "--status"]
+    command += ["--conditions", "zelda-lv0", "--out", str(tmp_path / "out")]
+    done = subprocess.run([*command, "--seeds", "3,7"], capture_output=True, text=True, check=False)
+    assert done.returncode == 0, done.stderr
+    listed = [line.split()[0] for line in done.stdout.splitlines() if line.startswith("zelda-lv0-")]
+    assert listed == ["zelda-lv0-tiles-compact-seed3", "zelda-lv0-tiles-compact-seed7"]
+    for seeds, message in (("a,b", "expected comma-separated whole numbers"), ("1,1", "expected distinct")):
+        done = subprocess.run([*command, "--seeds", seeds], capture_output=True, text=True, check=False)
+        assert done.returncode == 2 and message in done.stderr and "--seeds" in done.stderr
