@@ -24,7 +24,7 @@ COMMANDS: dict[str, str] = {
     "report": "Merge run results into the results table and figures",
     "analyze": "Level-distribution analysis (PCA + DBSCAN)",
     "replay": "Render an episode of a trained agent as an animated GIF",
-    "reproduce": "The study from sweep to Table 1: train, evaluate, report (--budget smoke|small|paper)",
+    "reproduce": "The study from sweep to Table 1: train, evaluate, report (--budget smoke|small|medium|...)",
 }
 RAW_ARGUMENT_COMMANDS = {"train"}
 # What a command raises for bad input (a malformed level file is a ValueError naming its file,

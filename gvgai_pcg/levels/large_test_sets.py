@@ -17,7 +17,6 @@ manifest's seeds are not always consecutive.
 
 from __future__ import annotations
 
-import argparse
 import csv
 import io
 from dataclasses import dataclass
@@ -32,6 +31,7 @@ from gvgai_pcg.levels.test_sets import (
     TEST_DIFFICULTIES,
     TEST_SETS_FOLDER,
     _data_dir,
+    regenerate,
     set_name,
     sha256,
     source_folder,
@@ -184,17 +184,7 @@ def write_large_test_sets(
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description="Regenerate the large frozen test sets (a deliberate act).")
-    parser.add_argument("--write", action="store_true", help="overwrite the shipped bundles and manifests")
-    parser.add_argument(
-        "--out", type=Path, default=None, help="write into OUT/<game>/ instead of each game's folder"
-    )
-    args = parser.parse_args(argv)
-    if not args.write:
-        parser.error("pass --write to overwrite the large frozen test sets")
-    entries = write_large_test_sets(args.out)
-    print(f"wrote {len(entries)} large test levels and their {LARGE_MANIFEST_NAME} files")
-    return 0
+    return regenerate(argv, "large frozen test sets", write_large_test_sets, LARGE_MANIFEST_NAME)
 
 
 if __name__ == "__main__":

@@ -21,6 +21,7 @@ import argparse
 import csv
 import hashlib
 import io
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cache
 from importlib import import_module
@@ -177,20 +178,24 @@ def write_test_sets(out_dir: Path | None = None, games: tuple[str, ...] | None =
     return entries
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description="Regenerate the frozen test sets (a deliberate act).")
-    parser.add_argument(
-        "--write", action="store_true", help="overwrite the shipped level files and manifests"
-    )
+def regenerate(argv: list[str] | None, what: str, write: Callable[[Path | None], list], manifest: str) -> int:
+    """The command line that rewrites ``what`` (a frozen set) with ``write(out_dir)``: refused
+    without ``--write``, since the shipped files are the ones every published number used."""
+    parser = argparse.ArgumentParser(description=f"Regenerate the {what} (a deliberate act).")
+    parser.add_argument("--write", action="store_true", help="overwrite the shipped files and manifests")
     parser.add_argument(
         "--out", type=Path, default=None, help="write into OUT/<game>/ instead of each game's folder"
     )
     args = parser.parse_args(argv)
     if not args.write:
-        parser.error("pass --write to overwrite the frozen test sets")
-    entries = write_test_sets(args.out)
-    print(f"wrote {len(entries)} test levels and their {MANIFEST_NAME} files")
+        parser.error(f"pass --write to overwrite the {what}")
+    entries = write(args.out)
+    print(f"wrote {len(entries)} levels of the {what} and their {manifest} files")
     return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    return regenerate(argv, "frozen test sets", write_test_sets, MANIFEST_NAME)
 
 
 if __name__ == "__main__":

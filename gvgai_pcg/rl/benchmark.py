@@ -45,7 +45,7 @@ from gvgai_pcg.rl.a2c import train
 from gvgai_pcg.rl.environment import EnvFactory, make_difficulty
 from gvgai_pcg.rl.learners import learner_class
 from gvgai_pcg.rl.learners.base import Learner
-from gvgai_pcg.rl.models import CHANNELS_LAST_TORSOS, as_tensordict_module, make_actor_critic
+from gvgai_pcg.rl.models import CHANNELS_LAST_TORSOS, actor_critic_for, as_tensordict_module
 from gvgai_pcg.rl.rollout import ActingRollouts, keeps_acting_graph, sample_actions
 
 WINDOWS = 5
@@ -96,13 +96,7 @@ def _env_and_net(cfg: DictConfig):
         make_difficulty(cfg.regimen, cfg.game.name),
     )()
     obs_key = cfg.env.obs
-    net = make_actor_critic(
-        cfg.model.name,
-        obs_key,
-        tuple(env.observation_spec[obs_key].shape[-3:]),
-        env.action_spec.space.n,
-        int(cfg.model.hidden),
-    ).to(cfg.device)
+    net = actor_critic_for(env, cfg.model, obs_key).to(cfg.device)
     learner: Learner = learner_class(cfg.algo.name)(cfg.algo, net, as_tensordict_module(net, obs_key))
     return env, net, learner
 

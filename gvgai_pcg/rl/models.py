@@ -102,6 +102,13 @@ def make_actor_critic(
     return ActorCritic(name, obs_shape, num_actions, hidden, scale=255.0 if obs_kind == "pixels" else 1.0)
 
 
+def actor_critic_for(env, model, obs_key: str) -> ActorCritic:
+    """The network of the ``model`` config (``name``, ``hidden``) for ``env``'s observations at
+    ``obs_key`` and its actions: what training and the benchmarks build alike."""
+    shape = tuple(env.observation_spec[obs_key].shape[-3:])
+    return make_actor_critic(model.name, obs_key, shape, env.action_spec.space.n, int(model.hidden))
+
+
 def as_tensordict_module(net: nn.Module, obs_key: str) -> TensorDictModule:
     """``net`` reading ``obs_key`` and writing ``"logits"`` and ``"state_value"`` (the entries the
     A2C loss and the acting policy use)."""

@@ -47,7 +47,7 @@ from gvgai_pcg.rl.curves import plot_curve
 from gvgai_pcg.rl.environment import EnvFactory, make_difficulty
 from gvgai_pcg.rl.learners import learner_class
 from gvgai_pcg.rl.learners.base import Learner
-from gvgai_pcg.rl.models import as_tensordict_module, make_actor_critic
+from gvgai_pcg.rl.models import actor_critic_for, as_tensordict_module
 from gvgai_pcg.rl.provenance import record_session
 from gvgai_pcg.rl.rollout import ActingRollouts
 from gvgai_pcg.rl.run_log import EpisodeTracker, RunLog
@@ -142,13 +142,7 @@ def _train(
     obs_key = cfg.env.obs
 
     # --- agent: shared-torso actor-critic; the policy samples actions; the learner updates it ---
-    net = make_actor_critic(
-        cfg.model.name,
-        obs_key,
-        tuple(env.observation_spec[obs_key].shape[-3:]),
-        env.action_spec.space.n,
-        int(cfg.model.hidden),
-    ).to(cfg.device)
+    net = actor_critic_for(env, cfg.model, obs_key).to(cfg.device)
     actor_critic = as_tensordict_module(net, obs_key)
     policy = ProbabilisticActor(
         actor_critic,
