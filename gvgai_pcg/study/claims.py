@@ -814,7 +814,8 @@ def statistics_note(verdicts: Sequence[tuple[str, Verdict]], level_sampling: boo
             "An inconclusive claim says what would decide it: the seeds per condition at which its",
             f"undecided comparisons would reach Bonferroni's alpha / {family} (Holm never needs more), if",
             f"the means and per-seed spreads seen were the truth ({MOST_SEEDS} at most), or why no number",
-            "of seeds would.",
+            "of seeds would; where the test sets' level sampling alone keeps one open, the levels per",
+            "set (and seeds) that would decide it at the per-level spread seen.",
             *left_out,
         ]
     )

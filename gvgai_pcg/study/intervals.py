@@ -129,6 +129,7 @@ def estimate(
 
 
 MOST_SEEDS = 30  # the projection below stops here: more seeds than any budget of this package trains
+LEVEL_FACTORS = (2, 3, 5, 10, 20, 50, 100)  # larger test sets tried, as multiples of the ones seen
 
 
 def seeds_to_decide(
@@ -143,7 +144,8 @@ def seeds_to_decide(
     ``bound``" at two-sided ``alpha``, if the observed mean and per-seed variance were the truth:
     ``(seeds, "")``, or ``(None, why not)``. The seeds' variance shrinks with more seeds; the
     test sets' level-sampling variance does not (the same levels for every seed), so where it
-    alone keeps the comparison undecided, no number of seeds decides it."""
+    alone keeps the comparison undecided, no number of seeds decides it: then ``why`` says how
+    many levels per test set (with how many seeds) would, if the per-level spread held."""
     if len(a) < 2 or (b is not None and len(b) < 2):
         return None, "one seed: no spread to project from"
     mean_a, var_a = _mean_var(a)
@@ -151,17 +153,35 @@ def seeds_to_decide(
     value = mean_a - mean_b
     if value == bound:
         return None, "the estimate sits on the bound"
+    first = min(len(a), len(b) if b is not None else len(a))
+
+    def seeds_for(sampled: list[tuple[float, int]]) -> int | None:
+        for seeds in range(first, most + 1):
+            terms = [(var_a / seeds, seeds - 1)] + ([(var_b / seeds, seeds - 1)] if b is not None else [])
+            p = _from_t(value, *_satterthwaite(terms), bound, seeds).p
+            if sampled:
+                p = max(p, _from_t(value, *_satterthwaite(terms + sampled), bound, seeds).p)
+            if p <= alpha:
+                return seeds
+        return None
+
     sampled = level_terms(levels)
-    if sampled and _from_t(value, *_satterthwaite(sampled), bound, 0).p > alpha:
-        return None, "the test sets' level sampling alone leaves it undecided (larger sets would decide it)"
-    for seeds in range(min(len(a), len(b) if b is not None else len(a)), most + 1):
-        terms = [(var_a / seeds, seeds - 1)] + ([(var_b / seeds, seeds - 1)] if b is not None else [])
-        p = _from_t(value, *_satterthwaite(terms), bound, seeds).p
-        if sampled:
-            p = max(p, _from_t(value, *_satterthwaite(terms + sampled), bound, seeds).p)
-        if p <= alpha:
-            return seeds, ""
-    return None, f"more than {most} seeds would be needed"
+    if not sampled or _from_t(value, *_satterthwaite(sampled), bound, 0).p <= alpha:
+        seeds = seeds_for(sampled)
+        return (seeds, "") if seeds is not None else (None, f"more than {most} seeds would be needed")
+    sizes = [len(values) for values in levels if len(values) > 1]
+    for factor in LEVEL_FACTORS:  # a set k times larger: s^2 / (k L), with k L - 1 df
+        seeds = seeds_for([(q / factor, factor * (df + 1) - 1) for q, df in sampled])
+        if seeds is not None:
+            return None, (
+                "the test sets' level sampling alone leaves it undecided: about "
+                f"{factor * max(sizes):,} levels per test set (now {max(sizes):,}) and {seeds} seeds "
+                "per condition would decide it, if the spreads seen held"
+            )
+    return None, (
+        f"the test sets' level sampling alone leaves it undecided, and neither {LEVEL_FACTORS[-1]} times "
+        f"the levels nor {most} seeds would decide it"
+    )
 
 
 def random_estimate(scores: Sequence[float], bound: float = 0.0) -> Estimate:

@@ -35,6 +35,20 @@ def test_more_seeds_cannot_beat_the_level_sampling_of_a_fixed_test_set():
     assert seeds_to_decide(a, b, 0.0, alpha=0.05)[0] is not None  # without the level term, seeds do
 
 
+def test_where_levels_keep_it_open_the_projection_names_the_levels_and_seeds_that_would_decide_it():
+    import re
+
+    a, b = (0.52, 0.50, 0.51), (0.49, 0.50, 0.48)
+    levels = [[0.3, -0.3] * 10]
+    _, why = seeds_to_decide(a, b, 0.0, alpha=0.05, levels=levels)
+    found = re.search(r"about ([\d,]+) levels per test set \(now 20\) and (\d+) seeds", why)
+    assert found, why
+    size, seeds = int(found[1].replace(",", "")), int(found[2])
+    a_more, b_more = _seeds_like(0.51, 0.01, seeds), _seeds_like(0.49, 0.01, seeds)
+    assert estimate(a_more, b_more, 0.0, levels=[[0.3, -0.3] * (size // 2)]).p <= 0.05  # that many decide it
+    assert estimate(a_more, b_more, 0.0, levels=[[0.3, -0.3] * (size // 4)]).p > 0.05  # half as many do not
+
+
 def test_one_seed_or_an_estimate_on_the_bound_gives_no_projection():
     assert seeds_to_decide((0.4,), None, 0.25, 0.05) == (None, "one seed: no spread to project from")
     assert seeds_to_decide((0.2, 0.3), None, 0.25, 0.05) == (None, "the estimate sits on the bound")
