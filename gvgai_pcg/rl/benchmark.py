@@ -336,19 +336,29 @@ def describe(name: str, numbers: dict[str, float]) -> str:
     return "\n".join(lines)
 
 
+PROG = "python -m gvgai_pcg.rl.benchmark"
+
+
 def main(argv: list[str]) -> int:
     if {"-h", "--help"} & set(argv):
         print(__doc__.strip())
         return 0
     from hydra import compose, initialize_config_dir
+    from hydra.errors import HydraException
 
-    from gvgai_pcg.config import config_dir
+    from gvgai_pcg.config import ConfigError, check_jobs, config_dir
 
-    with initialize_config_dir(config_dir=str(config_dir()), version_base="1.3"):
-        cfg = compose("config", overrides=["log.curve=false", "log.backends=[]", *argv])
+    overrides = ["log.curve=false", "log.backends=[]", *argv]
+    try:  # a bad override is one line naming it, as gvgai-pcg train says it, before any work
+        check_jobs([overrides])
+        with initialize_config_dir(config_dir=str(config_dir()), version_base="1.3"):
+            cfg = compose("config", overrides=overrides)
+    except (ConfigError, HydraException) as error:
+        print(f"{PROG}: {str(error).splitlines()[0]}", file=sys.stderr)
+        return 2
     if cfg.algo.name not in MODELLED:  # the limit models each learner's update shape
         print(
-            f"python -m gvgai_pcg.rl.benchmark: algo={cfg.algo.name}: the network's limit is modelled for "
+            f"{PROG}: algo={cfg.algo.name}: the network's limit is modelled for "
             f"algo={' and algo='.join(MODELLED)} only; time another learner's training with gvgai-pcg train",
             file=sys.stderr,
         )

@@ -56,3 +56,24 @@ def test_the_training_benchmark_refuses_a_learner_it_does_not_model_in_one_line(
     assert benchmark.main(["algo=ppo"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "algo=ppo" in err and "modelled for algo=a2c only" in err
+
+
+@pytest.mark.parametrize(
+    ("override", "named"),
+    [
+        ("torch_threads=1", "torch_threads=1: unknown key"),
+        ("algo.lr=-1", "algo.lr=-1"),
+        ("algo.lr==", "algo.lr=="),
+    ],
+)
+def test_the_training_benchmark_refuses_a_bad_override_in_one_line_before_any_work(
+    capsys, monkeypatch, override, named
+):
+    from gvgai_pcg.rl import benchmark
+
+    monkeypatch.setattr(benchmark, "benchmark", lambda cfg: pytest.fail("measured a bad config"))
+    assert benchmark.main([override]) == 2
+    err = capsys.readouterr().err.strip()
+    assert (
+        len(err.splitlines()) == 1 and named in err and err.startswith("python -m gvgai_pcg.rl.benchmark: ")
+    )
