@@ -12,9 +12,10 @@ from __future__ import annotations
 
 import fcntl
 import os
+import re
 import statistics
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from gvgai_pcg.study.borrowed_runs import BORROWED
@@ -25,7 +26,8 @@ from gvgai_pcg.study.conditions import Budget
 class RunStatus:
     """One planned run: ``state`` is ``finished``, ``training``, ``stopped``, ``not started``,
     ``borrowed`` or ``to borrow``; ``hours`` its training wall time so far; ``left`` the estimated
-    run-hours to finish it (``None``: no estimate, or none needed)."""
+    run-hours to finish it (``None``: no estimate, or none needed); ``extra``: a seed beyond the
+    budget's, trained into the sweep's folder (``reproduce --seeds``), which its publish judges too."""
 
     condition: str
     seed: int
@@ -36,6 +38,7 @@ class RunStatus:
     hours: float
     where: Path | None
     left: float | None = None
+    extra: bool = False
 
     @property
     def game(self) -> str:
@@ -160,7 +163,31 @@ def sweep_status(
         for (condition, seed), configs in sorted(planned.items(), key=lambda kv: (kv[0][1], order[kv[0][0]]))
         for name in configs
     ]
-    return with_estimates(runs)
+    return with_estimates(runs + extra_seeds(budget, planned, Path(out), order))
+
+
+SEEDED_NAME = re.compile(r"(?P<base>.+)-seed(?P<seed>\d+)")
+
+
+def extra_seeds(budget: Budget, planned: dict, out: Path, order: dict[str, int]) -> list[RunStatus]:
+    """The runs under ``out/runs`` of the planned conditions at seeds the plan lacks (trained
+    with ``--seeds``, or by hand into the folder): the publish judges every run it finds there,
+    so the status lists them too, by seed."""
+    names = {name for configs in planned.values() for name in configs}
+    condition_of = {
+        match["base"]: condition
+        for (condition, _), configs in planned.items()
+        for name in configs
+        if (match := SEEDED_NAME.fullmatch(name))
+    }
+    found = []
+    for path in sorted((out / "runs").glob("*-seed*")) if (out / "runs").is_dir() else []:
+        match = SEEDED_NAME.fullmatch(path.name)
+        if path.is_dir() and path.name not in names and match and match["base"] in condition_of:
+            condition, seed = condition_of[match["base"]], int(match["seed"])
+            status = run_status(condition, seed, path.name, budget.frames_of(condition), out)
+            found.append(replace(status, extra=True))
+    return sorted(found, key=lambda run: (run.seed, order[run.condition]))
 
 
 def status_text(runs: Sequence[RunStatus], jobs: int = 1) -> str:
@@ -170,7 +197,8 @@ def status_text(runs: Sequence[RunStatus], jobs: int = 1) -> str:
     for run in runs:
         frames = f"{run.frames:,} / {run.target:,}"
         left = "-" if run.left is None else f"{run.left:.2f}"
-        lines.append(f"{run.name:<44} {frames:>23}  {run.state:<11} {run.hours:>6.2f} {left:>8}")
+        name = run.name + (" *" if run.extra else "")
+        lines.append(f"{name:<44} {frames:>23}  {run.state:<11} {run.hours:>6.2f} {left:>8}")
     counts = {state: sum(r.state == state for r in runs) for state in dict.fromkeys(r.state for r in runs)}
     spent = sum(r.hours for r in runs if r.state != "borrowed")
     unfinished = [r for r in runs if r.state in ("training", "stopped", "not started")]
@@ -178,6 +206,10 @@ def status_text(runs: Sequence[RunStatus], jobs: int = 1) -> str:
     unknown = sum(r.left is None for r in unfinished)
     summary = ", ".join(f"{count} {state}" for state, count in counts.items())
     lines += ["", f"{len(runs)} runs: {summary}; {spent:.2f} run-hours trained."]
+    if extras := sum(r.extra for r in runs):
+        lines.append(
+            f"* {extras} run(s) at seeds beyond the budget's (--seeds): the publish judges them too."
+        )
     no_estimate = f"{unknown} run(s) with no estimate yet: no run of their game has finished"
     if unfinished and unknown == len(unfinished):
         lines.append(f"{len(unfinished)} run(s) left to train, {no_estimate}.")

@@ -137,3 +137,21 @@ def test_seeds_replace_the_budgets_for_the_conditions_run_and_bad_seeds_are_one_
     for seeds, message in (("a,b", "expected comma-separated whole numbers"), ("1,1", "expected distinct")):
         done = subprocess.run([*command, "--seeds", seeds], capture_output=True, text=True, check=False)
         assert done.returncode == 2 and message in done.stderr and "--seeds" in done.stderr
+
+
+def test_runs_at_seeds_beyond_the_plan_are_listed_as_extra_and_others_are_not(tmp_path):
+    """A publish judges every run in the sweep's folder, so the status shows a seed trained with
+    --seeds even when asked without it; a run of another condition, or a hidden folder, is not."""
+    budget, out = BUDGETS["smoke"], tmp_path / "out"
+    target = budget.frames_of("zelda-lv0")
+    for seed, name in ((5, "zelda-lv0-tiles-compact-seed5"), (1, "frogs-lv0-tiles-compact-seed1")):
+        _trained(out / "runs", "lv0", seed, target, 0.3).rename(out / "runs" / name)
+    (out / "runs" / ".staging-zelda-lv0-tiles-compact-seed6").mkdir()
+    runs = sweep_status(budget, ["zelda-lv0"], out)
+    extra = [run for run in runs if run.extra]
+    assert [(r.name, r.seed, r.state) for r in extra] == [("zelda-lv0-tiles-compact-seed5", 5, "finished")]
+    assert not any(run.extra for run in runs if run.seed in budget.seeds_of("zelda-lv0"))
+    text = status_text(runs)
+    assert "zelda-lv0-tiles-compact-seed5 *" in text
+    assert "* 1 run(s) at seeds beyond the budget's (--seeds): the publish judges them too." in text
+    assert "frogs-lv0" not in text
