@@ -89,3 +89,10 @@ def test_an_open_curriculum_comparison_says_how_many_seeds_each_would_decide_it(
     )
     assert seeds == seeds_to_decide([1.3, 1.9, 1.0], [1.0, 1.2, 0.8], 0.0, alpha=0.05)[0] and seeds > 3
     assert f"Holm p {verdict.adjusted_p:.3g}; {verdict.decides})." in "\n".join(answer_sentences([verdict]))
+
+
+def test_a_difference_too_small_for_any_projected_set_says_so():
+    a, b = (0.5002, 0.5, 0.5001), (0.5, 0.5001, 0.4999)  # a difference of 0.0001
+    levels = [[0.3, -0.3] * 50]
+    seeds, why = seeds_to_decide(a, b, 0.0, alpha=0.05, levels=levels)
+    assert seeds is None and "neither 100 times the levels nor 30 seeds would decide it" in why
