@@ -10,10 +10,15 @@ per tile), the fast default. Both take uint8 observations ``[N, C, H, W]`` and r
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import torch
 from tensordict.nn import TensorDictModule
 from torch import nn
+
+if TYPE_CHECKING:
+    from omegaconf import DictConfig
+    from torchrl.envs import EnvBase
 
 MODELS = ("nature", "compact")
 CHANNELS_LAST_TORSOS = {"compact": torch.channels_last}
@@ -102,7 +107,7 @@ def make_actor_critic(
     return ActorCritic(name, obs_shape, num_actions, hidden, scale=255.0 if obs_kind == "pixels" else 1.0)
 
 
-def actor_critic_for(env, model, obs_key: str) -> ActorCritic:
+def actor_critic_for(env: EnvBase, model: DictConfig, obs_key: str) -> ActorCritic:
     """The network of the ``model`` config (``name``, ``hidden``) for ``env``'s observations at
     ``obs_key`` and its actions: what training and the benchmarks build alike."""
     shape = tuple(env.observation_spec[obs_key].shape[-3:])
