@@ -313,23 +313,12 @@ def _train(
             f"{update_log.path}\n"
         )
     stopped_by = session.stop.name if session.stop.received and frames < cfg.total_frames else None
-    if stopped_by:  # an unfinished run: the checkpoint is all it needs
-        return TrainResult(
-            run_dir,
-            frames,
-            run_log.path,
-            checkpoint_path,
-            None,
-            None,
-            fps,
-            cpu_fps,
-            stopped_by,
-            update_log.path,
-        )
-    model_path = run_dir / "model.pt"
-    save_model(model_path, net.state_dict(), config, frames)
+    model_path = None
+    if not stopped_by:  # an unfinished run: the checkpoint is all it needs to go on
+        model_path = run_dir / "model.pt"
+        save_model(model_path, net.state_dict(), config, frames)
     curve_path = None
-    if cfg.log.curve:
+    if cfg.log.curve:  # a stopped run's curve so far too: it is what a user looks at first
         curve_path = plot_curve(run_log.path, run_dir / "curve.png", title=cfg.run_name)
     return TrainResult(
         run_dir,
@@ -340,7 +329,7 @@ def _train(
         curve_path,
         fps,
         cpu_fps,
-        None,
+        stopped_by,
         update_log.path,
     )
 
