@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: setup run test lint bench docs clean reproduce status
+.PHONY: setup run test lint bench docs clean reproduce status extras
 
 setup: $(STAMP)
 
@@ -18,6 +18,7 @@ $(STAMP): pyproject.toml
 # The main job: A2C on Zelda's human level 4, a curve that rises within minutes (docs/results.md).
 run: $(STAMP)
 	$(BIN)/gvgai-pcg train condition=zelda-lv4 env.obs=tiles model=compact device=cpu total_frames=1500000
+	@echo "gvgai-pcg is installed in $(VENV)/bin: '. $(VENV)/bin/activate' puts it on this shell's PATH"
 
 test: $(STAMP)
 	$(BIN)/ruff check gvgai_pcg tests
@@ -52,3 +53,15 @@ docs: $(STAMP)
 
 clean:
 	rm -rf $(VENV) build *.egg-info
+
+# Every optional extra installs into a fresh venv and does its job there (CI runs it after `make
+# test`): an extra that pip can only satisfy with an old, unbuildable release fails here, not for a user.
+EXTRAS ?= slurm ray joblib tensorboard wandb
+extras:
+	@set -e; for extra in $(EXTRAS); do \
+	  tmp=$$(mktemp -d); $(PYTHON) -m venv $$tmp/venv; \
+	  echo "== pip install '.[$$extra]' in a fresh venv"; \
+	  $$tmp/venv/bin/pip install -q torch==2.13.0 ".[$$extra]"; \
+	  (cd $$tmp && $$tmp/venv/bin/python $(CURDIR)/tests/extras_check.py $$extra); \
+	  rm -rf $$tmp; \
+	done

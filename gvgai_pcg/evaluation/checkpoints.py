@@ -33,8 +33,17 @@ class RunInfo:
 
     @property
     def model_file(self) -> Path:
-        """The file that holds the run's weights here."""
-        return self.published_copy or self.checkpoint
+        """The file that holds the run's weights here. A published run without its model, whose
+        record names a file of the machine that trained it, is one line saying so."""
+        if self.published_copy is not None:
+            return self.published_copy
+        if not self.checkpoint.is_file() and (self.path / PUBLISHED).is_file():
+            raise FileNotFoundError(
+                f"{self.path}: its model was not published with it ({PUBLISHED} names "
+                f"{self.checkpoint}, a file of the machine that trained the run), so it cannot be "
+                "played or evaluated here; its published records still rebuild the report"
+            )
+        return self.checkpoint
 
     @property
     def game(self) -> str:
