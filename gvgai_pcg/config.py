@@ -84,8 +84,26 @@ def learner_tag(name: Any) -> str:
         return f"-{name}"
 
 
+# A training process peaks near 0.5 GB (Zelda, 64 envs, tiles, compact CNN; one collector worker
+# or two); a job asks four times that per process, so the paper's pixels and Nature CNN fit too.
+GB_PER_PROCESS = 2
+
+
+def cpus_per_run(threads: Any, workers: Any) -> int:
+    """The CPUs one run uses: its torch threads in each collector process (0 threads, torch's
+    default, counts as one; say ``hydra.launcher.cpus_per_task`` where the node has it to spare)."""
+    return max(int(threads), 1) * max(int(workers), 1)
+
+
+def mem_gb_per_run(workers: Any) -> int:
+    """The memory one run asks for: ``GB_PER_PROCESS`` for each of its collector processes."""
+    return GB_PER_PROCESS * max(int(workers), 1)
+
+
 for _name, _resolver in (
     ("gvgai_pcg.learner_tag", learner_tag),
+    ("gvgai_pcg.cpus_per_run", cpus_per_run),
+    ("gvgai_pcg.mem_gb_per_run", mem_gb_per_run),
     ("gvgai_pcg.level_count", level_count_tag),
     ("gvgai_pcg.level_set", level_set_tag),
 ):

@@ -8,7 +8,8 @@ the session (imports, config, the final files) there is nothing to save: SIGINT 
 ``KeyboardInterrupt`` and SIGTERM ``StoppedOutsideTraining``.
 
 A launcher may handle signals itself. The submitit launcher (SLURM) logs and ignores SIGTERM
-and, on SIGUSR1, requeues the job and exits. Its handlers are kept: SIGUSR1/SIGUSR2 are taken
+and, on its preemption signal (SIGUSR2 by default, SIGUSR1 if so configured), requeues the job
+and exits. Its handlers are kept: SIGUSR1/SIGUSR2 are taken
 over only where such a handler exists, and ``hand_over`` passes the signals received to the
 launcher's handlers once the checkpoint is written (and, after a SIGTERM that it only logged,
 waits a while for the follow-up signal it acts on), so a requeued job resumes where it stopped.
@@ -29,7 +30,7 @@ from collections.abc import Callable, Iterator
 from typing import Any
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
-# A launcher's own signals (submitit: SIGUSR1 = checkpoint and requeue), taken over only where the
+# A launcher's own signals (submitit: SIGUSR2, or SIGUSR1, = requeue), taken over only where the
 # launcher installed a handler for them.
 LAUNCHER_SIGNALS = (signal.SIGUSR1, signal.SIGUSR2)
 LAUNCHER_WAIT_S = 300.0  # after a SIGTERM that the launcher only logged: how long to await its next
