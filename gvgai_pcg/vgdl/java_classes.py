@@ -920,6 +920,16 @@ TERMINATION_CLASSES: dict[str, JavaClass] = {
     ),
 }
 
+# The game line's class (Game and BasicGame's public fields a VGDL line can set).
+GAME_CLASSES: dict[str, JavaClass] = {
+    "Game": JavaClass(
+        None,
+        {"key_handler": "String", "no_players": "int", "no_counters": "int"},
+        {"no_players": 1, "no_counters": 0},
+    ),
+    "BasicGame": JavaClass("Game", {"square_size": "int", "obs": "String"}, {"square_size": -1}),
+}
+
 # VGDL's names for the effects (VGDLFactory.effectStrings -> effectClasses).
 EFFECTS: dict[str, str] = {
     "stepBack": "StepBack",
@@ -1057,7 +1067,13 @@ def _chain(table: Mapping[str, JavaClass], name: str) -> list[JavaClass]:
 
 
 def _table(kind: str) -> Mapping[str, JavaClass]:
-    return {"sprite": SPRITE_CLASSES, "effect": EFFECT_CLASSES, "termination": TERMINATION_CLASSES}[kind]
+    tables = {
+        "sprite": SPRITE_CLASSES,
+        "effect": EFFECT_CLASSES,
+        "termination": TERMINATION_CLASSES,
+        "game": GAME_CLASSES,
+    }
+    return tables[kind]
 
 
 def java_class_name(kind: str, vgdl_name: str) -> str | None:

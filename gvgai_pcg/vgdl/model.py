@@ -98,6 +98,7 @@ class GameDescription:
     path: str
     game_class: str
     game_parameters: Mapping[str, str]
+    game_values: Mapping[str, object]
     types: Mapping[str, SpriteType]  # in registration order (Java's ids)
     sprite_order: tuple[str, ...]  # drawing order; the update order is its reverse, avatar first
     effects: tuple[Effect, ...]
@@ -106,7 +107,7 @@ class GameDescription:
     eos_effects: Mapping[str, tuple[int, ...]]
     time_effects: tuple[int, ...]
     terminations: tuple[Termination, ...]
-    level_mapping: Mapping[str, tuple[str, ...]]
+    level_mapping: Mapping[str, tuple[str, ...]]  # BasicGame's 'w' and 'A' included
 
     @property
     def type_ids(self) -> dict[str, int]:

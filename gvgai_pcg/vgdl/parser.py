@@ -45,6 +45,8 @@ TYPE_REFERENCES = frozenset(
     "stype_other stypeTo stypeCount spawnPoint heldResource stypeMissile notStype".split()
 )
 # Java's default constructors for the two pre-registered types (Game.initSprites).
+# BasicGame's own level characters; a LevelMapping line may redefine them.
+DEFAULT_MAPPING = {"w": ("wall",), "A": ("avatar",)}
 PREDEFINED = {"wall": ("Immovable", {"color": "DARKGRAY", "solid": "True"}), "avatar": ("MovingAvatar", {})}
 
 
@@ -98,7 +100,9 @@ class _Parser:
         self.eos_effects: dict[str, list[int]] = {}
         self.time_effects: list[int] = []
         self.terminations: list[Termination] = []
-        self.mapping: dict[str, tuple[str, ...]] = {}
+        self.mapping: dict[str, tuple[str, ...]] = dict(DEFAULT_MAPPING)
+        self.mapped_at: dict[str, int] = {}
+        self.game_values: dict[str, object] = {}
 
     def fail(self, line: int, message: str) -> VGDLError:
         return VGDLError(self.path, line, message)
@@ -113,7 +117,11 @@ class _Parser:
             raise self.fail(
                 root.line, f"game class {game_class!r}: only {', '.join(GAME_CLASSES)} is supported"
             )
-        game_parameters = self.words(root, game_words[1:]).parameters
+        found = self.words(root, game_words[1:])
+        if found.bare or found.arrow:
+            raise self.fail(root.line, f"game line {root.text!r} has words that are not key=value")
+        game_parameters = found.parameters
+        self.game_values = self.typed(root.line, game_parameters, fields_of("game", game_class), game_class)
         seen: dict[str, int] = {}
         for block in root.children:
             name = block.text
@@ -285,8 +293,12 @@ class _Parser:
         words = node.words()
         if len(words[0]) != 1 or len(words) < 3 or words[1] != ">":
             raise self.fail(node.line, f"level mapping {node.text!r} is not 'c > type...'")
-        if words[0] in self.mapping:
-            raise self.fail(node.line, f"character {words[0]!r} is mapped twice (Java keeps the last)")
+        if words[0] in self.mapped_at:
+            first = self.mapped_at[words[0]]
+            raise self.fail(
+                node.line, f"character {words[0]!r} is mapped again (line {first}; Java keeps the last)"
+            )
+        self.mapped_at[words[0]] = node.line
         self.mapping[words[0]] = tuple(words[2:])
 
     def termination(self, node: Node) -> None:
@@ -345,6 +357,7 @@ class _Parser:
             path=self.path,
             game_class=game_class,
             game_parameters=game_parameters,
+            game_values=self.game_values,
             types=types,
             sprite_order=tuple(order),
             effects=tuple(self.effects),
