@@ -1092,9 +1092,16 @@ def fields_of(kind: str, java_class: str) -> dict[str, str]:
     return fields
 
 
+JAVA_ZERO = {"int": 0, "long": 0, "float": 0.0, "double": 0.0, "boolean": False}
+
+
 def defaults_of(kind: str, java_class: str) -> dict[str, object]:
-    """Each field's value before a line's parameters apply (the subclass's word wins)."""
-    defaults: dict[str, object] = {}
+    """Each public field's value before a line's parameters apply: what the class (or the
+    nearest superclass that sets it) assigns, else Java's zero for its type (0, False, null)."""
+    defaults: dict[str, object] = {
+        name: JAVA_ZERO.get(java_type.removesuffix(" static"))
+        for name, java_type in fields_of(kind, java_class).items()
+    }
     for cls in reversed(_chain(_table(kind), java_class)):
-        defaults.update(cls.defaults)
+        defaults.update({name: value for name, value in cls.defaults.items() if name in defaults})
     return defaults
