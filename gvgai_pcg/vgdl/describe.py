@@ -45,8 +45,7 @@ def show(value: object) -> str:
 def describe(game: GameDescription) -> str:
     """Several lines of text, Java's orders kept."""
     lines = [f"{game.path}: {game.game_class} {_params(game.game_values)}".rstrip()]
-    update = [name for name in reversed(game.sprite_order)]
-    lines.append(f"update order (avatar first, then reverse drawing order): {', '.join(update)}")
+    lines.append(f"update order (avatar first, then reverse drawing order): {', '.join(game.update_order)}")
     lines.append(f"drawing order: {', '.join(game.sprite_order)}")
     lines.append(f"EOS (in order, repeats applied again): {', '.join(game.eos) or '-'}")
     for name in dict.fromkeys(game.eos):

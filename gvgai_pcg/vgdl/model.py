@@ -110,5 +110,10 @@ class GameDescription:
     level_mapping: Mapping[str, tuple[str, ...]]  # BasicGame's 'w' and 'A' included
 
     @property
+    def update_order(self) -> tuple[str, ...]:
+        """Java's tick moves the avatar first, then every other type in reverse drawing order."""
+        return tuple(reversed(self.sprite_order))
+
+    @property
     def type_ids(self) -> dict[str, int]:
         return {name: index for index, name in enumerate(self.types)}

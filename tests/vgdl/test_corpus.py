@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 
 from gvgai_pcg.vgdl import GameDescription, parse_file
-from gvgai_pcg.vgdl.support import required_features, unsupported_features
+from gvgai_pcg.vgdl.support import IMPLEMENTED, required_features, unsupported_features
 
 ROOT = Path(__file__).resolve().parents[2]
 GAMES = Path(os.environ.get("GVGAI_VGDL_DIR", ROOT.parent / "shared" / "vgdl" / "games"))
@@ -84,3 +84,8 @@ def test_each_file_needs_the_features_the_inventory_lists():
         "zelda",
         "zenpuzzle",
     ]
+
+
+@pytest.mark.skipif(not (DATA / "cover.json").is_file(), reason=f"the corpus notes ({DATA}) are not here")
+def test_the_implemented_table_is_the_four_games_features_of_the_corpus_notes():
+    assert IMPLEMENTED == set(json.loads((DATA / "cover.json").read_text())["four_features"])

@@ -42,6 +42,7 @@ def test_wall_and_avatar_are_predefined_with_java_defaults():
     game = parse(BASE)
     assert list(game.types)[:2] == ["wall", "avatar"]  # Java's ids 0 and 1
     assert game.sprite_order == ("wall", "floor", "rock", "hero", "avatar")  # avatar always last
+    assert game.update_order == ("avatar", "hero", "rock", "floor", "wall")
     assert game.types["wall"].java_class == "Immovable"
     assert game.types["wall"].value("solid") is True
     assert game.types["wall"].value("color") == Const("DARKGRAY")
