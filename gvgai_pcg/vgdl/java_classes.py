@@ -8,7 +8,7 @@ inherited fields included; Java logs any other parameter as an unknown field and
 this package refuses it. Defaults are what the field holds before the line's parameters are
 applied; fields that Java derives after parsing (``itype`` from ``stype``, ...) are not listed
 as defaults. ``Const("GRAY")`` is a named constant of Java's ``Types`` (a colour or a
-direction, ``DNONE`` = no orientation).
+direction, ``DNONE`` = no orientation); Types' int constants are written as their values.
 """
 
 from __future__ import annotations
@@ -107,7 +107,7 @@ SPRITE_CLASSES: dict[str, JavaClass] = {
         {
             "timeToLive": -1,
             "hMult": 1.0,
-            "physicstype": Const("GRID"),
+            "physicstype": 0,  # Types.GRID
             "physics": None,
             "gravity": 0.0,
             "friction": 0.0,
@@ -230,7 +230,7 @@ SPRITE_CLASSES: dict[str, JavaClass] = {
     "RandomInertial": JavaClass(
         "RandomNPC",
         {},
-        {"physicstype": Const("CONT"), "is_oriented": True},
+        {"physicstype": 1, "is_oriented": True},  # physicstype = Types.CONT
     ),
     "AlternateChaser": JavaClass(
         "RandomNPC",

@@ -14,7 +14,8 @@ flag that changes how the step must run:
   fixed point): a ``bounceForward`` between types that share a type (chain pushes), or a
   ``stepBack`` between types that share a type whose class moves by itself;
 - ``@TIME``: timed effects (``TIME`` rules or ``addTimer``);
-- ``@obs_pathfinding``: ``obs=...`` on the game line (path-finding obstacles).
+- ``@obs_pathfinding``: ``obs=...`` on the game line (path-finding obstacles);
+- ``@continuous_physics``: a type with ``physicstype`` other than ``GRID`` (no corpus game).
 
 ``key_handler=Pulse`` is not a feature: it changes how a human's keys are read, not the step.
 
@@ -91,10 +92,13 @@ def required_features(game: GameDescription) -> list[Feature]:
     used = _used_types(game)
     for name in used:
         sprite = game.types[name]
-        if sprite.java_class is not None:
-            need(sprite.java_class, sprite.line)
+        if sprite.java_class is None:  # `avatar` as a parent with no class word: it has no sprites
+            continue
+        need(sprite.java_class, sprite.line)
         if sprite.singleton or str(sprite.parameters.get("singleton", "")).lower() == "true":
             need("@singleton", sprite.line)
+        if sprite.value("physicstype") != 0:
+            need("@continuous_physics", sprite.line)
         speed = sprite.value("speed")
         if isinstance(speed, float) and not speed.is_integer():
             need("@subcell", sprite.line)

@@ -19,6 +19,31 @@ COLORS = (
     "GREEN BLUE RED GRAY WHITE BROWN BLACK ORANGE YELLOW PINK GOLD LIGHTRED LIGHTORANGE LIGHTBLUE "
     "LIGHTGREEN DARKGREEN LIGHTYELLOW LIGHTGRAY DARKGRAY DARKBLUE RANDOM"
 ).split()
+# Types' public int constants: a value spelled as one of them is that int (``physicstype=GRID``).
+INT_CONSTANTS = {
+    "PHYSICS_NONE": -1,
+    "GRID": 0,
+    "CONT": 1,
+    "VGDL_GAME_DEF": 0,
+    "VGDL_SPRITE_SET": 1,
+    "VGDL_INTERACTION_SET": 2,
+    "VGDL_LEVEL_MAPPING": 3,
+    "VGDL_TERMINATION_SET": 4,
+    "VGDL_PARAMETER_SET": 5,
+    "NUM_LEARNING_LEVELS": 6,
+    "NUM_TRAINING_LEVELS": 6,
+    "LEARNING_RESULT_DISQ": -1,
+    "LEARNING_FINISH_ROUND": -2,
+    "DEFAULT_SINGLE_PLAYER_KEYIDX": 0,
+    "SCORE_DISQ": -1000,
+    "TYPE_AVATAR": 0,
+    "TYPE_RESOURCE": 1,
+    "TYPE_PORTAL": 2,
+    "TYPE_NPC": 3,
+    "TYPE_STATIC": 4,
+    "TYPE_FROMAVATAR": 5,
+    "TYPE_MOVABLE": 6,
+}
 TEXT_ONLY_NUMBERS = ("scoreChange", "scoreChangeIfKilled")
 TEXT_ONLY_BOOLEANS = ("win", "hidden", "invisible")
 _INT = re.compile(r"[+-]?\d+")
@@ -32,6 +57,8 @@ def read_value(name: str, text: str) -> int | float | bool | str | Const:
         return Const("D" + text)
     if text in COLORS or (text.startswith("D") and text[1:] in DIRECTIONS):
         return Const(text)
+    if text in INT_CONSTANTS:
+        return INT_CONSTANTS[text]
     if name in TEXT_ONLY_NUMBERS:
         return text
     if _INT.fullmatch(text) and _JAVA_INT[0] <= int(text) <= _JAVA_INT[1]:

@@ -70,6 +70,12 @@ def test_chain_pushes_timers_and_inherited_singletons_are_flagged():
     assert found["@F:bounceForward"] == 7 and found["@TIME"] == 8 and found["@singleton"] == 5
 
 
+def test_continuous_physics_is_a_feature_of_its_own():
+    found = needs("SpriteSet\n    ship > Missile physicstype=CONT")
+    assert found["@continuous_physics"] == 3
+    assert "@continuous_physics" not in needs("SpriteSet\n    ship > Missile physicstype=GRID")
+
+
 def test_check_supported_refuses_the_first_missing_feature_in_one_line():
     ready = "BasicGame\n    SpriteSet\n        rock > Passive\n    InteractionSet\n"
     ready += "        avatar rock > stepBack\n"
