@@ -87,10 +87,17 @@ class CollisionPair:
 
 @dataclass(frozen=True)
 class Termination:
+    """One TerminationSet line; Java checks them in declaration order, the first that holds wins."""
+
     line: int
     java_class: str
     parameters: Mapping[str, str]
     values: Mapping[str, object]
+
+    def value(self, field: str) -> object:
+        if field in self.values:
+            return self.values[field]
+        return defaults_of("termination", self.java_class).get(field)
 
 
 @dataclass(frozen=True)
