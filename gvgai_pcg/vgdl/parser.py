@@ -212,12 +212,16 @@ class _Parser:
                 parent,
                 [child.words()[0] for child in node.children],
                 parameters,
-                list(dict.fromkeys(type_path)),
+                list(type_path),  # Java's itypes: the path from the root, as written
             )
             self.definitions.pop(name, None)
             self.definitions[name] = definition
             self.check_parameters("sprite", definition.java_class, parameters, node.line, name)
             if not node.children:
+                if definition.java_class is None:
+                    raise self.fail(
+                        node.line, f"sprite type {name!r} has no class (Java creates no sprite of it)"
+                    )
                 if name in self.order:
                     self.order.remove(name)
                 self.order.append(name)

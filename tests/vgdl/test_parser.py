@@ -230,6 +230,7 @@ def test_a_class_default_comes_from_its_load_defaults_chain():
         ("InteractionSet\n    avatar wall > transformTo stype=ghost", 3, "undefined sprite type 'ghost'"),
         ("SpriteSet\n    a Immovable", 3, "has no '>'"),
         ("SpriteSet\n    a > Immovable Passive", 3, "more than one class"),
+        ("SpriteSet\n    group >\n        a > color=RED", 4, "sprite type 'a' has no class"),
         ("SpriteSet\n    a > Immovable color=", 3, "not key=value"),
         ("InteractionSet\n    avatar wall stepBack", 3, "is not 'first second... > effect'"),
         ("spriteset\n    a > Immovable", 2, "case-sensitively"),
