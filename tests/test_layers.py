@@ -17,8 +17,9 @@ The layers, lowest first. A module may import its own layer and the layers below
    its game's format without importing any game.
 3. ``levels``: the ``Level`` value, formats, human levels, test sets, seed ranges.
 4. ``kit``: what every game builds on: ``engine`` (row copies, buffers), the game kit
-   (``games.base``, ``geometry``, ``rules``, ``rng``, ``render``) and the generator kit
-   (``generators._common``).
+   (``games.base``, ``geometry``, ``rules``, ``rng``, ``render``), the generator kit
+   (``generators._common``) and ``vgdl``, GVGAI's game descriptions read as Java reads them
+   (pure Python, it imports nothing of gvgai_pcg; games built from VGDL files sit above it).
 5. ``game``: the game folders ``games/<name>/`` (rules, generator, checks, spec). A game folder
    never imports another game folder (checked apart).
 6. ``readers``: ``generators`` and ``analysis``: the registry's readers.
@@ -66,6 +67,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
             "gvgai_pcg.games.rng",
             "gvgai_pcg.games.render",
             "gvgai_pcg.generators._common",
+            "gvgai_pcg.vgdl",
         ),
     ),
     ("game", ("gvgai_pcg.games",)),
