@@ -334,3 +334,16 @@ def test_a_short_gymnasium_job_ticks_eagerly_and_a_long_one_compiled(monkeypatch
     assert long.unwrapped.engine.step_plan.compiled  # made, not stepped: nothing is compiled here
     with pytest.raises(ValueError, match="total_steps must be a whole number >= 0"):
         gym.make_vec("gvgai_pcg/Zelda-v0", num_envs=8, total_steps=-1)
+
+
+def test_a_job_that_did_not_give_its_length_is_told_once_when_it_is_long(monkeypatch) -> None:
+    monkeypatch.delenv("GVGAI_PCG_COMPILE", raising=False)
+    monkeypatch.setattr("gvgai_pcg.envs.gym_vector.COMPILE_PAYS_BACK_STEPS", 3)
+    vec = gym.make_vec("gvgai_pcg/Zelda-v0", num_envs=2)
+    vec.reset(seed=0)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        for _ in range(5):
+            vec.step(np.zeros(2, dtype=np.int64))
+    told = [str(w.message) for w in caught if "total_steps" in str(w.message)]
+    assert len(told) == 1 and "stepped 3 times with the tick eager" in told[0]
