@@ -199,3 +199,29 @@ def config_root() -> Path:
         f"the Hydra configs are missing: looked for {CONFIG_NAME}.yaml in {package / 'conf'} (an installed "
         f"wheel) and {package.parent / 'conf'} (a source checkout); reinstall gvgai-pcg"
     )
+
+
+# Where a user's own configs join ours: Hydra searches each ``file://`` folder of this override
+# after the package's configs (``reproduce --config-dir DIR`` adds it to every run).
+SEARCHPATH = "hydra.searchpath"
+FILE_SCHEME = "file://"
+
+
+def searchpath_override(folder: Path) -> str:
+    """The Hydra override that makes every run search ``folder`` for configs after ours."""
+    return f"{SEARCHPATH}=[{FILE_SCHEME}{Path(folder).resolve()}]"
+
+
+def searchpath_dirs(overrides: Sequence[str]) -> tuple[Path, ...]:
+    """The folders that ``hydra.searchpath`` overrides among ``overrides`` add (``file://`` ones;
+    a package's, ``pkg://``, holds no user's conditions)."""
+    folders: list[Path] = []
+    for override in overrides:
+        key, _, value = override.lstrip("+").partition("=")
+        if key != SEARCHPATH:
+            continue
+        for entry in value.strip().strip("[]").split(","):
+            entry = entry.strip().strip("'\"")
+            if entry.startswith(FILE_SCHEME):
+                folders.append(Path(entry[len(FILE_SCHEME) :]))
+    return tuple(folders)

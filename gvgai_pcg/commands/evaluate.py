@@ -116,15 +116,24 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--json", metavar="PATH", help="ad-hoc levels: write the results as JSON ('-': stdout)"
     )
     add_protocol_arguments(parser)
+    add_ued_arguments(parser, "the UED protocol: many new generated levels, solved rate, CVaR")
+
+
+def add_ued_arguments(parser: argparse.ArgumentParser, what: str, alphas: bool = True) -> None:
+    """The UED protocol's settings (shared with ``gvgai-pcg report --ued``, whose table has the
+    CVaR at the default fractions only: ``alphas=False``)."""
     group = parser.add_argument_group("UED protocol (--ued)")
-    group.add_argument(
-        "--ued", action="store_true", help="the UED protocol: many new generated levels, solved rate, CVaR"
-    )
+    group.add_argument("--ued", action="store_true", help=what)
     group.add_argument("--ued-levels", type=int, default=1000, help="generated levels, d evenly in [0, 1]")
     group.add_argument("--ued-seeds", type=int, default=2, help="evaluation seeds (episodes per level)")
-    group.add_argument(
-        "--alphas", default="0.01,0.1", help="CVaR fractions in (0, 1], comma-separated (default 0.01,0.1)"
-    )
+    if alphas:
+        group.add_argument(
+            "--alphas",
+            default="0.01,0.1",
+            help="CVaR fractions in (0, 1], comma-separated (default 0.01,0.1)",
+        )
+    else:
+        parser.set_defaults(alphas="0.01,0.1")
 
 
 def ued_protocol_from(args: argparse.Namespace) -> tuple[UEDProtocol, tuple[float, ...]]:

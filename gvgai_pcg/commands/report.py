@@ -5,6 +5,11 @@ are evaluated first (``--no-evaluate`` only reads existing results), the random 
 its cache, and the report is written to ``--out`` (default: ``<first RUNS>/report``, or beside the
 run when the first of RUNS is a single run directory): a table per
 game as ``results.md``, ``results.csv`` and ``results.html``, and ``curves-<game>.png/.svg``.
+
+``--ued`` adds ``ued.md``: the UED protocol on every run (``--ued-levels``, ``--ued-seeds``), and
+per game each curriculum's solved rate, mean score and score CVaR over seeds, with the intervals,
+Welch comparisons against ``--baseline`` (PPCG) and Holm correction of the curricula page
+(``gvgai_pcg.report.ued_table``).
 """
 
 from __future__ import annotations
@@ -12,7 +17,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from gvgai_pcg.commands.evaluate import add_protocol_arguments, protocol_from
+from gvgai_pcg.commands.evaluate import add_protocol_arguments, add_ued_arguments, protocol_from
 from gvgai_pcg.commands.folders import refuse_files_for_folders
 from gvgai_pcg.evaluation.checkpoints import is_run_dir
 
@@ -24,6 +29,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--no-evaluate", action="store_true", help="use existing results only")
     add_protocol_arguments(parser)
+    add_ued_arguments(
+        parser, "also the UED protocol's table (ued.md), judged as the curricula page", alphas=False
+    )
+    parser.add_argument(
+        "--baseline",
+        default="PPCG",
+        metavar="LABEL",
+        help="with --ued: the row every curriculum is compared with (default PPCG)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -33,10 +47,16 @@ def run(args: argparse.Namespace) -> int:
     first = args.runs[0]
     out = args.out or (first.parent if is_run_dir(first) else first) / "report"
     refuse_files_for_folders({"--out": out, "--cache-dir": args.cache_dir})
+    protocol = protocol_from(args)
+    ued = None
+    if args.ued:
+        from gvgai_pcg.commands.evaluate import ued_protocol_from
+
+        ued, _ = ued_protocol_from(args)  # a bad setting is refused before anything is evaluated
     report = build_report(
         args.runs,
         out,
-        protocol_from(args),
+        protocol,
         cache_dir=args.cache_dir,
         evaluate=not args.no_evaluate,
         device=args.device,
@@ -48,4 +68,19 @@ def run(args: argparse.Namespace) -> int:
     print(f"report: {report.markdown}, {report.csv}, {report.html}")
     for paths in report.figures.values():
         print("curves: " + ", ".join(map(str, paths)))
+    if ued is not None:
+        from gvgai_pcg.report.ued_table import write_ued_table
+
+        table = write_ued_table(
+            args.runs,
+            out,
+            protocol,
+            ued,
+            args.baseline,
+            evaluate=not args.no_evaluate,
+            device=args.device,
+            progress=not args.no_progress,
+            force=args.force,
+        )
+        print(f"\n{table.read_text()}\nUED table: {table}")
     return 0

@@ -11,6 +11,10 @@ a condition whose curriculum is not registered yet is refused with one line and 
 UED protocol evaluates each run where this checkout has it; ``--page docs/results-curricula.md``
 writes the comparison's page from the published data. ``--borrow-from SWEEP`` takes the runs that
 another sweep trained exactly as this one would (``gvgai_pcg.study.borrowed_runs``).
+
+``--conditions`` also takes a user's own conditions: a curriculum plug-in's with each game
+(``zelda-<name>``), and those of ``--config-dir DIR`` (``DIR/condition/<name>.yaml``, searched by
+every run after the package's configs), so a new curriculum joins the comparison in one command.
 """
 
 from __future__ import annotations
@@ -27,7 +31,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", type=Path, help="where runs, results and the report go (reproduce/BUDGET)")
     parser.add_argument("--jobs", type=int, default=1, help="runs side by side (basic launcher)")
     parser.add_argument("--launcher", help="a Hydra launcher for the sweep (ray, ray_local, slurm, local)")
-    parser.add_argument("--conditions", help="comma-separated conditions instead of the budget's")
+    parser.add_argument(
+        "--conditions",
+        help="comma-separated conditions instead of the budget's: the study's, a curriculum plug-in's "
+        "(<game>-<name>) or --config-dir's",
+    )
+    parser.add_argument(
+        "--config-dir",
+        type=Path,
+        metavar="DIR",
+        help="a config folder of your own whose condition/<name>.yaml --conditions may name",
+    )
     parser.add_argument("--extra", action="store_true", help="also the conditions the study skipped")
     parser.add_argument("--no-train", action="store_true", help="evaluate and report the runs there are")
     parser.add_argument(
@@ -86,20 +100,31 @@ def _seed_list(text: str) -> tuple[int, ...]:
 
 def run(args: argparse.Namespace) -> int:
     from gvgai_pcg.commands.folders import refuse_files_for_folders
+    from gvgai_pcg.config_rules import searchpath_dirs, searchpath_override
     from gvgai_pcg.study import BUDGETS, conditions_of, reproduce
-    from gvgai_pcg.study.conditions import known_conditions, unregistered
+    from gvgai_pcg.study.conditions import known_conditions, unregistered, user_conditions
 
     budget = BUDGETS[args.budget]
     conditions = conditions_of(budget, args.extra)
+    if args.config_dir is not None:
+        if not (args.config_dir / "condition").is_dir():
+            raise ValueError(
+                f"--config-dir {args.config_dir}: no condition/ folder in it (expected "
+                f"{args.config_dir / 'condition' / '<name>.yaml'})"
+            )
+        args.overrides = [searchpath_override(args.config_dir), *args.overrides]
+    search = searchpath_dirs(args.overrides)
     if args.conditions:
         conditions = tuple(c.strip() for c in args.conditions.split(",") if c.strip())
-        valid = dict.fromkeys((*known_conditions(), *budget.conditions, *budget.extra))
+        valid = dict.fromkeys(
+            (*known_conditions(), *budget.conditions, *budget.extra, *user_conditions(search))
+        )
         unknown = sorted(set(conditions) - set(valid))
         if unknown:
             raise ValueError(
                 f"unknown condition(s) {', '.join(unknown)}; valid conditions are: " + ", ".join(valid)
             )
-    refused = unregistered(conditions)
+    refused = unregistered(conditions, search)
     for line in refused.values():  # a curriculum not merged yet: the rest of the comparison runs
         print(f"refused: {line}")
     conditions = tuple(c for c in conditions if c not in refused)

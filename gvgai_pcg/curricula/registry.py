@@ -6,7 +6,9 @@ are (``gvgai_pcg.games.registry``).
 
 A plug-in's config (``Curriculum.config``, a yaml file) becomes the ``regimen`` group's option of
 its name in Hydra's config store (``store_configs``), so ``gvgai-pcg train regimen=<name>``
-finds it without a file in ``conf/regimen/``.
+finds it without a file in ``conf/regimen/``; and each game with it a condition ``<game>-<name>``
+(the ``condition`` group: the game and the curriculum), so ``gvgai-pcg reproduce --conditions
+zelda-<name>`` compares it with the study's curricula as ``conf/condition/zelda-plr.yaml`` does PLR⊥.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from gvgai_pcg.plugins import load_entry_points
 
 ENTRY_POINT_GROUP = "gvgai_pcg.curricula"
 CONFIG_GROUP = "regimen"  # the config group a curriculum is chosen by (kept: runs name it)
+CONDITION_GROUP = "condition"  # a game and a curriculum together (conf/condition/<game>-<name>.yaml)
 
 # modules that hold no curriculum
 _INFRASTRUCTURE = {"base", "builtin", "level_buffer", "registry", "signals", "state"}
@@ -118,11 +121,42 @@ def get_curriculum(name: str) -> Curriculum:
         ) from None
 
 
+def plugin_curricula(config_dir: Path | None = None) -> list[Curriculum]:
+    """The registered curricula with a yaml of their own (``Curriculum.config``) that is not ours
+    (``config_dir/regimen/<name>.yaml``): plug-ins. Ours are not imported (that costs torch)."""
+    _discover()
+    return [
+        c
+        for c in _CURRICULA.values()
+        if c.config is not None
+        and not (config_dir is not None and (config_dir / CONFIG_GROUP / f"{c.name}.yaml").is_file())
+    ]
+
+
+def plugin_conditions(config_dir: Path | None = None) -> dict[str, tuple[str, str]]:
+    """``<game>-<name> -> (game, name)``: the condition of every registered game with every
+    plug-in curriculum, but those ``config_dir/condition`` has a yaml of."""
+    from gvgai_pcg.games import registered_games
+
+    conditions = {
+        f"{game}-{curriculum.name}": (game, curriculum.name)
+        for curriculum in plugin_curricula(config_dir)
+        for game in registered_games()
+    }
+    if config_dir is None:
+        return conditions
+    return {
+        c: pair
+        for c, pair in conditions.items()
+        if not (config_dir / CONDITION_GROUP / f"{c}.yaml").is_file()
+    }
+
+
 def store_configs(config_dir: Path | None = None) -> None:
     """Put the yaml of every plug-in curriculum into Hydra's config store as the option ``name``
-    of the ``regimen`` group, unless ``config_dir/regimen/<name>.yaml`` exists (ours)."""
-    _discover()  # plug-ins only: ours have their yaml in conf/regimen, and importing them costs torch
-    plugins = [c for c in _CURRICULA.values() if c.config is not None]
+    of the ``regimen`` group, unless ``config_dir/regimen/<name>.yaml`` exists (ours), and its
+    condition with every game as the option ``<game>-<name>`` of the ``condition`` group."""
+    plugins = plugin_curricula(config_dir)  # ours have their yaml in conf/regimen
     if not plugins:
         return
     from hydra.core.config_store import ConfigStore
@@ -130,7 +164,14 @@ def store_configs(config_dir: Path | None = None) -> None:
 
     store = ConfigStore.instance()
     for curriculum in plugins:
-        if config_dir is not None and (config_dir / CONFIG_GROUP / f"{curriculum.name}.yaml").is_file():
-            continue
         node = OmegaConf.load(Path(curriculum.config))
         store.store(group=CONFIG_GROUP, name=curriculum.name, node=node, provider="gvgai_pcg.curricula")
+    for condition, (game, name) in plugin_conditions(config_dir).items():
+        node = OmegaConf.create({"defaults": [{"override /game": game}, {f"override /{CONFIG_GROUP}": name}]})
+        store.store(
+            group=CONDITION_GROUP,
+            name=condition,
+            node=node,
+            package="_global_",
+            provider="gvgai_pcg.curricula",
+        )

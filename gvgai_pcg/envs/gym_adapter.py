@@ -18,6 +18,7 @@ score levels by the learner's value estimates, SFL plays its policy) is refused 
 
 from __future__ import annotations
 
+import math
 import sys
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -54,18 +55,29 @@ def _resolve(game: str, spec: LevelSpec) -> Level:
         if spec.game != game:
             raise ValueError(f"level {spec.name or '<unnamed>'} is a {spec.game} level, not a {game} level")
         return spec
-    if isinstance(spec, int | np.integer):
+    if isinstance(spec, int | np.integer) and not isinstance(spec, bool):
         return human_level(game, int(spec))
+    if not isinstance(spec, str | Path):
+        raise ValueError(
+            f"level: expected a Level, a human level index, a {game} level name, a level file or a "
+            f"level's text; got {type(spec).__name__} {_shown(spec)}"
+        )
     text = str(spec)
     if "\n" in text.strip():
         return Level.parse(text, game)
     try:
         return resolve_level(text, game)
-    except FileNotFoundError:
+    except OSError:  # no such file, or a name too long to be one
         raise ValueError(
-            f"level {text!r} is neither a {game} level name ({game}_lvl0 .. {game}_lvl4), a level file, "
-            "nor a level's text"
+            f"level {_shown(text)} is neither a {game} level name ({game}_lvl0 .. {game}_lvl4), a level "
+            "file, nor a level's text"
         ) from None
+
+
+def _shown(value: Any, limit: int = 60) -> str:
+    """``repr(value)``, cut to ``limit`` characters: an error stays one readable line."""
+    text = repr(value)
+    return text if len(text) <= limit else f"{text[: limit - 3]}..."
 
 
 def _level_set(game: str, spec: LevelSetSpec) -> list[Level]:
@@ -144,7 +156,9 @@ class Regimen:
             )
         if (levels is not None) != (regimen == "levels"):
             raise ValueError("levels= gives the set of regimen='levels', and that regimen needs it")
-        self.game, self.name, self.finite = game, regimen, num_levels > 0
+        self.game, self.name, self.finite, self.num_envs = game, regimen, num_levels > 0, num_envs
+        # each env's own difficulty from a per-env reset option (NaN: the regimen's)
+        self._env_difficulty = torch.full((num_envs,), math.nan, dtype=torch.float64)
         state = regimen_curriculum(game, regimen, difficulty, alpha, win_rule)
         # the difficulty that PCG X and PPCG hand out; another curriculum's state is its own
         self.curriculum = state if isinstance(state, DifficultyTransform) else None
@@ -169,7 +183,14 @@ class Regimen:
         return self.curriculum.difficulty if self.curriculum is not None else 0.0
 
     def set_difficulty(self, value: float) -> None:
+        """Every env's generated levels at ``value`` from now on (per-env ones forgotten)."""
         self.curriculum.shared_difficulty[0] = self._checked_difficulty(value)
+        self._env_difficulty.fill_(math.nan)
+
+    def env_difficulties(self) -> torch.Tensor:
+        """The difficulty each env's next generated level is made at: ``[B]`` float64."""
+        own = self._env_difficulty
+        return torch.where(own.isnan(), torch.full_like(own, self.difficulty), own)
 
     def _checked_difficulty(self, value: float) -> float:
         if self.curriculum is None and regimen_kind(self.name).generated:
@@ -215,7 +236,7 @@ class Regimen:
         return TensorDict(
             {
                 "_reset": mask.reshape(b, 1).to(device),
-                "difficulty": torch.full((b, 1), self.difficulty, dtype=torch.float64, device=device),
+                "difficulty": self.env_difficulties().reshape(b, 1).to(device),
             },
             batch_size=[b],
             device=device,
@@ -223,33 +244,92 @@ class Regimen:
 
     def check_options(self, options: dict[str, Any] | None, vector: bool = False) -> ResetOptions:
         """Reset options, checked before anything changes: ``level`` (played by the resetting envs
-        this episode), ``difficulty``, and for a vector env ``reset_mask`` (which it reads itself)."""
+        this episode), ``difficulty``, and for a vector env ``reset_mask`` (which it reads itself).
+        ``level`` and ``difficulty`` each take one value for every env or a list of one per env."""
         options = options or {}
         valid = ("level", "difficulty", "reset_mask") if vector else ("level", "difficulty")
         unknown = set(options) - set(valid)
         if unknown:
             choices = ", ".join(valid)
             raise ValueError(f"unknown reset options {sorted(unknown)}; valid options are: {choices}")
-        difficulty = options.get("difficulty")
-        level = options.get("level")
-        return ResetOptions(
-            None if difficulty is None else self._checked_difficulty(float(difficulty)),
-            None if level is None else _resolve(self.game, level),
+        difficulty, level = options.get("difficulty"), options.get("level")
+        if difficulty is None:
+            checked: float | tuple[float, ...] | None = None
+        elif _per_env(difficulty):
+            checked = tuple(
+                self._checked_env_difficulty(d) for d in self._one_per_env("difficulty", difficulty)
+            )
+        else:
+            checked = self._checked_difficulty(_number("difficulty", difficulty, self.num_envs))
+        levels = None
+        if level is not None:
+            specs = self._one_per_env("level", level) if _per_env(level) else [level] * self.num_envs
+            levels = tuple(None if spec is None else _resolve(self.game, spec) for spec in specs)
+        return ResetOptions(checked, levels)
+
+    def _one_per_env(self, name: str, values: Any) -> list[Any]:
+        """``values`` (a list, tuple or 1-D array) as a list of ``num_envs`` items, or one line."""
+        items = (
+            list(np.asarray(values, dtype=object).reshape(-1))
+            if isinstance(values, np.ndarray)
+            else list(values)
         )
+        if len(items) != self.num_envs or (isinstance(values, np.ndarray) and values.ndim != 1):
+            raise ValueError(
+                f"reset option {name}: one value for every env, or a list of {self.num_envs} (one per env); "
+                f"got {len(items)} values"
+            )
+        return items
+
+    def _checked_env_difficulty(self, value: Any) -> float:
+        """One env's entry of a per-env ``difficulty``: where the regimen has a difficulty of each
+        env's own (``pcg``, a new level every episode), a number in [0, 1]."""
+        number = _number("difficulty", value, self.num_envs)
+        if self.curriculum is not None and self.curriculum.mode != "fixed":
+            raise ValueError(
+                f"reset option difficulty: regimen {self.name!r} moves one difficulty for every env, so it "
+                "takes one number, not one per env; regimen='pcg' takes a difficulty per env"
+            )
+        return self._checked_difficulty(number)
 
     def apply_options(self, options: ResetOptions, env_indices: Sequence[int]) -> None:
-        if options.difficulty is not None:
+        """The checked options on the envs ``env_indices`` (those resetting): one difficulty
+        moves every env's; a per-env difficulty or level is taken by each resetting env."""
+        if isinstance(options.difficulty, float):
             self.set_difficulty(options.difficulty)
-        if options.level is not None:
-            self.source.request(env_indices, options.level)
+        elif options.difficulty is not None:
+            for i in env_indices:
+                self._env_difficulty[i] = options.difficulty[i]
+        for i in env_indices if options.levels is not None else ():
+            if options.levels[i] is not None:
+                self.source.request([i], options.levels[i])
 
 
 @dataclass(frozen=True)
 class ResetOptions:
-    """The checked options of one reset."""
+    """The checked options of one reset: one difficulty for every env, or one per env; the level
+    of each env for this episode (``None``: its regimen's)."""
 
-    difficulty: float | None
-    level: Level | None
+    difficulty: float | tuple[float, ...] | None
+    levels: tuple[Level | None, ...] | None
+
+
+def _per_env(value: Any) -> bool:
+    """Whether a reset option's value is a list of one per env (a list, tuple or array)."""
+    return isinstance(value, list | tuple) or (isinstance(value, np.ndarray) and value.ndim > 0)
+
+
+def _number(name: str, value: Any, num_envs: int) -> float:
+    """A reset option's number, or one line saying what the option takes."""
+    try:
+        if isinstance(value, bool):
+            raise TypeError
+        return float(value)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"reset option {name}: expected a number in [0, 1] for every env, or a list of {num_envs} "
+            f"numbers (one per env); got {type(value).__name__} {_shown(value)}"
+        ) from None
 
 
 def observation_space(game: str, obs: str) -> gym.spaces.Box:

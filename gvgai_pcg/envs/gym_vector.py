@@ -9,6 +9,7 @@ TorchRL env's (``GVGAIEnv(game, num_envs, seed=s)``; with ``SAME_STEP`` autorese
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 from typing import Any
 
@@ -20,6 +21,7 @@ from gymnasium.vector.utils import batch_space
 from tensordict import TensorDict, TensorDictBase
 
 import gvgai_pcg.envs.quiet_torchrl  # noqa: F401 (first: torchrl without its global side effect)
+from gvgai_pcg.engine.step_plan import COMPILE_PAYS_BACK_STEPS, choose_step_plan, compile_pays_back
 from gvgai_pcg.envs.gvgai_env import GVGAIEnv
 from gvgai_pcg.envs.gym_adapter import LevelSetSpec, LevelSpec, Regimen, observation_space
 
@@ -36,6 +38,12 @@ class GVGAIVectorEnv(VectorEnv):
     first observation, with reward 0) or ``SAME_STEP`` (the ending step already returns the new
     episode's first observation; the last one is in ``info["final_obs"]``). ``info`` holds
     ``won``, ``score``, ``difficulty`` and ``level_seed`` as ``[N]`` arrays.
+
+    ``total_steps``: the batched steps (``step`` calls) the job will take, if known. Compiling the
+    tick costs half a minute and pays back only past ``COMPILE_PAYS_BACK_STEPS`` of them on the CPU
+    (the decision ``gvgai-pcg train`` takes from its frames), so a job that is shorter, or does not
+    say, ticks eagerly; a long one that says so ticks compiled, about twice as fast per step. A
+    job that did not say is told once, with a warning, when it passes that many steps.
     """
 
     metadata = {"render_modes": ["rgb_array", "ansi"], "autoreset_mode": AutoresetMode.NEXT_STEP}
@@ -57,7 +65,10 @@ class GVGAIVectorEnv(VectorEnv):
         levels: LevelSetSpec | None = None,
         num_levels: int = 0,
         start_seed: int = 0,
+        total_steps: int | None = None,
     ) -> None:
+        if total_steps is not None and (not isinstance(total_steps, int | np.integer) or total_steps < 0):
+            raise ValueError(f"total_steps must be a whole number >= 0 (batched steps), got {total_steps!r}")
         autoreset_mode = AutoresetMode(autoreset_mode)
         if autoreset_mode == AutoresetMode.DISABLED:
             raise ValueError("autoreset_mode DISABLED is not supported; use NEXT_STEP or SAME_STEP")
@@ -77,8 +88,15 @@ class GVGAIVectorEnv(VectorEnv):
             max_steps=max_steps,
             device=device,
             difficulty=difficulty,
+            compile_tick=compile_pays_back(int(total_steps or 0), device),
         )
         self.obs_kind = obs
+        # a job that did not give its length, on an env that would compile: told when it is long
+        self._steps_taken = 0
+        self._tell_at = None
+        if total_steps is None and not self.engine.step_plan.compiled:
+            would = choose_step_plan(self.engine.game, num_envs, self.engine.device, obs).compiled
+            self._tell_at = COMPILE_PAYS_BACK_STEPS if would else None
         self.single_observation_space = observation_space(game, obs)
         self.single_action_space = gym.spaces.Discrete(self.engine.game.num_actions)
         self.observation_space = batch_space(self.single_observation_space, num_envs)
@@ -92,8 +110,10 @@ class GVGAIVectorEnv(VectorEnv):
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
         """Reset every env, or those in ``options["reset_mask"]``. ``seed`` is one int: env i then
-        plays with ``GVGAIEnv``'s i-th derived seed. ``options`` also takes ``level`` and
-        ``difficulty`` (see ``GVGAIGymEnv.reset``)."""
+        plays with ``GVGAIEnv``'s i-th derived seed. ``options`` also takes ``level`` (this
+        episode's) and ``difficulty`` (from now on; see ``GVGAIGymEnv.reset``), each one value for
+        every env or a list of ``num_envs`` that the resetting envs take their own entry of: a level
+        per env (``None``: the regimen's), a difficulty per env (``regimen="pcg"``)."""
         if seed is not None and not isinstance(seed, int | np.integer):
             raise ValueError(f"seed must be one int (env seeds are derived from it), got {seed!r}")
         options = options or {}
@@ -128,6 +148,14 @@ class GVGAIVectorEnv(VectorEnv):
             highest = self.engine.game.num_actions - 1
             raise ValueError(f"invalid actions {actions!r}; {self.num_envs} integers in 0..{highest}")
         action = torch.as_tensor(np.asarray(actions), dtype=torch.int64, device=device).reshape(self.num_envs)
+        self._steps_taken += 1
+        if self._steps_taken == self._tell_at:
+            warnings.warn(
+                f"this job has stepped {self._steps_taken:,} times with the tick eager; a job this long "
+                "steps about twice as fast compiled: pass total_steps=<the steps it will take> to "
+                "gymnasium.make_vec",
+                stacklevel=2,
+            )
         out = self.engine.step(TensorDict({"action": action}, batch_size=[self.num_envs], device=device))
         out = out.get("next")
         restarting = self._autoreset.to(device)

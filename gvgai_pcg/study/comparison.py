@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -103,9 +103,12 @@ def read_ued_summary(run: Path, settings: dict) -> dict | None:
     return found[1]["summary"] if found else None
 
 
-def collect_runs(runs: Iterable[Path], protocol, ued_settings: dict) -> dict[str, dict[str, CurriculumRuns]]:
+def collect_runs(
+    runs: Iterable[Path], protocol, ued_settings: dict, ued_summaries: Mapping[Path, dict] | None = None
+) -> dict[str, dict[str, CurriculumRuns]]:
     """``game -> label -> CurriculumRuns`` from run directories with the study protocol's records
-    (runs without are left out) and, where present, UED summaries."""
+    (runs without are left out) and, where present, UED summaries: a run's in ``ued_summaries``
+    (by its path, as just evaluated), else its newest record with ``ued_settings``."""
     from gvgai_pcg.evaluation.checkpoints import run_info
     from gvgai_pcg.evaluation.evaluator import read_records, run_results_path
 
@@ -130,7 +133,9 @@ def collect_runs(runs: Iterable[Path], protocol, ued_settings: dict) -> dict[str
         for test_set in GENERATED_SETS:
             if test_set in set_means:
                 entry.add(test_set, set_means[test_set])
-        summary = read_ued_summary(info.path, ued_settings) if ued_settings else None
+        summary = (ued_summaries or {}).get(Path(info.path))
+        if summary is None and ued_settings:
+            summary = read_ued_summary(info.path, ued_settings)
         for metric, value in (ued_values(summary) if summary else {}).items():
             entry.add(metric, value)
     return games
@@ -196,9 +201,11 @@ def _difference_text(verdict: Verdict) -> str:
     return f"difference {d.value:+.2f}, {interval}, Holm p {verdict.adjusted_p:.3g}{decides}"
 
 
-def answer_sentences(verdicts: Sequence[Verdict], labels: dict[str, str] | None = None) -> list[str]:
+def answer_sentences(
+    verdicts: Sequence[Verdict], labels: dict[str, str] | None = None, baseline: str = BASELINE
+) -> list[str]:
     """The question's answer per game and question, then each curriculum's verdict with its
-    interval, as sentences."""
+    interval, as sentences (each compared with ``baseline``)."""
     lines: list[str] = []
     by_game: dict[str, list[Verdict]] = {}
     for v in verdicts:
@@ -209,16 +216,16 @@ def answer_sentences(verdicts: Sequence[Verdict], labels: dict[str, str] | None 
             winners = [v.label for v in of_metric if v.outcome == HOLDS]
             open_ = [v.label for v in of_metric if v.outcome == INCONCLUSIVE]
             if winners:
-                head = f"yes: {', '.join(winners)} beat{'s' if len(winners) == 1 else ''} PPCG"
+                head = f"yes: {', '.join(winners)} beat{'s' if len(winners) == 1 else ''} {baseline}"
             elif open_:
-                head = f"none shown to beat PPCG at this budget ({', '.join(open_)} inconclusive)"
+                head = f"none shown to beat {baseline} at this budget ({', '.join(open_)} inconclusive)"
             elif all(v.outcome == NOT_MEASURED for v in of_metric):
                 head = "not measured"
             else:
-                head = "no: none beats PPCG"
+                head = f"no: none beats {baseline}"
             lines.append(f"- **{game.capitalize()}, on {what}**: {head}.")
             for v in of_metric:
-                lines.append(f"  - {v.label} beats PPCG: **{v.outcome}** ({_difference_text(v)}).")
+                lines.append(f"  - {v.label} beats {baseline}: **{v.outcome}** ({_difference_text(v)}).")
     return lines
 
 
@@ -245,9 +252,10 @@ def tables_markdown(games: dict[str, dict[str, CurriculumRuns]]) -> str:
     return "\n".join(out)
 
 
-def comparison_markdown(games: dict[str, dict[str, CurriculumRuns]]) -> str:
-    """The tables, then the answer: what ``report/curricula.md`` and the page's block hold."""
-    verdicts = judge(games)
+def comparison_markdown(games: dict[str, dict[str, CurriculumRuns]], baseline: str = BASELINE) -> str:
+    """The tables, then the answer: what ``report/curricula.md`` and the page's block hold (and,
+    against any ``baseline`` label, ``gvgai-pcg report --ued``'s ``ued.md``)."""
+    verdicts = judge(games, baseline)
     tested = sum(v.outcome != NOT_MEASURED for v in verdicts)
     return "\n".join(
         [
@@ -255,17 +263,18 @@ def comparison_markdown(games: dict[str, dict[str, CurriculumRuns]]) -> str:
             f"mean over seeds with its {LEVEL * 100:.0f} % Student t interval over seeds in brackets.",
             "",
             tables_markdown(games),
-            "#### Does any curriculum beat PPCG?",
+            f"#### Does any curriculum beat {baseline}?",
             "",
-            f"Each curriculum against PPCG per game: the difference of means with its {LEVEL * 100:.0f} % "
-            f"Welch t interval over seeds; Holm's correction over all {tested} comparisons together "
+            f"Each curriculum against {baseline} per game: the difference of means with its "
+            f"{LEVEL * 100:.0f} % Welch t interval over seeds; Holm's correction over all {tested} "
+            "comparisons together "
             f"(family-wise alpha {ALPHA:.2f}). holds: decided with the curriculum ahead; does not hold: "
-            "decided with PPCG ahead, or no spread on either side and the curriculum not ahead; "
+            f"decided with {baseline} ahead, or no spread on either side and the curriculum not ahead; "
             "inconclusive: not decided, with the seeds per side that would decide it at Bonferroni's "
             f"alpha / {tested} (Holm never needs more) if the means and spreads seen held ("
             f"{MOST_SEEDS} at most).",
             "",
-            *answer_sentences(verdicts),
+            *answer_sentences(verdicts, baseline=baseline),
             "",
         ]
     )

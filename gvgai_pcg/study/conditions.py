@@ -5,6 +5,12 @@ says which conditions run, with how many seeds, frames and overrides, and with w
 protocol. ``smoke`` tests the pipeline in minutes; ``small`` is what a 2-core machine does over
 a few sittings; ``paper`` is the study's own setting, for a GPU or a cluster.
 
+A user's own conditions join a budget's from two places: a curriculum plug-in (its condition
+with each game, ``<game>-<name>``, ``gvgai_pcg.curricula.registry.plugin_conditions``) and a
+config directory of their own, ``DIR/condition/<name>.yaml``, which Hydra searches after ours
+where the runs' overrides say ``hydra.searchpath=[file://DIR]`` (``reproduce --config-dir DIR``
+adds it; ``searchpath_dirs`` reads it back).
+
 A budget also names what it compares: the study's claims (``comparison="study"``, the page
 ``docs/results.md``) or issue 36's curricula comparison (``"curricula"``: PCG 1, PPCG, DR, PLR⊥,
 ACCEL and SFL against PPCG, with the UED protocol, ``docs/results-curricula.md``). A condition whose
@@ -15,6 +21,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 
 GAMES = ("zelda", "solarfox", "frogs", "boulderdash")
 # Table 1 of the study: every regimen on Zelda; PCG 1 and PPCG on the other games (the study
@@ -211,30 +218,59 @@ def known_conditions() -> tuple[str, ...]:
     return STUDY_CONDITIONS + EXTRA_CONDITIONS
 
 
-def condition_regimen(condition: str) -> str:
+def user_conditions(search: Sequence[Path] = ()) -> tuple[str, ...]:
+    """The conditions of the user's config folders (``DIR/condition/*.yaml``) and of the
+    curriculum plug-ins (``<game>-<name>``) that the study's do not name already."""
+    from gvgai_pcg.config import config_dir
+    from gvgai_pcg.curricula.registry import plugin_conditions
+
+    ours = config_dir()
+    found = [path.stem for folder in search for path in sorted(Path(folder).glob("condition/*.yaml"))]
+    found += list(plugin_conditions(ours))
+    return tuple(c for c in dict.fromkeys(found) if not (ours / "condition" / f"{c}.yaml").is_file())
+
+
+def condition_regimen(condition: str, search: Sequence[Path] = ()) -> str:
     """The curriculum (``regimen``) a condition's config selects, read from its yaml without
-    composing it (a curriculum not registered yet has no ``regimen`` option to compose)."""
+    composing it (a curriculum not registered yet has no ``regimen`` option to compose): ours
+    first, then the user's folders ``search`` (Hydra's order), then the curriculum plug-ins'."""
     from omegaconf import OmegaConf
 
     from gvgai_pcg.config import config_dir
+    from gvgai_pcg.curricula.registry import plugin_conditions
 
-    path = config_dir() / "condition" / f"{condition}.yaml"
-    if not path.is_file():
-        raise ValueError(f"unknown condition {condition!r}: no {path}")
+    ours = config_dir()
+    folders = [ours, *search]
+    path = next(
+        (
+            f / "condition" / f"{condition}.yaml"
+            for f in folders
+            if (f / "condition" / f"{condition}.yaml").is_file()
+        ),
+        None,
+    )
+    if path is None:
+        plugin = plugin_conditions(ours).get(condition)
+        if plugin is not None:
+            return plugin[1]
+        places = " or ".join(str(f / "condition") for f in folders)
+        raise ValueError(f"unknown condition {condition!r}: no {condition}.yaml in {places}, nor a plug-in's")
     for entry in OmegaConf.to_container(OmegaConf.load(path)).get("defaults", []):
         if isinstance(entry, dict) and "override /regimen" in entry:
             return str(entry["override /regimen"])
     raise ValueError(f"{path}: no 'override /regimen' in its defaults")
 
 
-def unregistered(conditions: Sequence[str]) -> dict[str, str]:
-    """``condition -> one line`` for each condition whose curriculum is not registered."""
+def unregistered(conditions: Sequence[str], search: Sequence[Path] = ()) -> dict[str, str]:
+    """``condition -> one line`` for each condition whose curriculum is not registered
+    (``search``: the user's config folders, ``searchpath_dirs``)."""
     from gvgai_pcg.curricula import registered_curricula
 
     names = registered_curricula()
     known = ", ".join(sorted(names))
+    regimens = {c: condition_regimen(c, search) for c in conditions}
     return {
-        c: f"{c}: the curriculum {condition_regimen(c)!r} is not registered (registered: {known})"
+        c: f"{c}: the curriculum {regimens[c]!r} is not registered (registered: {known})"
         for c in conditions
-        if condition_regimen(c) not in names
+        if regimens[c] not in names
     }

@@ -30,6 +30,7 @@ from pathlib import Path
 
 from omegaconf import OmegaConf
 
+from gvgai_pcg.config_rules import SEARCHPATH, searchpath_dirs
 from gvgai_pcg.games.registry import find_game_spec
 from gvgai_pcg.study.borrowed_runs import borrow_runs
 from gvgai_pcg.study.conditions import Budget, unregistered
@@ -214,12 +215,20 @@ def last_line(path: Path, offset: int = 0) -> str:
     return lines[-1] if lines else "(nothing written)"
 
 
+def run_overrides(overrides: Sequence[str]) -> list[str]:
+    """``overrides`` less Hydra's own (a launcher's settings), which compose no run's config; but
+    ``hydra.searchpath``, which finds the user's conditions."""
+    return [
+        o for o in overrides if not o.lstrip("+~").startswith("hydra") or o.lstrip("+").startswith(SEARCHPATH)
+    ]
+
+
 def check_planned(budget: Budget, conditions: Sequence[str], overrides: Sequence[str] = ()) -> None:
     """``ConfigError`` for the first planned run whose config cannot train (``algo.lr=-1``), before
     the sweep starts: one seed of each condition (the seeds differ in nothing else)."""
     from gvgai_pcg.config import check_jobs, sweep_jobs
 
-    ours = [o for o in overrides if not o.lstrip("+~").startswith("hydra")]
+    ours = run_overrides(overrides)
     jobs = [
         job
         for condition in conditions
@@ -253,7 +262,7 @@ def planned_configs(budget: Budget, conditions: Sequence[str], overrides: Sequen
 
     from gvgai_pcg.config import config_dir, sweep_jobs
 
-    ours = [o for o in overrides if not o.lstrip("+~").startswith("hydra")]
+    ours = run_overrides(overrides)
     configs: dict[tuple[str, int], dict[str, dict]] = {}
     with initialize_config_dir(config_dir=str(config_dir()), version_base="1.3", job_name="train"):
         for condition in conditions:
@@ -392,7 +401,7 @@ def reproduce(
     report taken while the sweep still trains evaluates no model that will change). Runs that the
     sweep in ``borrow_from`` trained exactly as this one would are taken, not trained
     (``gvgai_pcg.study.borrowed_runs``)."""
-    refused = unregistered(conditions)
+    refused = unregistered(conditions, searchpath_dirs(overrides))
     if refused:
         raise ValueError("; ".join(refused.values()))
     from gvgai_pcg.evaluation.protocol import Protocol

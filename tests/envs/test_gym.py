@@ -261,3 +261,89 @@ def test_a_step_after_the_episode_ended_is_refused_until_reset(ending) -> None:
     assert env.regimen.difficulty == difficulty
     env.reset()
     env.step(0)  # a new episode steps again
+
+
+def test_vector_env_takes_a_difficulty_per_env_for_the_resetting_envs() -> None:
+    vec = gym.make_vec("gvgai_pcg/Boulderdash-v0", num_envs=4, regimen="pcg", difficulty=0.2)
+    _, info = vec.reset(seed=0, options={"difficulty": [0.1, 0.3, 0.5, 0.9]})
+    np.testing.assert_allclose(info["difficulty"], [0.1, 0.3, 0.5, 0.9])
+    levels = vec.unwrapped.engine.current_levels
+    assert [lv.name.split("_")[1] for lv in levels] == ["d0.1", "d0.3", "d0.5", "d0.9"]  # made at each d
+    _, info = vec.reset(
+        options={"difficulty": np.array([0.7] * 4), "reset_mask": np.array([1, 0, 0, 0], bool)}
+    )
+    np.testing.assert_allclose(info["difficulty"], [0.7, 0.3, 0.5, 0.9])  # only env 0 took its entry
+    _, info = vec.reset(options={"difficulty": 0.6})  # one number: every env from now on
+    np.testing.assert_allclose(info["difficulty"], [0.6] * 4)
+
+
+def test_vector_env_takes_a_level_per_env_for_this_episode() -> None:
+    vec = gym.make_vec("gvgai_pcg/Zelda-v0", num_envs=4, regimen="lv", level=0)
+    vec.reset(seed=0, options={"level": [human_level("zelda", i) for i in (1, 2, 3, 4)]})
+    assert [lv.name for lv in vec.unwrapped.engine.current_levels] == [f"zelda_lvl{i}" for i in (1, 2, 3, 4)]
+    vec.reset(options={"level": [None, "zelda_lvl3", 2, None], "reset_mask": np.array([1, 1, 0, 1], bool)})
+    names = [lv.name for lv in vec.unwrapped.engine.current_levels]
+    assert names == ["zelda_lvl0", "zelda_lvl3", "zelda_lvl3", "zelda_lvl0"]  # None: the regimen's level
+
+
+@pytest.mark.parametrize(
+    ("regimen", "options", "says"),
+    [
+        (
+            "pcg",
+            {"difficulty": [0.1, 0.2]},
+            "one value for every env, or a list of 3 \\(one per env\\); got 2",
+        ),
+        (
+            "pcg",
+            {"difficulty": "hard"},
+            "expected a number in \\[0, 1\\] for every env, or a list of 3 numbers",
+        ),
+        ("pcg", {"difficulty": [0.1, None, 0.2]}, "expected a number in \\[0, 1\\] for every env"),
+        (
+            "ppcg",
+            {"difficulty": [0.1, 0.3, 0.9]},
+            "'ppcg' moves one difficulty for every env, so it takes one",
+        ),
+        ("human", {"level": ["zelda_lvl1"] * 4}, "a list of 3 \\(one per env\\); got 4 values"),
+        (
+            "human",
+            {"level": {"name": "zelda_lvl1"}},
+            "expected a Level, a human level index, a zelda level name",
+        ),
+        ("human", {"level": "w" * 400}, "is neither a zelda level name"),
+    ],
+)
+def test_vector_env_refuses_a_malformed_per_env_option_in_one_line(regimen, options, says) -> None:
+    vec = gym.make_vec("gvgai_pcg/Zelda-v0", num_envs=3, regimen=regimen)
+    vec.reset(seed=0)
+    with pytest.raises(ValueError, match=says) as refused:
+        vec.reset(options=options)
+    assert "\n" not in str(refused.value) and len(str(refused.value)) < 250
+
+
+def test_a_short_gymnasium_job_ticks_eagerly_and_a_long_one_compiled(monkeypatch) -> None:
+    """The decision of ``gvgai-pcg train``: compiling pays back only past COMPILE_PAYS_BACK_STEPS."""
+    from gvgai_pcg.engine.step_plan import COMPILE_PAYS_BACK_STEPS
+
+    monkeypatch.delenv("GVGAI_PCG_COMPILE", raising=False)
+    assert not gym.make_vec("gvgai_pcg/Zelda-v0", num_envs=8).unwrapped.engine.step_plan.compiled
+    short = gym.make_vec("gvgai_pcg/Zelda-v0", num_envs=8, total_steps=COMPILE_PAYS_BACK_STEPS - 1)
+    assert not short.unwrapped.engine.step_plan.compiled
+    long = gym.make_vec("gvgai_pcg/Zelda-v0", num_envs=8, total_steps=COMPILE_PAYS_BACK_STEPS)
+    assert long.unwrapped.engine.step_plan.compiled  # made, not stepped: nothing is compiled here
+    with pytest.raises(ValueError, match="total_steps must be a whole number >= 0"):
+        gym.make_vec("gvgai_pcg/Zelda-v0", num_envs=8, total_steps=-1)
+
+
+def test_a_job_that_did_not_give_its_length_is_told_once_when_it_is_long(monkeypatch) -> None:
+    monkeypatch.delenv("GVGAI_PCG_COMPILE", raising=False)
+    monkeypatch.setattr("gvgai_pcg.envs.gym_vector.COMPILE_PAYS_BACK_STEPS", 3)
+    vec = gym.make_vec("gvgai_pcg/Zelda-v0", num_envs=2)
+    vec.reset(seed=0)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        for _ in range(5):
+            vec.step(np.zeros(2, dtype=np.int64))
+    told = [str(w.message) for w in caught if "total_steps" in str(w.message)]
+    assert len(told) == 1 and "stepped 3 times with the tick eager" in told[0]
