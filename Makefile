@@ -54,13 +54,15 @@ docs: $(STAMP)
 clean:
 	rm -rf $(VENV) build *.egg-info
 
-# Every optional extra installs into a fresh venv and does its job there (CI runs it after `make
-# test`): an extra that pip can only satisfy with an old, unbuildable release fails here, not for a user.
+# Every optional extra installs into a fresh venv (with the newest pip, as `make setup` has) and does
+# its job there (CI runs it after `make test`): an extra that pip can only satisfy with an old,
+# unbuildable release fails here, not for a user.
 EXTRAS ?= slurm ray joblib tensorboard wandb
 extras:
 	@set -e; for extra in $(EXTRAS); do \
 	  tmp=$$(mktemp -d); $(PYTHON) -m venv $$tmp/venv; \
 	  echo "== pip install '.[$$extra]' in a fresh venv"; \
+	  $$tmp/venv/bin/pip install -q --upgrade pip; \
 	  $$tmp/venv/bin/pip install -q torch==2.13.0 ".[$$extra]"; \
 	  (cd $$tmp && $$tmp/venv/bin/python $(CURDIR)/tests/extras_check.py $$extra); \
 	  rm -rf $$tmp; \

@@ -121,7 +121,10 @@ class RunLog:
             fsync_file(path)
 
     def close(self) -> None:
+        """Close ``log.csv`` and the TorchRL loggers (their writers flush what they hold)."""
         self._file.close()
+        for logger in self.loggers:
+            logger.close()
 
 
 def read_log(path: Path) -> list[dict[str, float]]:
