@@ -1,0 +1,144 @@
+"""The plan compiled from a description: how each type is held, which stay on whole cells,
+each table's capacity, the rules in Java's order with their kinds, and the refusals."""
+
+from __future__ import annotations
+
+import textwrap
+
+import pytest
+
+from gvgai_pcg.vgdl import VGDLError, parse_vgdl
+from gvgai_pcg.vgdl.plan import analyse, compile_plan
+
+GAME = """
+    SpriteSet
+        floor > Immovable
+        door > Door
+        gem > Resource limit=3
+        crate > Passive
+        pad > Passive
+        spark > Flicker limit=2
+        slash > Flicker limit=1 singleton=True
+        log > Missile orientation=LEFT speed=0.1
+        rock > Missile orientation=DOWN speed=1
+        splinter > Immovable
+        ghost > Immovable
+        nest > SpawnPoint stype=rock total=2 cooldown=5
+        hero > ShootAvatar stype=slash
+    LevelMapping
+        . > floor
+        c > floor crate
+        p > floor pad
+        l > floor log
+        r > floor rock
+        n > floor nest
+        A > floor hero
+    InteractionSet
+        hero EOS > stepBack
+        log EOS > killSprite
+        crate hero > bounceForward
+        hero log > pullWithIt
+        gem hero > collectResource
+        pad hero > changeResource resource=gem
+        rock wall > transformTo stype=splinter repeat=2
+        log door > spawn stype=ghost
+        door hero > spawn stype=spark
+        hero wall > stepBack
+    TerminationSet
+        SpriteCounter stype=door win=True
+        MultiSpriteCounter stype1=rock stype2=log limit=0 win=False
+"""
+
+
+def game_of(body: str = GAME, path: str = "g.txt"):
+    return parse_vgdl("BasicGame\n" + textwrap.indent(textwrap.dedent(body).strip("\n"), "    ") + "\n", path)
+
+
+def test_static_stateless_types_are_count_grids_the_avatar_and_singletons_records():
+    types = analyse(game_of()).types
+    held = {name: sprite.representation for name, sprite in types.items()}
+    assert held["floor"] == held["door"] == held["wall"] == held["splinter"] == held["gem"] == "grid"
+    assert held["hero"] == held["slash"] == "record"
+    tables = {name for name, how in held.items() if how == "table"}
+    assert tables == {"crate", "pad", "spark", "log", "rock", "ghost", "nest"}
+    assert types["crate"].why == "moved or turned by bounceForward"
+    assert types["pad"].why == "changeResource (line 30) changes what it holds"
+    assert types["spark"].why == "Flicker keeps an age"
+    assert types["nest"].why == "a SpawnPoint with total keeps a count"
+    assert types["gem"].why == "still, stateless, on whole cells"  # collected: the hero holds the count
+
+
+def test_alignment_follows_steps_creations_and_moves_to_unaligned_sprites():
+    types = analyse(game_of()).types
+    assert (types["log"].aligned, types["log"].step_px) == (False, 1)  # (int)(0.1 * 10) px
+    assert types["ghost"].why_unaligned == "made by spawn where log is"
+    assert types["ghost"].representation == "table"  # still, but off the cells
+    assert types["hero"].why_unaligned == "moved by pullWithIt to log"
+    assert types["crate"].why_unaligned == "moved by bounceForward to hero"
+    assert (types["rock"].aligned, types["rock"].step_px) == (True, 10)
+    assert types["splinter"].aligned and types["spark"].aligned
+
+
+def test_capacities_are_formulas_over_a_level_with_bounds_where_creation_has_one():
+    plan = analyse(game_of())
+    formulas = {name: sprite.capacity.formula() for name, sprite in plan.types.items() if sprite.capacity}
+    assert formulas["log"] == "level log"
+    assert formulas["rock"] == "level rock + 2 x level nest"  # SpawnPoint total=2
+    assert formulas["ghost"] == "level ghost + cells"  # a spawn with no bound: one slot a cell
+    assert plan.types["hero"].capacity is None and plan.types["floor"].capacity is None
+    rows = ["A.ll", "rnn.", "c..."]
+    slots = plan.table_slots(rows)
+    assert (slots["log"], slots["rock"], slots["ghost"], slots["crate"]) == (2, 5, 12, 1)
+
+
+def test_a_transform_is_bounded_by_its_source_and_a_plan_holds_its_level_slots():
+    game = game_of("""
+        SpriteSet
+            egg > Missile
+            bird > Missile
+            hero > MovingAvatar
+        LevelMapping
+            e > egg
+        InteractionSet
+            egg wall > transformTo stype=bird
+        TerminationSet
+            SpriteCounter stype=hero win=False
+    """)
+    assert compile_plan(game).types["bird"].capacity.formula() == "level bird + level egg"
+    assert compile_plan(game).slots is None
+    assert compile_plan(game, ["wAee", "eeew"]).slots == {"egg": 5, "bird": 5}
+
+
+def test_a_level_that_does_not_fit_is_refused_in_one_line():
+    plan = analyse(game_of())
+    with pytest.raises(ValueError, match=r"^level row 2: character 'z' is not in the LevelMapping$"):
+        plan.table_slots(["A..", ".z."])
+    with pytest.raises(ValueError, match=r"^the level places 2 sprites of 'hero', which holds one"):
+        plan.table_slots(["A.A"])
+
+
+def test_rules_in_java_order_with_leaves_repeats_and_kinds():
+    plan = analyse(game_of())
+    assert [(rule.first, rule.second, rule.name) for rule in plan.eos] == [
+        ("hero", "EOS", "stepBack"),
+        ("log", "EOS", "killSprite"),
+    ]
+    pairs = [(rule.first, rule.second, rule.name, rule.kind) for rule in plan.pairs]
+    assert pairs[4:6] == [("rock", "wall", "transformTo", "A")] * 2  # repeat=2
+    assert ("gem", "hero", "collectResource", "X") in pairs
+    spawn = next(rule for rule in plan.pairs if rule.name == "spawn")
+    assert spawn.random and spawn.values["prob"] == 1 and spawn.values["stype"] == "ghost"
+    assert spawn.effect == next(rule for rule in plan.pairs if rule.line == spawn.line).effect
+
+
+def test_terminations_name_the_types_they_count():
+    first, second = analyse(game_of()).terminations
+    assert (first.counted, first.win, first.limit) == ((("door",),), True, 0)
+    assert (second.counted, second.win) == ((("rock",), ("log",)), False)  # 'False' is a String in Java
+
+
+def test_an_unimplemented_feature_is_refused_at_its_line():
+    game = game_of(GAME.replace("crate > Passive", "crate > Chaser stype=hero"), "chase.txt")
+    with pytest.raises(VGDLError) as refused:
+        compile_plan(game)
+    assert str(refused.value) == "chase.txt:6: Chaser is not implemented by the engine yet (and 1 more)"
