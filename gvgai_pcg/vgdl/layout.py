@@ -6,7 +6,8 @@ The choices speak the hand-written engines' language (``games/base.py``):
   their own (no resources, health, age or spawn counter) and always sit on whole cells; two
   sprites in one cell are a count of 2 (Boulderdash's diamonds);
 - ``record``: a ``[B]`` record with a presence flag, for an avatar type and a type Java keeps
-  to one sprite (``singleton=True`` on its own line);
+  to one sprite (``singleton=True`` on its own line): Java refuses a second singleton, while a
+  second avatar of one type is an overflow error like a full table's;
 - ``table``: a ``[B, K]`` table of pixel positions, in Java's list order (level sprites row
   by row, then creation order), for the rest. ``K`` is fixed when a batch is compiled; a
   creation that finds no free slot is an overflow error, never a silent drop.
@@ -168,12 +169,15 @@ def movers(game: GameDescription) -> dict[str, list[tuple[str, str]]]:
 def stateful(game: GameDescription) -> dict[str, str]:
     """Leaf types whose sprites hold a state of their own, with the reason."""
     found: dict[str, str] = {}
+    made = creations(game)
     for name in game.sprite_order:
         sprite = game.types[name]
         if sprite.java_class in TIMED_CLASSES:
             found[name] = f"{sprite.java_class} keeps an age"
         if sprite.java_class == "SpawnPoint" and sprite.value("total"):
             found[name] = "a SpawnPoint with total keeps a count"
+        elif sprite.java_class == "SpawnPoint" and name in made:  # Java times it from its first update
+            found[name] = "a SpawnPoint made during play keeps its start tick"
     for effect in game.effects:
         spends = effect.name == "spawnIfHasMore" and effect.value("spend")
         if effect.name in FIRST_STATE_EFFECTS or spends:

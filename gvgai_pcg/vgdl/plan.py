@@ -54,6 +54,7 @@ class TypePlan:
     java_class: str
     representation: str  # "grid", "record" or "table"
     why: str
+    singleton: bool  # Java refuses a second sprite (its own line says singleton=True)
     aligned: bool  # on whole cells at every tick
     why_unaligned: str
     step_px: int  # px a move covers; 0 for a class that never moves itself
@@ -145,6 +146,7 @@ def analyse(game: GameDescription) -> Plan:
             java_class=str(game.types[name].java_class),
             representation=chosen[name][0],
             why=chosen[name][1],
+            singleton=game.types[name].singleton,
             aligned=name not in unaligned,
             why_unaligned=unaligned.get(name, ""),
             step_px=speed_px(game.types[name]),

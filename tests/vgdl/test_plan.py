@@ -24,6 +24,7 @@ GAME = """
         splinter > Immovable
         ghost > Immovable
         nest > SpawnPoint stype=rock total=2 cooldown=5
+        hive > SpawnPoint stype=ghost
         hero > ShootAvatar stype=slash
     LevelMapping
         . > floor
@@ -43,6 +44,7 @@ GAME = """
         rock wall > transformTo stype=splinter repeat=2
         log door > spawn stype=ghost
         door hero > spawn stype=spark
+        pad rock > spawn stype=hive
         hero wall > stepBack
     TerminationSet
         SpriteCounter stype=door win=True
@@ -59,12 +61,14 @@ def test_static_stateless_types_are_count_grids_the_avatar_and_singletons_record
     held = {name: sprite.representation for name, sprite in types.items()}
     assert held["floor"] == held["door"] == held["wall"] == held["splinter"] == held["gem"] == "grid"
     assert held["hero"] == held["slash"] == "record"
+    assert types["slash"].singleton and not types["hero"].singleton
     tables = {name for name, how in held.items() if how == "table"}
-    assert tables == {"crate", "pad", "spark", "log", "rock", "ghost", "nest"}
+    assert tables == {"crate", "pad", "spark", "log", "rock", "ghost", "nest", "hive"}
     assert types["crate"].why == "moved or turned by bounceForward"
-    assert types["pad"].why == "changeResource (line 30) changes what it holds"
+    assert types["pad"].why == "changeResource (line 31) changes what it holds"
     assert types["spark"].why == "Flicker keeps an age"
     assert types["nest"].why == "a SpawnPoint with total keeps a count"
+    assert types["hive"].why == "a SpawnPoint made during play keeps its start tick"
     assert types["gem"].why == "still, stateless, on whole cells"  # collected: the hero holds the count
 
 
