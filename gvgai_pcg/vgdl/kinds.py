@@ -59,12 +59,13 @@ RANDOM_EFFECTS = frozenset(
 
 def leaves(game: GameDescription, name: str) -> tuple[str, ...]:
     """The types with sprites a rule naming ``name`` reaches, in Java's ``iSubTypes`` order:
-    the drawn ones (leaves, and ``avatar`` which Java always draws); none for ``EOS``/``TIME``."""
+    the drawn ones (leaves, and ``avatar`` which Java always draws) that have a class; none
+    for ``EOS``/``TIME``."""
     sprite = game.types.get(name)
     if sprite is None:
         return ()
     drawn = set(game.sprite_order)
-    return tuple(sub for sub in sprite.subtypes if sub in drawn)
+    return tuple(sub for sub in sprite.subtypes if sub in drawn and game.types[sub].java_class)
 
 
 def marked_singleton(game: GameDescription, name: str) -> bool:

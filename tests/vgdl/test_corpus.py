@@ -122,6 +122,9 @@ def test_every_file_has_a_plan_and_the_ten_ready_games_compile():
         game = parse_file(path)
         plan = analyse(game)
         assert set(plan.types) == {name for name in game.sprite_order if game.types[name].java_class}
+        reached = {name for rule in plan.rules() for name in rule.firsts + rule.seconds}
+        counted = {name for end in plan.terminations for names in end.counted for name in names}
+        assert reached | counted <= set(plan.types), path.name  # the step needs no other type
         if not unsupported_features(game):
             ready.append(compile_plan(game).path)
     assert len(ready) == 10
