@@ -14,8 +14,10 @@ The choices speak the hand-written engines' language (``games/base.py``):
 
 A type is *aligned* when its sprites are on whole cells at every tick: those can use the fast
 cell-indexed path. It holds unless the type moves by a step that is not a whole cell
-(``(int)(speed * 10)`` px in learning mode), is created where an unaligned sprite is, or is
-moved by a rule to where an unaligned sprite is (a fixed point over the types).
+(``(int)(speed * 10)`` px in learning mode), is created where an unaligned sprite is, is pushed
+or pulled by a type whose speed is not a whole cell (``bounceForward``, ``pullWithIt`` move by
+the second's speed), or is put where an unaligned sprite is (``align``, ``teleportToExit``):
+a fixed point over the types.
 
 A table's capacity is a formula over a level (``Capacity``): its own count in the level, plus
 what creations can add where they are bounded (a transform uses up its source, a spawn point
@@ -28,7 +30,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from gvgai_pcg.vgdl.kinds import CREATING_EFFECTS, created_types, leaves
-from gvgai_pcg.vgdl.model import GameDescription, SpriteType
+from gvgai_pcg.vgdl.model import Effect, GameDescription, SpriteType
 from gvgai_pcg.vgdl.support import STILL_CLASSES
 
 CELL = 10  # px: Java's learning mode forces 10-px cells
@@ -58,11 +60,10 @@ MOVING_EFFECTS = frozenset(
         "slipForward",
     }
 )
-# Moving effects whose first may end where the second (or, for teleportToExit, a portal's
-# exit) is, or moved by the second's step.
-FOLLOWING_EFFECTS = frozenset(
-    {"bounceForward", "pullWithIt", "align", "teleportToExit", "windGust", "slipForward"}
-)
+# Moving effects whose first moves by ``(int)(second.speed * 10)`` px (Java's BounceForward,
+# PullWithIt), and those that put it where the second (teleportToExit: a portal's exit) is.
+PUSHING_EFFECTS = frozenset({"bounceForward", "pullWithIt"})
+FOLLOWING_EFFECTS = frozenset({"align", "teleportToExit", "windGust", "slipForward"})
 # Effects that change a resource or health count their first or second sprite holds (the
 # effects that only read one need no state where nothing changes it).
 FIRST_STATE_EFFECTS = frozenset(
@@ -113,8 +114,11 @@ class Creation:
 
 def speed_px(sprite: SpriteType) -> int:
     """Pixels a move of this type covers: Java's ``(int)(speed * cell)``; 0 for still classes."""
-    if sprite.java_class in STILL_CLASSES:
-        return 0
+    return 0 if sprite.java_class in STILL_CLASSES else push_px(sprite)
+
+
+def push_px(sprite: SpriteType) -> int:
+    """Pixels this type's speed moves a sprite it pushes or pulls, whatever its class."""
     speed = sprite.value("speed")
     return int(float(speed) * CELL) if isinstance(speed, int | float) else 0
 
@@ -149,9 +153,9 @@ def creations(game: GameDescription) -> dict[str, list[Creation]]:
     return found
 
 
-def movers(game: GameDescription) -> dict[str, list[tuple[str, str]]]:
+def movers(game: GameDescription) -> dict[str, list[tuple[Effect, str]]]:
     """Per leaf type, the (effect, second type) rules that move or turn it."""
-    found: dict[str, list[tuple[str, str]]] = {}
+    found: dict[str, list[tuple[Effect, str]]] = {}
     for effect in game.effects:
         if effect.name not in MOVING_EFFECTS:
             continue
@@ -162,7 +166,7 @@ def movers(game: GameDescription) -> dict[str, list[tuple[str, str]]]:
                 exit_type = portal.value("stype") if portal is not None else None
                 target = exit_type if isinstance(exit_type, str) else second
             for first in leaves(game, effect.first):
-                found.setdefault(first, []).append((effect.name, target))
+                found.setdefault(first, []).append((effect, target))
     return found
 
 
@@ -211,9 +215,9 @@ def aligned_types(game: GameDescription, types: tuple[str, ...]) -> dict[str, st
             )
             reason = reason or next(
                 (
-                    f"moved by {how} to {target}"
-                    for how, target in moved.get(name, ())
-                    if how in FOLLOWING_EFFECTS and any(leaf in unaligned for leaf in leaves(game, target))
+                    why
+                    for effect, target in moved.get(name, ())
+                    if (why := _moved_off_cells(game, effect, target, unaligned))
                 ),
                 None,
             )
@@ -221,6 +225,20 @@ def aligned_types(game: GameDescription, types: tuple[str, ...]) -> dict[str, st
                 unaligned[name] = reason
                 changed = True
     return unaligned
+
+
+def _moved_off_cells(game: GameDescription, effect: Effect, target: str, unaligned: Mapping[str, str]) -> str:
+    """Why a move by ``effect`` (second ``target``) may leave a sprite off the cells, or ''."""
+    if effect.name in PUSHING_EFFECTS:
+        steps = {push_px(game.types[leaf]) for leaf in leaves(game, target)}
+        odd = sorted(step for step in steps if step % CELL)
+        return f"moved {odd[0]} px by {effect.name} (line {effect.line})" if odd else ""
+    if effect.name in FOLLOWING_EFFECTS and any(leaf in unaligned for leaf in leaves(game, target)):
+        return f"moved by {effect.name} (line {effect.line}) to {target}"
+    offset = effect.value("offset") if effect.name == "wrapAround" else 0
+    if isinstance(offset, int | float) and int(offset * CELL) % CELL:
+        return f"wrapped {int(offset * CELL)} px from the edge (line {effect.line})"
+    return ""
 
 
 def capacities(

@@ -211,7 +211,7 @@ def _representation(
     if sprite.java_class not in STILL_CLASSES:
         return TABLE, f"{sprite.java_class} moves"
     if sprite.name in moved:
-        how = ", ".join(dict.fromkeys(effect for effect, _ in moved[sprite.name]))
+        how = ", ".join(dict.fromkeys(effect.name for effect, _ in moved[sprite.name]))
         return TABLE, f"moved or turned by {how}"
     if sprite.name in state:
         return TABLE, state[sprite.name]

@@ -77,10 +77,26 @@ def test_alignment_follows_steps_creations_and_moves_to_unaligned_sprites():
     assert (types["log"].aligned, types["log"].step_px) == (False, 1)  # (int)(0.1 * 10) px
     assert types["ghost"].why_unaligned == "made by spawn where log is"
     assert types["ghost"].representation == "table"  # still, but off the cells
-    assert types["hero"].why_unaligned == "moved by pullWithIt to log"
-    assert types["crate"].why_unaligned == "moved by bounceForward to hero"
+    assert types["hero"].why_unaligned == "moved 1 px by pullWithIt (line 29)"  # by the log's speed
+    assert types["crate"].aligned  # pushed a whole cell by the hero's speed, wherever the hero is
     assert (types["rock"].aligned, types["rock"].step_px) == (True, 10)
     assert types["splinter"].aligned and types["spark"].aligned
+
+
+def test_a_push_by_a_slow_pusher_and_a_wrap_with_an_offset_leave_the_cells():
+    types = analyse(
+        game_of("""
+        SpriteSet
+            box > Passive
+            car > Missile orientation=RIGHT
+            hero > MovingAvatar speed=0.5
+        InteractionSet
+            box hero > bounceForward
+            car EOS > wrapAround offset=0.5
+    """)
+    ).types
+    assert types["box"].why_unaligned == "moved 5 px by bounceForward (line 7)"
+    assert types["car"].why_unaligned == "wrapped 5 px from the edge (line 8)"
 
 
 def test_capacities_are_formulas_over_a_level_with_bounds_where_creation_has_one():
