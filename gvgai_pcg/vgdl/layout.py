@@ -244,19 +244,21 @@ def _moved_off_cells(game: GameDescription, effect: Effect, target: str, unalign
 def capacities(
     game: GameDescription, types: tuple[str, ...], representation: Mapping[str, str]
 ) -> dict[str, Capacity]:
-    """Each table's slots as a formula over a level; records hold one, grids need none."""
+    """Each table's slots as a formula over a level; records hold one, grids need none.
+
+    A formula bounds how many sprites of the type an episode can ever make (so it bounds those
+    alive at once): the level's own, plus for each bounded creation that many times what its
+    source can ever be (a record included: an avatar made again may transform again)."""
     made = creations(game)
     result: dict[str, Capacity] = {}
 
     def of(name: str, visiting: tuple[str, ...]) -> Capacity:
         if name in result:
             return result[name]
-        if representation.get(name) == RECORD:
-            return Capacity((), 1, 0, "one a env")
         ways = made.get(name, [])
         if not ways:
             return Capacity((name,), 0, 0, "the level's own")
-        level_types, constant, per_cell = [name], 0, 0
+        level_types, constant = [name], 0
         for way in ways:
             if way.bounded_by is None or way.source in visiting or way.source == name:
                 return Capacity((name,), 0, HEADROOM_PER_CELL, f"{way.how} (line {way.line}) has no bound")
@@ -266,7 +268,7 @@ def capacities(
             level_types += list(source.level_types) * way.bounded_by
             constant += source.constant * way.bounded_by
         why = "the level's own + what " + ", ".join(dict.fromkeys(w.source for w in ways)) + " can become"
-        return Capacity(tuple(level_types), constant, per_cell, why)
+        return Capacity(tuple(level_types), constant, 0, why)
 
     for name in types:
         if representation[name] == TABLE:

@@ -18,6 +18,7 @@ The step reads nothing else: the description is not needed once the plan exists.
 
 from __future__ import annotations
 
+import dataclasses
 from collections import Counter
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -127,7 +128,7 @@ def compile_plan(game: GameDescription, level_rows: Sequence[str] | None = None)
     plan = analyse(game)
     if level_rows is None:
         return plan
-    return Plan(**{**plan.__dict__, "slots": plan.table_slots(level_rows)})
+    return dataclasses.replace(plan, slots=plan.table_slots(level_rows))
 
 
 def analyse(game: GameDescription) -> Plan:

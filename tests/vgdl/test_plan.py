@@ -119,14 +119,18 @@ def test_a_transform_is_bounded_by_its_source_and_a_plan_holds_its_level_slots()
             hero > MovingAvatar
         LevelMapping
             e > egg
+            H > hero
         InteractionSet
             egg wall > transformTo stype=bird
+            hero bird > transformTo stype=egg
         TerminationSet
             SpriteCounter stype=hero win=False
     """)
-    assert compile_plan(game).types["bird"].capacity.formula() == "level bird + level egg"
+    # the hero's record becomes an egg once (nothing makes a hero again), each egg a bird once
+    assert compile_plan(game).types["egg"].capacity.formula() == "level egg + level hero"
+    assert compile_plan(game).types["bird"].capacity.formula() == "level bird + level egg + level hero"
     assert compile_plan(game).slots is None
-    assert compile_plan(game, ["wAee", "eeew"]).slots == {"egg": 5, "bird": 5}
+    assert compile_plan(game, ["wHee", "eeew"]).slots == {"egg": 6, "bird": 6}
 
 
 def test_a_level_that_does_not_fit_is_refused_in_one_line():
