@@ -29,6 +29,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+from gvgai_pcg.vgdl.java_classes import Const
 from gvgai_pcg.vgdl.kinds import CREATING_EFFECTS, created_types, leaves
 from gvgai_pcg.vgdl.model import Effect, GameDescription, SpriteType
 from gvgai_pcg.vgdl.support import STILL_CLASSES
@@ -64,6 +65,9 @@ MOVING_EFFECTS = frozenset(
 # PullWithIt), and those that put it where the second (teleportToExit: a portal's exit) is.
 PUSHING_EFFECTS = frozenset({"bounceForward", "pullWithIt"})
 FOLLOWING_EFFECTS = frozenset({"align", "teleportToExit", "windGust", "slipForward"})
+# Moving effects that leave the first's orientation as it was.
+KEEP_ORIENTATION = frozenset({"pullWithIt", "wrapAround", "reverseDirection"})
+AXES = ("x", "y")
 # Effects that change a resource or health count their first or second sprite holds (the
 # effects that only read one need no state where nothing changes it).
 FIRST_STATE_EFFECTS = frozenset(
@@ -195,50 +199,95 @@ def stateful(game: GameDescription) -> dict[str, str]:
     return found
 
 
-def aligned_types(game: GameDescription, types: tuple[str, ...]) -> dict[str, str]:
-    """Leaf types that can leave whole cells, with the first reason found (a fixed point)."""
-    made, moved = creations(game), movers(game)
-    unaligned: dict[str, str] = {}
+def own_axes(game: GameDescription, name: str, turned: frozenset[str]) -> tuple[str, ...]:
+    """The axes along which a type's own update may move it: none for a still class, one for a
+    Missile whose orientation is fixed along it (a lane), both otherwise."""
+    sprite = game.types[name]
+    if sprite.java_class in STILL_CLASSES:
+        return ()
+    orientation = sprite.value("orientation")
+    facing = orientation.name if isinstance(orientation, Const) else ""
+    if sprite.java_class == "Missile" and name not in turned:
+        if facing in ("DLEFT", "DRIGHT"):
+            return ("x",)
+        if facing in ("DUP", "DDOWN"):
+            return ("y",)
+    return AXES
+
+
+def turned_types(game: GameDescription) -> frozenset[str]:
+    """Types whose orientation may differ from their type's: turned by a rule, or made with an
+    orientation other than their own (Java's SpawnPoint ``spawnorientation``, a transform's
+    ``forceOrientation``, or a creation into a type with no orientation of its own)."""
+    found = {
+        name for name, rules in movers(game).items() if any(e.name not in KEEP_ORIENTATION for e, _ in rules)
+    }
+    for effect in game.effects:
+        if effect.name in CREATING_EFFECTS and effect.value("forceOrientation"):
+            found.update(created_types(game, effect))
+    for name, ways in creations(game).items():
+        spawner = [game.types[way.source].value("spawnorientation") for way in ways]
+        if any(isinstance(o, Const) and o.name != "DNONE" for o in spawner):
+            found.add(name)
+    return frozenset(found)
+
+
+def unaligned_axes(game: GameDescription, types: tuple[str, ...]) -> dict[str, dict[str, str]]:
+    """Per type, the axes (``x``, ``y``) on which its sprites may leave whole cells, each with
+    the first reason found: a fixed point over steps, creations and moves."""
+    made, moved, turned = creations(game), movers(game), turned_types(game)
+    axes = {name: own_axes(game, name, turned) for name in types}
+    off: dict[str, dict[str, str]] = {name: {} for name in types}
     for name in types:
         step = speed_px(game.types[name])
         if step % CELL:
-            unaligned[name] = f"a move is {step} px, not whole cells"
+            off[name].update({axis: f"a move is {step} px, not whole cells" for axis in axes[name]})
     changed = True
     while changed:
         changed = False
         for name in types:
-            if name in unaligned:
-                continue
-            reason = next(
-                (f"made by {c.how} where {c.source} is" for c in made.get(name, ()) if c.source in unaligned),
-                None,
-            )
-            reason = reason or next(
-                (
-                    why
-                    for effect, target in moved.get(name, ())
-                    if (why := _moved_off_cells(game, effect, target, unaligned))
-                ),
-                None,
-            )
-            if reason:
-                unaligned[name] = reason
-                changed = True
-    return unaligned
+            found: dict[str, str] = {}
+            for way in made.get(name, ()):
+                for axis in off.get(way.source, {}):
+                    found.setdefault(axis, f"made by {way.how} where {way.source} is")
+            for effect, target in moved.get(name, ()):
+                for axis, why in _moved_off_cells(game, effect, target, off, axes, name).items():
+                    found.setdefault(axis, why)
+            for axis, why in found.items():
+                if axis not in off[name]:
+                    off[name][axis] = why
+                    changed = True
+    return off
 
 
-def _moved_off_cells(game: GameDescription, effect: Effect, target: str, unaligned: Mapping[str, str]) -> str:
-    """Why a move by ``effect`` (second ``target``) may leave a sprite off the cells, or ''."""
-    if effect.name in PUSHING_EFFECTS:
-        steps = {push_px(game.types[leaf]) for leaf in leaves(game, target)}
-        odd = sorted(step for step in steps if step % CELL)
-        return f"moved {odd[0]} px by {effect.name} (line {effect.line})" if odd else ""
-    if effect.name in FOLLOWING_EFFECTS and any(leaf in unaligned for leaf in leaves(game, target)):
-        return f"moved by {effect.name} (line {effect.line}) to {target}"
+def _moved_off_cells(
+    game: GameDescription,
+    effect: Effect,
+    target: str,
+    off: Mapping[str, Mapping[str, str]],
+    axes: Mapping[str, tuple[str, ...]],
+    name: str,
+) -> dict[str, str]:
+    """The axes on which a move by ``effect`` (second ``target``) may leave a sprite off the
+    cells, with the reason."""
+    if effect.name in PUSHING_EFFECTS:  # along the second's last move, by the second's speed
+        odd = [leaf for leaf in leaves(game, target) if push_px(game.types[leaf]) % CELL]
+        pushed = {axis for leaf in odd for axis in axes.get(leaf, AXES)} or set(AXES) if odd else set()
+        step = push_px(game.types[odd[0]]) if odd else 0
+        return {
+            axis: f"moved {step} px by {effect.name} (line {effect.line})" for axis in AXES if axis in pushed
+        }
+    if effect.name in FOLLOWING_EFFECTS:
+        return {
+            axis: f"moved by {effect.name} (line {effect.line}) to {target}"
+            for leaf in leaves(game, target)
+            for axis in off.get(leaf, {})
+        }
     offset = effect.value("offset") if effect.name == "wrapAround" else 0
     if isinstance(offset, int | float) and int(offset * CELL) % CELL:
-        return f"wrapped {int(offset * CELL)} px from the edge (line {effect.line})"
-    return ""
+        why = f"wrapped {int(offset * CELL)} px from the edge (line {effect.line})"
+        return {axis: why for axis in axes.get(name) or AXES}
+    return {}
 
 
 def capacities(

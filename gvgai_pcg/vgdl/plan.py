@@ -33,13 +33,13 @@ from gvgai_pcg.vgdl.layout import (
     TABLE,
     Capacity,
     Creation,
-    aligned_types,
     capacities,
     creations,
     is_avatar,
     movers,
     speed_px,
     stateful,
+    unaligned_axes,
 )
 from gvgai_pcg.vgdl.model import Effect, GameDescription, SpriteType, Termination
 from gvgai_pcg.vgdl.support import STILL_CLASSES, check_supported
@@ -57,7 +57,9 @@ class TypePlan:
     why: str
     singleton: bool  # Java refuses a second sprite (its own line says singleton=True)
     aligned: bool  # on whole cells at every tick
-    why_unaligned: str
+    aligned_x: bool  # x on whole cells (a column stays a column)
+    aligned_y: bool  # y on whole cells (a lane: the row stays a row)
+    why_unaligned: str  # the first reason, x before y
     step_px: int  # px a move covers; 0 for a class that never moves itself
     values: Mapping[str, object]  # behaviour fields, Java's defaults filled in
     created_by: tuple[Creation, ...]
@@ -137,7 +139,8 @@ def analyse(game: GameDescription) -> Plan:
     types = tuple(name for name in game.sprite_order if game.types[name].java_class)
     state, moved = stateful(game), movers(game)
     made = creations(game)
-    unaligned = aligned_types(game, types)
+    off = unaligned_axes(game, types)
+    unaligned = {name: axes.get("x") or axes["y"] for name, axes in off.items() if axes}
     chosen = {name: _representation(game.types[name], state, moved, unaligned) for name in types}
     tables = capacities(game, types, {name: rep for name, (rep, _) in chosen.items()})
     plans = {
@@ -149,6 +152,8 @@ def analyse(game: GameDescription) -> Plan:
             why=chosen[name][1],
             singleton=game.types[name].singleton,
             aligned=name not in unaligned,
+            aligned_x="x" not in off[name],
+            aligned_y="y" not in off[name],
             why_unaligned=unaligned.get(name, ""),
             step_px=speed_px(game.types[name]),
             values=_sprite_values(game.types[name]),

@@ -18,7 +18,10 @@ def describe_plan(plan: Plan) -> str:
         "  rule kinds: " + (", ".join(f"{count} {kind}" for kind, count in sorted(kinds.items())) or "-"),
     ]
     for sprite in plan.types.values():
-        aligned = "aligned" if sprite.aligned else f"not aligned: {sprite.why_unaligned}"
+        axes = " and ".join(
+            axis for axis, whole in (("x", sprite.aligned_x), ("y", sprite.aligned_y)) if not whole
+        )
+        aligned = "aligned" if sprite.aligned else f"off the cells in {axes}: {sprite.why_unaligned}"
         text = f"  {sprite.name}: {sprite.representation} ({sprite.why}); {aligned}"
         if sprite.step_px:
             text += f"; {sprite.step_px} px a move"

@@ -111,8 +111,8 @@ def test_inspect_prints_the_plan_and_a_levels_slots(tmp_path, capsys):
     ]  # Java's default avatar too
     assert "  hero: record (the avatar); aligned; 10 px a move" in plan
     assert (
-        "  shot: table (Missile moves); not aligned: a move is 5 px, not whole cells; 5 px a move; "
-        "slots level shot + cells = 15 (SpawnPoint (line 6) has no bound)"
+        "  shot: table (Missile moves); off the cells in x and y: a move is 5 px, not whole cells; "
+        "5 px a move; slots level shot + cells = 15 (SpawnPoint (line 6) has no bound)"
     ) in plan
     assert "    P hero shot: killSprite(line 12, score -1) on hero x shot: one masked operation" in plan
     assert plan[-1] == "  termination line 14: SpriteCounter counts hero, limit 0 -> lose"

@@ -78,6 +78,10 @@ def test_alignment_follows_steps_creations_and_moves_to_unaligned_sprites():
     assert types["ghost"].why_unaligned == "made by spawn where log is"
     assert types["ghost"].representation == "table"  # still, but off the cells
     assert types["hero"].why_unaligned == "moved 1 px by pullWithIt (line 29)"  # by the log's speed
+    # a log faces LEFT and nothing turns it: its row, and the row of the hero it pulls, stay whole
+    assert (types["log"].aligned_x, types["log"].aligned_y) == (False, True)
+    assert (types["hero"].aligned_x, types["hero"].aligned_y) == (False, True)
+    assert (types["ghost"].aligned_x, types["ghost"].aligned_y) == (False, True)
     assert types["crate"].aligned  # pushed a whole cell by the hero's speed, wherever the hero is
     assert (types["rock"].aligned, types["rock"].step_px) == (True, 10)
     assert types["splinter"].aligned and types["spark"].aligned
@@ -89,14 +93,19 @@ def test_a_push_by_a_slow_pusher_and_a_wrap_with_an_offset_leave_the_cells():
         SpriteSet
             box > Passive
             car > Missile orientation=RIGHT
+            bolt > Missile orientation=UP speed=0.5
             hero > MovingAvatar speed=0.5
         InteractionSet
             box hero > bounceForward
             car EOS > wrapAround offset=0.5
+            bolt wall > flipDirection
     """)
     ).types
-    assert types["box"].why_unaligned == "moved 5 px by bounceForward (line 7)"
-    assert types["car"].why_unaligned == "wrapped 5 px from the edge (line 8)"
+    assert types["box"].why_unaligned == "moved 5 px by bounceForward (line 8)"
+    assert types["car"].why_unaligned == "wrapped 5 px from the edge (line 9)"
+    assert (types["car"].aligned_x, types["car"].aligned_y) == (False, True)
+    assert not types["box"].aligned_x and not types["box"].aligned_y  # the hero moves both ways
+    assert not types["bolt"].aligned_x and not types["bolt"].aligned_y  # a turned missile may go any way
 
 
 def test_capacities_are_formulas_over_a_level_with_bounds_where_creation_has_one():
