@@ -236,12 +236,20 @@ def unaligned_axes(game: GameDescription, types: tuple[str, ...]) -> dict[str, d
     """Per type, the axes (``x``, ``y``) on which its sprites may leave whole cells, each with
     the first reason found: a fixed point over steps, creations and moves."""
     made, moved, turned = creations(game), movers(game), turned_types(game)
-    axes = {name: own_axes(game, name, turned) for name in types}
+    # The axes a sprite's last move may lie on (what it pushes moves along them): its own, or
+    # both where a rule moves it too.
+    carried = {
+        name
+        for name, rules in moved.items()
+        if any(e.name in PUSHING_EFFECTS | FOLLOWING_EFFECTS for e, _ in rules)
+    }
+    own = {name: own_axes(game, name, turned) for name in types}
+    axes = {name: AXES if name in carried else own[name] for name in types}
     off: dict[str, dict[str, str]] = {name: {} for name in types}
     for name in types:
         step = speed_px(game.types[name])
         if step % CELL:
-            off[name].update({axis: f"a move is {step} px, not whole cells" for axis in axes[name]})
+            off[name].update({axis: f"a move is {step} px, not whole cells" for axis in own[name]})
     changed = True
     while changed:
         changed = False
@@ -251,7 +259,7 @@ def unaligned_axes(game: GameDescription, types: tuple[str, ...]) -> dict[str, d
                 for axis in off.get(way.source, {}):
                     found.setdefault(axis, f"made by {way.how} where {way.source} is")
             for effect, target in moved.get(name, ()):
-                for axis, why in _moved_off_cells(game, effect, target, off, axes, name).items():
+                for axis, why in _moved_off_cells(game, effect, target, off, axes, own[name]).items():
                     found.setdefault(axis, why)
             for axis, why in found.items():
                 if axis not in off[name]:
@@ -266,10 +274,11 @@ def _moved_off_cells(
     target: str,
     off: Mapping[str, Mapping[str, str]],
     axes: Mapping[str, tuple[str, ...]],
-    name: str,
+    own: tuple[str, ...],
 ) -> dict[str, str]:
-    """The axes on which a move by ``effect`` (second ``target``) may leave a sprite off the
-    cells, with the reason."""
+    """The axes on which a move by ``effect`` (second ``target``) may leave a sprite that moves
+    itself along ``own`` off the cells, with the reason; ``axes`` are those each type's last
+    move may lie on."""
     if effect.name in PUSHING_EFFECTS:  # along the second's last move, by the second's speed
         odd = [leaf for leaf in leaves(game, target) if push_px(game.types[leaf]) % CELL]
         pushed = {axis for leaf in odd for axis in axes.get(leaf, AXES)} or set(AXES) if odd else set()
@@ -286,7 +295,7 @@ def _moved_off_cells(
     offset = effect.value("offset") if effect.name == "wrapAround" else 0
     if isinstance(offset, int | float) and int(offset * CELL) % CELL:
         why = f"wrapped {int(offset * CELL)} px from the edge (line {effect.line})"
-        return {axis: why for axis in axes.get(name) or AXES}
+        return {axis: why for axis in own or AXES}
     return {}
 
 

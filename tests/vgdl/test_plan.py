@@ -175,3 +175,20 @@ def test_an_unimplemented_feature_is_refused_at_its_line():
     with pytest.raises(VGDLError) as refused:
         compile_plan(game)
     assert str(refused.value) == "chase.txt:6: Chaser is not implemented by the engine yet (and 1 more)"
+
+
+def test_what_a_carried_sprite_pushes_moves_along_both_axes():
+    types = analyse(
+        game_of("""
+        SpriteSet
+            box > Passive
+            raft > Missile orientation=RIGHT speed=0.5
+            lift > Missile orientation=UP
+            hero > MovingAvatar
+        InteractionSet
+            raft lift > pullWithIt
+            box raft > bounceForward
+    """)
+    ).types
+    assert (types["raft"].aligned_x, types["raft"].aligned_y) == (False, True)  # lifted a whole cell
+    assert not types["box"].aligned_y  # the raft's last move may be the lift's, up
