@@ -25,7 +25,7 @@ COMMANDS: dict[str, str] = {
     "analyze": "Level-distribution analysis (PCA + DBSCAN)",
     "replay": "Render an episode of a trained agent as an animated GIF",
     "reproduce": "The study from sweep to Table 1: train, evaluate, report (--budget smoke|small|medium|...)",
-    "vgdl": "GVGAI's VGDL games: list them, inspect one's parse in Java's orders",
+    "vgdl": "GVGAI's VGDL games: list them, inspect one's parse in Java's orders and its plan",
 }
 RAW_ARGUMENT_COMMANDS = {"train"}
 # What a command raises for bad input (a malformed level file is a ValueError naming its file,

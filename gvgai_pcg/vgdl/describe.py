@@ -8,9 +8,6 @@ behaviour.
 
 from __future__ import annotations
 
-import dataclasses
-import json
-
 from gvgai_pcg.vgdl.java_classes import Const, defaults_of, fields_of
 from gvgai_pcg.vgdl.model import Effect, GameDescription, SpriteType
 from gvgai_pcg.vgdl.support import IMPLEMENTED, required_features
@@ -103,12 +100,8 @@ def _sprite(sprite: SpriteType) -> list[str]:
     return lines
 
 
-def to_json(game: GameDescription) -> str:
-    """The whole description as JSON (Java constants as their names)."""
-
-    def encode(value: object) -> object:
-        if isinstance(value, Const):
-            return value.name
-        raise TypeError(f"cannot encode {type(value).__name__}")
-
-    return json.dumps(dataclasses.asdict(game), default=encode, indent=1)
+def encode(value: object) -> object:
+    """``json.dumps``'s ``default``: Java constants as their names."""
+    if isinstance(value, Const):
+        return value.name
+    raise TypeError(f"cannot encode {type(value).__name__}")

@@ -80,3 +80,69 @@ def test_refusals_are_one_line_with_the_file_and_line(tmp_path, capsys, monkeypa
     monkeypatch.setenv("GVGAI_VGDL_DIR", str(tmp_path / "absent"))
     assert exit_code(["vgdl", "list"]) == 2
     assert capsys.readouterr().err.count("\n") == 1
+
+
+PLANNED = """BasicGame
+    SpriteSet
+        floor > Immovable
+        hero > MovingAvatar
+        shot > Missile speed=0.5
+        nest > SpawnPoint stype=shot
+    LevelMapping
+        . > floor
+        n > floor nest
+    InteractionSet
+        shot wall > killSprite
+        hero shot > killSprite scoreChange=-1
+    TerminationSet
+        SpriteCounter stype=hero limit=0 win=False
+"""
+
+
+def test_inspect_prints_the_plan_and_a_levels_slots(tmp_path, capsys):
+    path, level = tmp_path / "game.txt", tmp_path / "game_lvl0.txt"
+    path.write_text(PLANNED)
+    level.write_text("wwwww\nwA.nw\nwwwww\n")
+    assert main(["vgdl", "inspect", str(path), "--level", str(level)]) == 0
+    plan = capsys.readouterr().out.split("\nplan:\n")[1].splitlines()
+    assert plan[:2] == [
+        "  types: 3 grid, 2 record, 1 table",
+        "  rule kinds: 2 P",
+    ]  # Java's default avatar too
+    assert "  hero: record (the avatar); aligned; 10 px a move" in plan
+    assert (
+        "  shot: table (Missile moves); off the cells in x and y: a move is 5 px, not whole cells; "
+        "5 px a move; slots level shot + cells = 15 (SpawnPoint (line 6) has no bound)"
+    ) in plan
+    assert "    P hero shot: killSprite(line 12, score -1) on hero x shot: one masked operation" in plan
+    assert plan[-1] == "  termination line 14: SpriteCounter counts hero, limit 0 -> lose"
+
+
+def test_inspect_shows_the_refusal_in_the_plans_place(tmp_path, capsys):
+    path = tmp_path / "game.txt"
+    path.write_text(READY)
+    assert main(["vgdl", "inspect", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert out.endswith(f"plan: refused: {path}:7: bounceForward is not implemented by the engine yet\n")
+    assert main(["vgdl", "inspect", str(path), "--json"]) == 0
+    described = json.loads(capsys.readouterr().out)
+    assert described["plan"] is None and described["plan_refused"].endswith(
+        "bounceForward is not implemented by the engine yet"
+    )
+
+
+def test_inspect_json_holds_the_plan_and_a_bad_level_is_one_line(tmp_path, capsys):
+    path = tmp_path / "game.txt"
+    path.write_text(PLANNED)
+    assert main(["vgdl", "inspect", str(path), "--json"]) == 0
+    plan = json.loads(capsys.readouterr().out)["plan"]
+    assert plan["types"]["shot"]["representation"] == "table" and plan["slots"] is None
+    assert [rule["kind"] for rule in plan["pairs"]] == ["P", "P"]
+    (tmp_path / "bad.txt").write_text("wA?w\n")
+    assert exit_code(["vgdl", "inspect", str(path), "--level", str(tmp_path / "bad.txt")]) == 2
+    assert (
+        capsys.readouterr().err
+        == "gvgai-pcg vgdl: error: level row 1: character '?' is not in the LevelMapping\n"
+    )
+    assert exit_code(["vgdl", "inspect", str(path), "--level", str(tmp_path / "absent.txt")]) == 2
+    assert "cannot read level" in capsys.readouterr().err

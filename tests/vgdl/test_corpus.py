@@ -1,9 +1,10 @@
-"""GVGAI's 104 grid-physics files parse exactly as Java parses them.
+"""GVGAI's 104 grid-physics files parse as Java parses them; their rules classify as the notes do.
 
 The VGDL files are not part of this repository: the test reads them from the folder named by
 ``GVGAI_VGDL_DIR``, else from ``../shared/vgdl/games/`` beside the checkout. Java's own parse
 of each file (``java_structure.jsonl``: update order, collision pairs in processing order with
-their effect counts, EOS list, subtypes) and the per-game feature inventory are read from
+their effect counts, EOS list, subtypes), the per-game feature inventory and the kind of every
+rule pair (``rule_order.json``) are read from
 ``../shared/vgdl/data/`` beside the checkout (``GVGAI_VGDL_DATA`` overrides it). Where either
 is missing the tests are skipped, saying which.
 """
@@ -17,6 +18,8 @@ from pathlib import Path
 import pytest
 
 from gvgai_pcg.vgdl import GameDescription, parse_file
+from gvgai_pcg.vgdl.kinds import RANDOM_EFFECTS, rule_kind
+from gvgai_pcg.vgdl.plan import analyse, compile_plan
 from gvgai_pcg.vgdl.support import IMPLEMENTED, required_features, unsupported_features
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -24,6 +27,7 @@ GAMES = Path(os.environ.get("GVGAI_VGDL_DIR", ROOT.parent / "shared" / "vgdl" / 
 DATA = Path(os.environ.get("GVGAI_VGDL_DATA", ROOT.parent / "shared" / "vgdl" / "data"))
 STRUCTURE = DATA / "java_structure.jsonl"
 INVENTORY = DATA / "inventory.json"
+RULE_ORDER = DATA / "rule_order.json"
 
 needs_corpus = pytest.mark.skipif(
     not GAMES.is_dir() or not STRUCTURE.is_file(),
@@ -89,3 +93,38 @@ def test_each_file_needs_the_features_the_inventory_lists():
 @pytest.mark.skipif(not (DATA / "cover.json").is_file(), reason=f"the corpus notes ({DATA}) are not here")
 def test_the_implemented_table_is_the_four_games_features_of_the_corpus_notes():
     assert IMPLEMENTED == set(json.loads((DATA / "cover.json").read_text())["four_features"])
+
+
+@needs_corpus
+@pytest.mark.skipif(not RULE_ORDER.is_file(), reason=f"the rule classification ({RULE_ORDER}) is not here")
+def test_each_rule_kind_agrees_with_the_corpus_classification():
+    games = json.loads(RULE_ORDER.read_text())["games"]
+    assert len(games) == 104
+    different = []
+    for game, facts in games.items():
+        description = parse_file(GAMES / f"{game}.txt")
+        pairs = [(effect, second) for effect in description.effects for second in effect.seconds]
+        assert len(pairs) == len(facts["rules"]), game
+        for (effect, second), (first, _, name, kind, random) in zip(pairs, facts["rules"], strict=True):
+            assert (effect.first, effect.name) == (first, name), game
+            mine = rule_kind(description, effect, second)[0], effect.name in RANDOM_EFFECTS
+            if mine != (kind, random):
+                different.append(f"{game} line {effect.line} {first} {second}: {mine} != {(kind, random)}")
+    assert not different, f"{len(different)} of 1,546 pairs differ: {different}"
+
+
+@needs_corpus
+def test_every_file_has_a_plan_and_the_ten_ready_games_compile():
+    ready = []
+    for path in sorted(GAMES.glob("*.txt")):
+        if "_lvl" in path.stem:
+            continue
+        game = parse_file(path)
+        plan = analyse(game)
+        assert set(plan.types) == {name for name in game.sprite_order if game.types[name].java_class}
+        reached = {name for rule in plan.rules() for name in rule.firsts + rule.seconds}
+        counted = {name for end in plan.terminations for names in end.counted for name in names}
+        assert reached | counted <= set(plan.types), path.name  # the step needs no other type
+        if not unsupported_features(game):
+            ready.append(compile_plan(game).path)
+    assert len(ready) == 10
