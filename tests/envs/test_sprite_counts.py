@@ -29,6 +29,7 @@ def test_solarfox_with_fewer_than_two_enemies_runs_in_the_env(removed, num_envs)
     check_env_runs("solarfox", [level] * num_envs, num_envs, False, 12, engine)
 
 
+@pytest.mark.slow  # compiling Solarfox's tick costs tens of seconds
 def test_solarfox_with_one_enemy_runs_compiled():
     level = _without(human_level("solarfox", 0), "2")
     engine = EngineRuns(get_game("solarfox"), 12)
