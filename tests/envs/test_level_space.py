@@ -44,8 +44,8 @@ def test_valid_levels_run_through_the_env_as_through_the_engine(game):
 @pytest.mark.slow
 @pytest.mark.parametrize("game", registered_games())
 def test_many_valid_levels_run_through_the_env_as_through_the_engine_eager_and_compiled(game):
-    # 128 levels a game, 20 steps, eager and compiled: about a CPU minute a game and mode, plus
-    # compiling the tick for the table widths met
+    # 128 levels a game, 20 steps, eager and compiled (compiling the tick for every table width
+    # met): minutes a game
     run_levels(game, draw_levels(game, 128, seed=1), steps=20, modes=(False, True))
 
 
