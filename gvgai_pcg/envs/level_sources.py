@@ -45,12 +45,16 @@ class LevelSource(Protocol):
 
 
 def single_game(levels: Sequence[Level]) -> str:
-    """The one game all ``levels`` are of; an empty or mixed list is refused."""
+    """The one game all ``levels`` are of; an empty or mixed list is refused, and so is a level
+    its game's format refuses (a ``Level`` built by hand: ``Level.check``), here rather than in
+    a reset or a step."""
     if not levels:
         raise ValueError("a level source needs at least one level")
     games = {level.game for level in levels}
     if len(games) != 1:
         raise ValueError(f"all levels of a source must be of one game, got {sorted(games)}")
+    for level in set(levels):
+        level.check()
     return games.pop()
 
 
@@ -60,7 +64,7 @@ class FixedLevel:
     prepare_ahead = True  # a function of the env index and episode seed only
 
     def __init__(self, level: Level) -> None:
-        self.game, self.level = level.game, level
+        self.game, self.level = single_game([level]), level
 
     def next_levels(
         self, env_indices: torch.Tensor, episode_seeds: torch.Tensor, difficulties: torch.Tensor

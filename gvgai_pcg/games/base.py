@@ -2,7 +2,10 @@
 
 A game is a set of rules over a batched state (a ``TensorDict`` with batch size ``[B]``):
 static tiles as ``[B, H, W]`` bool grids, moving sprites as entity tables (nested
-TensorDicts with batch size ``[B, K]`` and an ``alive`` mask). Every state carries the common
+TensorDicts with batch size ``[B, K]`` and an ``alive`` mask). The env grows each table on its
+own (empty slots, to at least two, in powers of two: ``gvgai_pcg.envs.states``), so a table whose
+slots belong to another's slots (Solarfox's shots, a block per enemy) is nested in that table,
+with leaves ``[B, K, ...]``, and grows with it. Every state carries the common
 entries ``seed``, ``tick``, ``score``, ``won``, ``lost`` and each env's own screen size in cells,
 ``height`` and ``width`` (all ``[B]``). ``tick`` runs one game cycle for all B environments with
 tensor ops only (RULES.md §1.3); the engine never loops over environments or sprites in Python.

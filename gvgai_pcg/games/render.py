@@ -75,7 +75,9 @@ def _images(game_name: str, type_name: str, device: str) -> torch.Tensor:
 
 def render_tiles(game: Game, state: TensorDict, pool: BufferPool | None = None) -> torch.Tensor:
     """``[B, C, H, W]`` uint8 (contiguous), channel c = ``game.tile_types[c]``; a sprite is marked
-    in the cell that holds its centre.
+    in the cell that holds its centre, if that cell is on its env's own screen (a sprite that has
+    left a smaller level's screen is not shown in the padding around it, as GVGAI shows nothing
+    beyond a screen).
 
     The tiles are a view of a flat buffer with one spare byte after them that takes the marks of
     every sprite that is absent or off the grid, so every sprite layer is one plain scatter of
@@ -113,8 +115,9 @@ def render_tiles(game: Game, state: TensorDict, pool: BufferPool | None = None) 
         for layer in layers
         if isinstance(layer, SpriteLayer) and layer.name in channel_of
     ]
+    ends = _screen_ends(state)
     for group in _sprite_groups(sprites):
-        index = _sprite_index(group, rows, height, width, spare)
+        index = _sprite_index(group, rows, height, width, spare, ends)
         flat.scatter_(0, index, _ones(index.numel(), tiles.device))
     return tiles.view(batch, channels, height, width)
 
@@ -138,10 +141,10 @@ def render_tiles_traced(game: Game, state: TensorDict) -> torch.Tensor:
     tiles = torch.stack([blank if plane is None else plane.to(torch.uint8) for plane in planes], dim=1)
     size = channels * cells
     rows = torch.arange(batch, device=grid.device, dtype=torch.int64).unsqueeze(-1) * size
-    index, shown = [], []
+    index, shown, ends = [], [], _screen_ends(state)
     for layer in layers:
         if isinstance(layer, SpriteLayer) and layer.name in channel_of:
-            cell, visible = _sprite_cells([(channel_of[layer.name], layer)], rows, height, width)
+            cell, visible = _sprite_cells([(channel_of[layer.name], layer)], rows, height, width, ends)
             index.append(cell.mul_(visible).view(-1))  # an absent sprite marks cell 0 with a 0,
             shown.append(visible.view(-1))  # which the max leaves as it was
     if not index:
@@ -167,22 +170,39 @@ def _sprite_groups(sprites: list[tuple[int, SpriteLayer]]) -> list[list[tuple[in
     return alone + list(together.values())
 
 
+def _screen_ends(state: TensorDict) -> tuple[torch.Tensor, torch.Tensor]:
+    """``[B, 1]`` int32 each: the first row and column (offset by 100, as ``centre_cell_of``'s)
+    beyond each env's own screen, which ends there in a level smaller than the batch's grid."""
+    return tuple((state.get(key) + 100).to(torch.int32).unsqueeze(-1) for key in ("height", "width"))
+
+
 def _sprite_index(
-    group: list[tuple[int, SpriteLayer]], rows: torch.Tensor, height: int, width: int, spare: int
+    group: list[tuple[int, SpriteLayer]],
+    rows: torch.Tensor,
+    height: int,
+    width: int,
+    spare: int,
+    ends: tuple[torch.Tensor, torch.Tensor],
 ) -> torch.Tensor:
     """Flat int64 buffer index of every slot of the ``group`` (layers that all have lane rows or
-    none have): the cell of its centre in its channel, or ``spare`` if absent or off the grid."""
-    cell, shown = _sprite_cells(group, rows - spare, height, width)
+    none have): the cell of its centre in its channel, or ``spare`` if absent or off its env's
+    screen (``ends``: :func:`_screen_ends`)."""
+    cell, shown = _sprite_cells(group, rows - spare, height, width, ends)
     # spare + (cell - spare) * shown: a select by arithmetic, as torch.where (and masked_fill) on
     # the CPU cost many times an add here.
     return cell.mul_(shown).view(-1).long().add_(spare)
 
 
 def _sprite_cells(
-    group: list[tuple[int, SpriteLayer]], rows: torch.Tensor, height: int, width: int
+    group: list[tuple[int, SpriteLayer]],
+    rows: torch.Tensor,
+    height: int,
+    width: int,
+    ends: tuple[torch.Tensor, torch.Tensor],
 ) -> tuple[torch.Tensor, torch.Tensor]:
     """``rows`` plus the cell of each slot's centre in its channel, and whether it is shown
-    (present and on the grid), for the ``group`` (layers that all have lane rows or none have)."""
+    (present and on its env's own screen, which ``ends`` closes: :func:`_screen_ends`), for the
+    ``group`` (layers that all have lane rows or none have; a lane row is one of its level's)."""
     layers = [layer for _, layer in group]
     lanes = layers[0].row is not None
     # Each layer's channel start, less the offset of 100 of centre_cell_of (in rows too unless given).
@@ -198,10 +218,10 @@ def _sprite_cells(
         counts = tuple(layer.x.shape[1] for layer in layers)
         first = rows + _slot_starts(tuple(starts), counts, str(rows.device), rows.dtype)
     column = centre_cell_of(x)
-    shown = present & (column.clamp(100, width + 99) == column)
+    shown = present & (column >= 100) & (column < ends[1])
     if row is None:
         row = centre_cell_of(y)
-        shown &= row.clamp(100, height + 99) == row
+        shown &= (row >= 100) & (row < ends[0])
     return torch.add(first, row, alpha=width).add_(column), shown
 
 
@@ -279,16 +299,18 @@ def _draw_grids(layers: list, game: Game, batch: int, height: int, width: int) -
 
 
 def _draw_sprites(
-    canvas: torch.Tensor, layer: SpriteLayer, depth: int, game: Game, height: int, width: int
+    canvas: torch.Tensor, layer: SpriteLayer, depth: int, game: Game, width: int, screens: torch.Tensor
 ) -> None:
     """Scatter a sprite layer into the depth-packed canvas: a pixel keeps the highest depth, so the
-    result is the drawing order's whatever order the scatter runs in.
+    result is the drawing order's whatever order the scatter runs in. A sprite is cut at its env's
+    own screen (``screens``: ``[B, 2]`` its height and width in pixels), so a level smaller than
+    the batch's grid shows nothing in the padding around it.
 
     Only present sprites are drawn: their slots are gathered first, as entity tables are mostly
     empty (a quarter of Frogs' log slots hold a log), and every drawn sprite costs 100 pixels.
     """
     row_pixels, device = canvas.shape[1], canvas.device
-    ph, pw = height * CELL, width * CELL
+    pw = width * CELL
     env, slot = layer.present.nonzero(as_tuple=True)
     if env.numel() == 0:
         return
@@ -300,7 +322,9 @@ def _draw_sprites(
     offsets = torch.arange(CELL, device=device, dtype=torch.int32)
     px = layer.x[env, slot].to(torch.int32).view(-1, 1, 1) + offsets.view(1, 1, CELL)  # [N, 1, 10]
     py = layer.y[env, slot].to(torch.int32).view(-1, 1, 1) + offsets.view(1, CELL, 1)  # [N, 10, 1]
-    inside = (px >= 0) & (px < pw) & (py >= 0) & (py < ph)  # [N, 10, 10]
+    screen = screens.index_select(0, env)
+    ph, own_pw = screen[:, :1].view(-1, 1, 1), screen[:, 1:].view(-1, 1, 1)
+    inside = (px >= 0) & (px < own_pw) & (py >= 0) & (py < ph)  # [N, 10, 10]
     # Pixels off the frame go to their env's first pixel with the value 0, which amax ignores.
     local = (py * pw + px) * inside
     index = (env.view(-1, 1, 1) * row_pixels + local).view(-1)
@@ -319,9 +343,10 @@ def render_pixels(game: Game, state: TensorDict) -> torch.Tensor:
     grid = next(layer.cells for layer in layers if isinstance(layer, GridLayer))
     batch, height, width = grid.shape
     canvas = _draw_grids(layers, game, batch, height, width)
+    screens = (CELL * torch.stack([state.get("height"), state.get("width")], dim=-1)).to(torch.int32)
     for depth, layer in enumerate(layers, start=1):
         if isinstance(layer, SpriteLayer):
-            _draw_sprites(canvas, layer, depth, game, height, width)
+            _draw_sprites(canvas, layer, depth, game, width, screens)
     rgb = canvas.view(torch.uint8).view(batch, height * CELL, width * CELL, 4)[..., :3]
     return rgb.permute(0, 3, 1, 2).contiguous()
 

@@ -2,11 +2,14 @@
 
 A Level is the unit every other part exchanges: generators return one, the engine compiles
 batches of them, analysis encodes them. Parsing is strict so that a bad file fails here, with
-its file, line and column, and never later inside a batched tick.
+its file, line and column, and never later inside a batched tick. A ``Level`` built by hand is
+held to the same format by ``Level.check``, which the env's level sources run on the levels they
+are given, so that a bad one is refused when the env is made.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -85,49 +88,25 @@ class Level:
 
         A leading UTF-8 byte-order mark is ignored, and Windows (CRLF) and old Mac (CR) line
         ends read as newlines."""
-        fmt = level_format(game)
+        level_format(game)  # an unknown game first
         text = text.removeprefix(BOM).replace("\r\n", "\n").replace("\r", "\n").rstrip("\n")
         if not text.strip():
             raise LevelFormatError(f"empty level (a {game} level needs at least one row)", source)
         rows = text.split("\n")
-        width = len(rows[0])
-        for r, row in enumerate(rows):
-            if len(row) != width:
-                raise LevelFormatError(
-                    f"ragged rows: this row has {len(row)} characters, row 1 has {width}",
-                    source,
-                    r + 1,
-                    min(len(row), width) + 1,
-                )
-            for c, ch in enumerate(row):
-                if ch not in fmt.chars:
-                    raise LevelFormatError(
-                        f"character {ch!r} is not in the {game} legend; "
-                        f"valid characters are {' '.join(fmt.chars)}",
-                        source,
-                        r + 1,
-                        c + 1,
-                    )
-        if len(rows) > fmt.height or width > fmt.width:
-            raise LevelFormatError(
-                f"grid is {width}x{len(rows)} (WxH) but a {game} level is at most {fmt.width}x{fmt.height}",
-                source,
-            )
-        avatars = [(r, c) for r, row in enumerate(rows) for c, ch in enumerate(row) if ch in fmt.avatar_chars]
-        if not avatars:
-            raise LevelFormatError(
-                f"no avatar: a {game} level needs exactly one of {' '.join(fmt.avatar_chars)}", source
-            )
-        if len(avatars) > 1:
-            r, c = avatars[1]
-            raise LevelFormatError(
-                f"a second avatar (first at line {avatars[0][0] + 1}, column {avatars[0][1] + 1}); "
-                f"a {game} level needs exactly one",
-                source,
-                r + 1,
-                c + 1,
-            )
+        check_rows(rows, game, source)
         return cls(game=game, rows=tuple(rows), name=name)
+
+    def check(self) -> Level:
+        """This level, if its game's format accepts it as :meth:`parse` would; a ``Level`` built by
+        hand that it refuses (ragged rows, an unknown character, no avatar or two, too large) is
+        refused with a ``LevelFormatError`` naming the level, the problem and where it is."""
+        source = self.name or f"a {self.game} level built by hand"
+        if not all(isinstance(row, str) for row in self.rows):
+            raise LevelFormatError(f"a level's rows are strings; got {self.rows!r}", source)
+        if not any(self.rows):
+            raise LevelFormatError(f"empty level (a {self.game} level needs at least one row)", source)
+        check_rows(self.rows, self.game, source)
+        return self
 
     @classmethod
     def load(cls, path: str | Path, game: str | None = None) -> Level:
@@ -136,6 +115,50 @@ class Level:
         if game is None:
             game = path.name.split("_")[0]
         return cls.parse(decode(path.read_bytes(), str(path)), game, source=str(path), name=path.stem)
+
+
+def check_rows(rows: Sequence[str], game: str, source: str) -> None:
+    """Refuse rows that are not a level of ``game`` (``LevelFormatError`` with the line and
+    column of the first problem): ragged, with a character outside the legend or a line break,
+    larger than the game's grid, or without exactly one avatar."""
+    fmt = level_format(game)
+    width = len(rows[0])
+    for r, row in enumerate(rows):
+        if len(row) != width:
+            raise LevelFormatError(
+                f"ragged rows: this row has {len(row)} characters, row 1 has {width}",
+                source,
+                r + 1,
+                min(len(row), width) + 1,
+            )
+        for c, ch in enumerate(row):
+            if ch not in fmt.chars:
+                raise LevelFormatError(
+                    f"character {ch!r} is not in the {game} legend; "
+                    f"valid characters are {' '.join(fmt.chars)}",
+                    source,
+                    r + 1,
+                    c + 1,
+                )
+    if len(rows) > fmt.height or width > fmt.width:
+        raise LevelFormatError(
+            f"grid is {width}x{len(rows)} (WxH) but a {game} level is at most {fmt.width}x{fmt.height}",
+            source,
+        )
+    avatars = [(r, c) for r, row in enumerate(rows) for c, ch in enumerate(row) if ch in fmt.avatar_chars]
+    if not avatars:
+        raise LevelFormatError(
+            f"no avatar: a {game} level needs exactly one of {' '.join(fmt.avatar_chars)}", source
+        )
+    if len(avatars) > 1:
+        r, c = avatars[1]
+        raise LevelFormatError(
+            f"a second avatar (first at line {avatars[0][0] + 1}, column {avatars[0][1] + 1}); "
+            f"a {game} level needs exactly one",
+            source,
+            r + 1,
+            c + 1,
+        )
 
 
 def decode(data: bytes, source: str) -> str:

@@ -171,3 +171,25 @@ def test_pixels_equal_painting_each_sprite_on_its_own(name):
     frames = render_pixels(game, state)
     for index in range(3):
         assert torch.equal(frames[index], reference_pixels(game, state, index))
+
+
+@pytest.mark.parametrize("fused", [False, True])
+def test_a_sprite_that_leaves_a_smaller_levels_screen_is_not_shown_in_its_padding(fused):
+    # A Boulderdash level without walls lets the avatar walk off its screen; batched with a larger
+    # level, the cells beyond its screen are padding, where GVGAI shows nothing (found by the
+    # property test over valid levels: the env's tiles showed it there, the engine alone did not).
+    from gvgai_pcg.games.render import render_tiles_traced
+    from gvgai_pcg.levels import human_level
+
+    game = get_game("boulderdash")
+    state = game.compile(
+        [Level("boulderdash", ("A-",)), human_level("boulderdash", 0)], torch.arange(2), torch.device("cpu")
+    )
+    right = game.actions.index("RIGHT")
+    before = render_pixels(game, state)[0]
+    while state.get(("avatar", "x"))[0] < 40:  # two cells beyond its two
+        game.tick(state, torch.tensor([right, 0]))
+    tiles = (render_tiles_traced if fused else render_tiles)(game, state)[0]
+    assert not tiles[:, :, 2:].any() and not tiles[:, 1:].any()
+    frame = render_pixels(game, state)[0]  # the padding drawn as before the avatar came
+    assert torch.equal(frame[:, :, 20:], before[:, :, 20:]) and torch.equal(frame[:, 10:], before[:, 10:])

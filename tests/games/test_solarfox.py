@@ -251,7 +251,7 @@ def test_batched_equals_single():
             assert GAME.snapshot(batched, i) == GAME.snapshot(single, 0)
             for key in single.keys(include_nested=True, leaves_only=True):
                 assert torch.equal(batched.get(key)[i], single.get(key)[0]), (t, i, key)
-        shots += int(batched.get(("shots", "alive")).sum())
+        shots += int(batched.get(("enemies", "shots", "alive")).sum())
     assert shots > 0  # the random shot spawns were exercised
 
 

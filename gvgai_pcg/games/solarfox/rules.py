@@ -4,7 +4,7 @@ the enemy lanes, the two enemies or their shots.
 The ship (OngoingAvatar) moves 1 px per tick, so its position is usually not cell-aligned; every
 other sprite is. Static and cell-aligned sprites are ``[B, H, W]`` grids (walls, enemyground,
 blibs, powerblibs with their "res" counter, powerblibturning flickers by their creation tick, and
-the turnings shown); the enemies (by cell) and their shots are entity tables. Rules 1-9 only
+the turnings shown); the enemies (by cell), with their shots, are an entity table. Rules 1-9 only
 touch cells near the ship, so the tick gathers those from the grids and scatters them back, and
 keeps the count of blibs and powerblibs left for the WIN check. One tick is RULES.md §1.3 in
 this order:
@@ -23,7 +23,9 @@ this order:
 
 Shots are never removed in GVGAI. Here a shot is dropped once it is off screen and behind the
 ship's reach (see :func:`Solarfox._cleanup`), which changes nothing an agent can observe, and
-each enemy owns ``SHOTS_PER_ENEMY`` slots of the shot table.
+each enemy owns ``SHOTS_PER_ENEMY`` slots for its shots: a table nested in its slot of the enemy
+table (``("enemies", "shots")``, leaves ``[B, E, SHOTS_PER_ENEMY]``), so that whatever grows the
+enemy table (padding, merging, the power-of-two widths of a compiled tick) grows the shots with it.
 """
 
 from __future__ import annotations
@@ -178,16 +180,19 @@ class Solarfox(Game):
             "row": (placed.get("y") // CELL).to(torch.int32),
             "dx": lookup(ENEMY_START_DX, kind, torch.int32).clone(),  # not a view (see _ship_tables)
         }
-        slots = SHOTS_PER_ENEMY * kind.shape[1]
-        # Positions are int32 here and in the ship and enemy tables: the shot table is the widest.
+        # Each enemy's shots, in its own slot's block of SHOTS_PER_ENEMY (a table nested in the
+        # enemy table: it grows with it). Positions are int32 here and in the ship and enemy
+        # tables: the shot table is the widest.
+        slots = (batch, kind.shape[1], SHOTS_PER_ENEMY)
         shots = {
-            "x": torch.zeros(batch, slots, dtype=torch.int32),
-            "y": torch.zeros(batch, slots, dtype=torch.int32),
+            "x": torch.zeros(slots, dtype=torch.int32),
+            "y": torch.zeros(slots, dtype=torch.int32),
             # The owner's shot direction: -1 for the upshots of btm, +1 for the downshots of top.
-            "dy": lookup(SHOT_DY, kind.cpu(), torch.int32).repeat_interleave(SHOTS_PER_ENEMY, dim=1).clone(),
-            "alive": torch.zeros(batch, slots, dtype=torch.bool),
-            "fresh": torch.zeros(batch, slots, dtype=torch.bool),  # created this tick: no move next update
+            "dy": lookup(SHOT_DY, kind.cpu(), torch.int32).unsqueeze(-1).expand(slots).clone(),
+            "alive": torch.zeros(slots, dtype=torch.bool),
+            "fresh": torch.zeros(slots, dtype=torch.bool),  # created this tick: no move next update
         }
+        enemies["shots"] = on_device(device, shots, placed.batch_size)
         avatar = {
             "x": ax.to(torch.int32),
             "y": ay.to(torch.int32),
@@ -216,7 +221,6 @@ class Solarfox(Game):
             "turning_last": torch.full((batch,), NO_TURNING, dtype=torch.int32, device=device),
             "avatar": on_device(device, avatar, [batch]),
             "enemies": on_device(device, enemies, placed.batch_size),
-            "shots": on_device(device, shots, [batch, slots]),
         }
         return on_device(device, state, [batch])
 
@@ -260,7 +264,7 @@ class Solarfox(Game):
     def _update_shots(self, state: TensorDict) -> None:
         """Missiles at 1 px per tick, from their second update on (``fresh`` is rewritten by
         :meth:`_spawn_shots` later in the tick)."""
-        shots = state.get("shots")
+        shots = state.get(("enemies", "shots"))
         moving = shots.get("alive") & ~shots.get("fresh")
         shots.set("y", shots.get("y") + shots.get("dy") * moving)
 
@@ -276,7 +280,8 @@ class Solarfox(Game):
         """Rules 1-9 touch only cells near the ship, so they gather those cells from the grids and
         scatter them back: the (up to 2x2) cells the ship overlaps, and for 6a/6b, in the envs where
         a powerblibturning may live, the window of :meth:`_pair_turnings`."""
-        avatar, enemies, shots = state.get("avatar"), state.get("enemies"), state.get("shots")
+        avatar, enemies = state.get("avatar"), state.get("enemies")
+        shots = enemies.get("shots")
         wall = state.get("wall")
         alive, ax, ay = avatar.get("alive"), avatar.get("x"), avatar.get("y")
         col, row, e_alive = enemies.get("col"), enemies.get("row"), enemies.get("alive")
@@ -294,7 +299,8 @@ class Solarfox(Game):
         lethal = hits & torch.gather(state.get("deadly").view(batch, -1), 1, cells)
         ship_x, ship_y = ax.unsqueeze(-1), ay.unsqueeze(-1)
         enemy_hit = e_alive & overlaps(ship_x, ship_y, CELL * col, CELL * row)
-        shot_hit = shots.get("alive") & overlaps(ship_x, ship_y, shots.get("x"), shots.get("y"))
+        shot_x, shot_y = shots.get("x").flatten(1), shots.get("y").flatten(1)
+        shot_hit = shots.get("alive").flatten(1) & overlaps(ship_x, ship_y, shot_x, shot_y)
         lethal = count_last(lethal) + alive * (count_last(enemy_hit) + count_last(shot_hit))
         if torch.compiler.is_compiling():  # every env's window, masked: no data-dependent shapes
             window = tables["window"].index_select(0, position)
@@ -349,7 +355,7 @@ class Solarfox(Game):
         slots = torch.arange(col.shape[1], device=col.device)
         draw = rng.uniform(state.get("seed"), tick, slots, STREAM_SHOT)
         on_ground = on_grid & torch.gather(state.get("enemyground").view(batch, -1), 1, cell)
-        self._spawn_shots(shots, on_ground & (draw < SHOT_PROBABILITY), enemies)
+        self._spawn_shots(on_ground & (draw < SHOT_PROBABILITY), enemies)
 
     @staticmethod
     def _pair_turnings(
@@ -420,20 +426,20 @@ class Solarfox(Game):
         return taken, taken + count_last(spawned), any_last(made)
 
     @staticmethod
-    def _spawn_shots(shots: TensorDict, fire: torch.Tensor, enemies: TensorDict) -> None:
+    def _spawn_shots(fire: torch.Tensor, enemies: TensorDict) -> None:
         """A firing enemy (``fire`` ``[B, E]``) puts a shot into the first free slot of its own block.
         Few enemies fire in a tick, so only their blocks of the shot table are touched."""
-        batch, count = fire.shape
+        count = fire.shape[1]
+        shots = enemies.get("shots")
         alive = shots.get("alive")
         if torch.compiler.is_compiling():  # every block, masked: no data-dependent shapes
             # The first free slot of each block (none: SHOTS_PER_ENEMY), a reduction inductor fuses.
             slots = torch.arange(SHOTS_PER_ENEMY, device=alive.device)
-            free = ~alive.view(batch, count, SHOTS_PER_ENEMY)
-            first = torch.where(free, slots, SHOTS_PER_ENEMY).amin(-1, keepdim=True)
-            fresh = ((slots == first) & fire.unsqueeze(-1)).view(batch, -1)
+            first = torch.where(~alive, slots, SHOTS_PER_ENEMY).amin(-1, keepdim=True)
+            fresh = (slots == first) & fire.unsqueeze(-1)
             for key, at in (("x", "col"), ("y", "row")):
                 table = shots.get(key)
-                position = (CELL * enemies.get(at)).to(table.dtype).repeat_interleave(SHOTS_PER_ENEMY, -1)
+                position = (CELL * enemies.get(at)).to(table.dtype).unsqueeze(-1)
                 table.copy_(torch.where(fresh, position, table))
             alive.logical_or_(fresh)
             shots.set("fresh", fresh)
@@ -460,7 +466,8 @@ class Solarfox(Game):
         shot is dropped once it has left the screen and is at least 10 px beyond the ship along its
         flight. Both move at most 1 px per tick, so such a shot can never overlap the ship again,
         and off screen it is neither drawn nor in ``tiles``."""
-        shots, avatar, enemies = state.get("shots"), state.get("avatar"), state.get("enemies")
+        avatar, enemies = state.get("avatar"), state.get("enemies")
+        shots = enemies.get("shots")
         screen_h = (CELL * state.get("height")).to(torch.int32).unsqueeze(-1)  # each env's own screen
         # Along the flight (y dy, y grows downward) an upshot is gone from -y = 10 - min(0, ship_y)
         # on, a downshot from y = max(screen_h, ship_y + 10) on; the ship's bound only while alive
@@ -469,8 +476,7 @@ class Solarfox(Game):
         up, down = CELL - ship_y.clamp(max=0), torch.maximum(ship_y + CELL, screen_h)
         bound = torch.where(enemies.get("kind") == BTM, up, down)
         alive = shots.get("alive")
-        flight = (shots.get("y") * shots.get("dy")).view(*bound.shape, SHOTS_PER_ENEMY)
-        alive &= (flight < bound.unsqueeze(-1)).view(alive.shape)
+        alive &= shots.get("y") * shots.get("dy") < bound.unsqueeze(-1)
 
     # --- step 6: termination, in declaration order ---
     def _check_termination(self, state: TensorDict) -> None:
@@ -479,10 +485,11 @@ class Solarfox(Game):
         state.update({"won": state.get("won") | won, "lost": state.get("lost") | lost})
 
     def layers(self, state: TensorDict) -> list:
-        avatar, enemies, shots = state.get("avatar"), state.get("enemies"), state.get("shots")
+        avatar, enemies = state.get("avatar"), state.get("enemies")
+        shots = {key: value.flatten(1) for key, value in enemies.get("shots").items()}  # [B, E x 16]
         ex, ey = CELL * enemies.get("col"), CELL * enemies.get("row")
         e_alive, e_kind = enemies.get("alive"), enemies.get("kind")
-        sx, sy, s_alive, up = shots.get("x"), shots.get("y"), shots.get("alive"), shots.get("dy") < 0
+        sx, sy, s_alive, up = shots["x"], shots["y"], shots["alive"], shots["dy"] < 0
         return [
             GridLayer("floor", state.get("floor")),
             GridLayer("enemyground", state.get("enemyground")),
@@ -518,10 +525,10 @@ class Solarfox(Game):
         for k in enemies.get("alive").nonzero().flatten().tolist():
             x, y = CELL * enemies.get("col")[k].item(), CELL * enemies.get("row")[k].item()
             sprites.append([ENEMY_TYPES[enemies.get("kind")[k].item()], x, y])
-        shots = s.get("shots")[0]
-        for k in shots.get("alive").nonzero().flatten().tolist():
-            name = "upshot" if shots.get("dy")[k].item() < 0 else "downshot"
-            sprites.append([name, shots.get("x")[k].item(), shots.get("y")[k].item()])
+        shots = {key: value[0].flatten() for key, value in s.get(("enemies", "shots")).items()}
+        for k in shots["alive"].nonzero().flatten().tolist():
+            name = "upshot" if shots["dy"][k].item() < 0 else "downshot"
+            sprites.append([name, shots["x"][k].item(), shots["y"][k].item()])
         return golden_record(s, avatar, sprites)
 
     def max_score(self, level: Level) -> int:
