@@ -23,6 +23,7 @@ update with a checkpoint, and the divergence guard between the gradient and the 
 from __future__ import annotations
 
 import functools
+import gc
 import logging
 import math
 import random
@@ -36,7 +37,6 @@ import torch
 from omegaconf import DictConfig, OmegaConf
 from torchrl.collectors import MultiSyncCollector
 from torchrl.modules import ProbabilisticActor
-from torchrl.weight_update import SharedMemWeightSyncScheme
 
 from gvgai_pcg.curricula.signals import feedback_for
 from gvgai_pcg.engine.step_plan import compile_pays_back
@@ -109,15 +109,16 @@ def train(
 
 
 def start_workers(make_envs: list, policy: torch.nn.Module, **options) -> MultiSyncCollector:
-    """The collector of ``make_envs``' worker processes. When a worker fails to start, its weight
-    sync scheme is shut down before the error goes on: left to the interpreter's exit, its
-    ``__del__`` starts a queue thread there and the program hangs instead of ending."""
-    scheme = SharedMemWeightSyncScheme()  # the collector's default for an nn.Module policy
+    """The collector of ``make_envs``' worker processes. When a worker fails to start, its error
+    goes on without the traceback that holds the half-built collector, which is collected now:
+    kept to the interpreter's exit, its weight sync scheme's ``__del__`` starts a queue thread
+    there, and the program hangs instead of ending."""
     try:
-        return MultiSyncCollector(make_envs, policy, weight_sync_schemes={"policy": scheme}, **options)
-    except BaseException:
-        scheme.shutdown()
-        raise
+        return MultiSyncCollector(make_envs, policy, **options)
+    except RuntimeError as error:  # a worker died before it said it was ready
+        failure = str(error)
+    gc.collect()  # the collector's scheme shuts down now, while threads can still start
+    raise RuntimeError(f"a collector worker failed to start (its own error is above): {failure}")
 
 
 def own_level_set(config: dict) -> str | None:
