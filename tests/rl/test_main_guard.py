@@ -98,3 +98,4 @@ def test_a_worker_that_runs_an_unguarded_script_again_stops_with_one_line_and_no
     refusals = [line for line in done.stderr.splitlines() if "started again by a worker process" in line]
     assert refusals and 'if __name__ == "__main__":' in refusals[0], done.stderr[-3000:]
     assert "FolderInUseError" not in done.stderr
+    assert done.stderr.strip().splitlines()[-1].startswith("RuntimeError: a collector worker failed to start")
