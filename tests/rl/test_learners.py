@@ -4,6 +4,7 @@ learners apart while A2C's stay those of the published runs."""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import pytest
@@ -165,6 +166,16 @@ def test_a_ppo_update_on_a_single_step_is_finite_and_takes_its_step(masked):
     assert len(checks) == 1 and all(torch.isfinite(loss) and torch.isfinite(norm) for loss, norm in checks)
     assert bool(update.stacked().isfinite().all())
     assert any(not torch.equal(a, b) for a, b in zip(before, net.parameters(), strict=True))
+
+
+def test_a_ppo_run_of_one_env_and_one_step_per_batch_trains_without_diverging(tmp_path):
+    argv = ["algo=ppo", "regimen=lv", "env.num_envs=1", "algo.n_steps=1", "algo.minibatches=1"]
+    cfg = compose_config(
+        [*argv, "env.max_steps=10", "total_frames=6", "log.curve=false", f"out_dir={tmp_path}"]
+    )
+    result = train(cfg, tmp_path / "run")
+    assert result.frames == 6 and result.model_path.is_file()
+    assert all(math.isfinite(row["value_loss"]) for row in read_updates(result.updates_path))
 
 
 @pytest.mark.parametrize(
