@@ -259,6 +259,12 @@ class PrioritizedLevelReplay(Curriculum):
         low, high = section["min_difficulty"], section["max_difficulty"]
         if low > high:
             raise ConfigError(f"regimen.min_difficulty={low}: expected at most regimen.max_difficulty={high}")
+        if section["robust"] and section["replay_prob"] == 0:
+            raise ConfigError(
+                "regimen.replay_prob=0: expected more than 0 with regimen.robust=true, which takes "
+                "gradients from replayed levels only: no level is ever replayed, so the learner would "
+                "never take a step; set regimen.replay_prob > 0, or regimen.robust=false"
+            )
 
     def make_state(self, game, section):
         buffer = LevelBuffer(int(section.get("buffer_size", ReplaySettings.buffer_size)))

@@ -36,7 +36,13 @@ from gvgai_pcg.envs.difficulty import DifficultyTransform
 from gvgai_pcg.envs.gvgai_env import GVGAIEnv
 from gvgai_pcg.envs.inputs import checked_observation_kind
 from gvgai_pcg.envs.level_sources import LevelSource
-from gvgai_pcg.envs.regimens import regimen_curriculum, regimen_kind, regimen_source
+from gvgai_pcg.envs.regimens import (
+    regimen_curriculum,
+    regimen_kind,
+    regimen_source,
+    regimens_taking,
+    unused_arguments,
+)
 from gvgai_pcg.games import get_game
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.levels import Level, human_level, human_levels, resolve_level
@@ -101,6 +107,9 @@ class LevelOverrides:
     def __init__(self, source: LevelSource, num_envs: int) -> None:
         self.source, self.game = source, source.game
         self._pending: list[Level | None] = [None] * num_envs
+        drawn = getattr(source, "level_difficulties", None)
+        if drawn is not None:  # DR draws each level's difficulty: the env reports it as its own
+            self.level_difficulties = drawn
 
     def request(self, env_indices: Sequence[int], level: Level) -> None:
         for i in env_indices:
@@ -141,8 +150,8 @@ class Regimen:
         regimen: str,
         num_envs: int,
         level: LevelSpec | Sequence[LevelSpec] = 0,
-        difficulty: float = 0.0,
-        alpha: float = 0.01,
+        difficulty: float | None = None,
+        alpha: float | None = None,
         win_rule: str = "game",
         levels: LevelSetSpec | None = None,
         num_levels: int = 0,
@@ -156,6 +165,7 @@ class Regimen:
             )
         if (levels is not None) != (regimen == "levels"):
             raise ValueError("levels= gives the set of regimen='levels', and that regimen needs it")
+        difficulty, alpha = _used_arguments(regimen, difficulty, alpha)
         self.game, self.name, self.finite, self.num_envs = game, regimen, num_levels > 0, num_envs
         # each env's own difficulty from a per-env reset option (NaN: the regimen's)
         self._env_difficulty = torch.full((num_envs,), math.nan, dtype=torch.float64)
@@ -305,6 +315,19 @@ class Regimen:
                 self.source.request([i], options.levels[i])
 
 
+def _used_arguments(regimen: str, difficulty: float | None, alpha: float | None) -> tuple[float, float]:
+    """``difficulty`` and ``alpha`` (``None``: not given) with their defaults; refused where the
+    regimen would ignore them (DR draws each level's difficulty itself, a human level has none)."""
+    unused = unused_arguments(regimen, difficulty=difficulty, alpha=alpha)
+    if unused:
+        arg = unused[0]
+        raise ValueError(
+            f"regimen {regimen!r} takes no {arg}= ({regimen_kind(regimen).summary}), so it would have "
+            f"no effect; the regimens that take it: {', '.join(regimens_taking(arg))}"
+        )
+    return (0.0 if difficulty is None else float(difficulty), 0.01 if alpha is None else float(alpha))
+
+
 @dataclass(frozen=True)
 class ResetOptions:
     """The checked options of one reset: one difficulty for every env, or one per env; the level
@@ -348,13 +371,14 @@ class GVGAIGymEnv(gym.Env):
     Args:
         game: ``zelda``, ``solarfox``, ``frogs`` or ``boulderdash``.
         regimen: where levels come from (see ``Regimen``); ``"human"`` by default.
-        difficulty: the difficulty of generated levels (``pcg``), or where PPCG starts.
+        difficulty: the difficulty of generated levels (``pcg``), or where PPCG starts (0 if not
+            given); a regimen that would ignore it (DR, human levels) refuses it.
         obs: ``"tiles"`` or ``"pixels"``.
         render_mode: ``"rgb_array"`` (``[10H, 10W, 3]`` uint8), ``"ansi"`` (text) or ``"human"``
             (the text frame printed to stdout after every reset and step).
         level: the level(s) of the ``lv`` regimen.
         max_steps: the step limit that truncates an episode (2000, as in the study).
-        alpha: the PPCG step per finished episode.
+        alpha: the PPCG step per finished episode (0.01 if not given; only PPCG takes it).
         win_rule: what counts as a PPCG win (``"game"`` or ``"study"``).
         device: where the engine runs; observations are always returned as NumPy arrays.
         levels: the set of the ``levels`` regimen: a folder of level files, or a list of files.
@@ -368,12 +392,12 @@ class GVGAIGymEnv(gym.Env):
         self,
         game: str = "zelda",
         regimen: str = "human",
-        difficulty: float = 0.0,
+        difficulty: float | None = None,
         obs: str = "tiles",
         render_mode: str | None = None,
         level: LevelSpec | Sequence[LevelSpec] = 0,
         max_steps: int = 2000,
-        alpha: float = 0.01,
+        alpha: float | None = None,
         win_rule: str = "game",
         device: str = "cpu",
         levels: LevelSetSpec | None = None,
@@ -389,7 +413,13 @@ class GVGAIGymEnv(gym.Env):
             game, regimen, 1, level, difficulty, alpha, win_rule, levels, num_levels, start_seed
         )
         self.engine = GVGAIEnv(
-            game, 1, self.regimen.source, obs=obs, max_steps=max_steps, device=device, difficulty=difficulty
+            game,
+            1,
+            self.regimen.source,
+            obs=obs,
+            max_steps=max_steps,
+            device=device,
+            difficulty=self.regimen.difficulty,
         )
         self.obs_kind = obs
         self.observation_space = observation_space(game, obs)
@@ -449,7 +479,7 @@ class GVGAIGymEnv(gym.Env):
         return {
             "won": bool(td["won"][0, 0]),
             "score": float(td["score"][0, 0]),
-            "difficulty": float(td["difficulty"][0, 0]),
+            "difficulty": float(td["level_difficulty"][0, 0]),  # DR draws it per level
             "level_seed": int(td["level_seed"][0, 0]),
             "level_name": (level.name or "") if level is not None else "",
         }

@@ -26,6 +26,7 @@ from gvgai_pcg.envs.gvgai_env import GVGAIEnv
 from gvgai_pcg.envs.gym_adapter import LevelSetSpec, LevelSpec, Regimen, observation_space
 
 INFO_KEYS = ("won", "score", "difficulty", "level_seed")
+TENSORDICT_KEYS = {"difficulty": "level_difficulty"}  # the d a level was made at (DR draws it per level)
 DONE_KEYS = ("done", "terminated", "truncated")
 INFO_DTYPES = {"won": np.bool_, "score": np.float64, "difficulty": np.float64, "level_seed": np.int64}
 
@@ -53,12 +54,12 @@ class GVGAIVectorEnv(VectorEnv):
         num_envs: int = 1,
         game: str = "zelda",
         regimen: str = "human",
-        difficulty: float = 0.0,
+        difficulty: float | None = None,
         obs: str = "tiles",
         render_mode: str | None = None,
         level: LevelSpec | Sequence[LevelSpec] = 0,
         max_steps: int = 2000,
-        alpha: float = 0.01,
+        alpha: float | None = None,
         win_rule: str = "game",
         device: str = "cpu",
         autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
@@ -87,7 +88,7 @@ class GVGAIVectorEnv(VectorEnv):
             obs=obs,
             max_steps=max_steps,
             device=device,
-            difficulty=difficulty,
+            difficulty=self.regimen.difficulty,
             compile_tick=compile_pays_back(int(total_steps or 0), device),
         )
         self.obs_kind = obs
@@ -103,7 +104,7 @@ class GVGAIVectorEnv(VectorEnv):
         self.action_space = batch_space(self.single_action_space, num_envs)
         self._autoreset = torch.zeros(num_envs, dtype=torch.bool)
         self._started = False
-        self._kept_keys = (obs, *INFO_KEYS)
+        self._kept_keys = (obs, *(TENSORDICT_KEYS.get(key, key) for key in INFO_KEYS))
         self._last: TensorDictBase | None = None  # the latest observation and info, for partial resets
 
     def reset(
@@ -222,7 +223,13 @@ class GVGAIVectorEnv(VectorEnv):
     def _info(self, td: TensorDictBase) -> dict[str, Any]:
         info: dict[str, Any] = {}
         for key in INFO_KEYS:
-            info[key] = td[key].reshape(self.num_envs).cpu().numpy().astype(INFO_DTYPES[key])
+            info[key] = (
+                td[TENSORDICT_KEYS.get(key, key)]
+                .reshape(self.num_envs)
+                .cpu()
+                .numpy()
+                .astype(INFO_DTYPES[key])
+            )
             info[f"_{key}"] = np.ones(self.num_envs, dtype=bool)
         return info
 

@@ -74,6 +74,20 @@ def regimen_section(
     return section
 
 
+def unused_arguments(name: str, **given: Any) -> list[str]:
+    """Those of the Gymnasium API's ``given`` arguments (``difficulty``, ``alpha``; ``None``: not
+    given) that regimen ``name`` would ignore: its section has no key for them
+    (``regimen_section`` puts ``difficulty`` in PCG X's ``difficulty``, else in ``start``)."""
+    keys = {"difficulty": "difficulty" if name == "pcg" else "start", "alpha": "alpha"}
+    schema = regimen_kind(name).schema
+    return [arg for arg, value in given.items() if value is not None and keys[arg] not in schema]
+
+
+def regimens_taking(argument: str) -> list[str]:
+    """The registered regimens that use the Gymnasium API's ``argument`` (``difficulty``, ``alpha``)."""
+    return [name for name in regimen_names() if not unused_arguments(name, **{argument: 0.0})]
+
+
 def regimen_source(
     game: str,
     name: str,

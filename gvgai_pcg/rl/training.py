@@ -23,6 +23,7 @@ update with a checkpoint, and the divergence guard between the gradient and the 
 from __future__ import annotations
 
 import functools
+import gc
 import logging
 import math
 import random
@@ -47,6 +48,7 @@ from gvgai_pcg.rl.curves import plot_curve
 from gvgai_pcg.rl.environment import EnvFactory, make_difficulty
 from gvgai_pcg.rl.learners import learner_class
 from gvgai_pcg.rl.learners.base import Learner
+from gvgai_pcg.rl.main_guard import refuse_without_main_guard
 from gvgai_pcg.rl.models import actor_critic_for, as_tensordict_module
 from gvgai_pcg.rl.provenance import record_session
 from gvgai_pcg.rl.rollout import ActingRollouts
@@ -91,7 +93,10 @@ def train(
 
     ``files`` (name -> text, e.g. Hydra's ``.hydra/*.yaml``) are written with ``config.yaml`` once
     the session is accepted; ``stop`` receives SIGINT/SIGTERM during it (default: a new one).
-    Raises ``DivergenceError`` when an update is not finite."""
+    Raises ``DivergenceError`` when an update is not finite, and ``MissingMainGuardError`` (one
+    line, before anything is written) when collector workers would run the calling script again."""
+    if int(cfg.collector.workers) > 1:
+        refuse_without_main_guard()
     torch.set_num_threads(int(cfg.threads) or threads_for_batch(int(cfg.env.num_envs)))
     config = OmegaConf.to_container(cfg, resolve=True)
     files = {"config.yaml": OmegaConf.to_yaml(cfg, resolve=True), **(files or {})}
@@ -101,6 +106,19 @@ def train(
         if start < int(cfg.total_frames):  # a finished run started again trains nothing: no row
             record_session(run_dir, start)
         return _train(cfg, run_dir, config, session, level_set)
+
+
+def start_workers(make_envs: list, policy: torch.nn.Module, **options) -> MultiSyncCollector:
+    """The collector of ``make_envs``' worker processes. When a worker fails to start, its error
+    goes on without the traceback that holds the half-built collector, which is collected now:
+    kept to the interpreter's exit, its weight sync scheme's ``__del__`` starts a queue thread
+    there, and the program hangs instead of ending."""
+    try:
+        return MultiSyncCollector(make_envs, policy, **options)
+    except RuntimeError as error:  # a worker died before it said it was ready
+        failure = str(error)
+    gc.collect()  # the collector's scheme shuts down now, while threads can still start
+    raise RuntimeError(f"a collector worker failed to start (its own error is above): {failure}")
 
 
 def own_level_set(config: dict) -> str | None:
@@ -172,7 +190,7 @@ def _train(
         env.close()
         if difficulty is not None:
             difficulty.share_through(run_dir / "shared")
-        collector = MultiSyncCollector(
+        collector = start_workers(
             [ignoring_stop_signals(functools.partial(make_env, worker=i)) for i in range(workers)],
             policy,
             frames_per_batch=frames_per_batch,

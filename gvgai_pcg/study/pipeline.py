@@ -34,7 +34,7 @@ from gvgai_pcg.config_rules import SEARCHPATH, searchpath_dirs
 from gvgai_pcg.games.registry import find_game_spec
 from gvgai_pcg.study.borrowed_runs import borrow_runs
 from gvgai_pcg.study.conditions import Budget, unregistered
-from gvgai_pcg.study.publish import publish
+from gvgai_pcg.study.publish import publish, refuse_publishing_into_the_sweep
 
 # A trained model (weights, config, frames: no optimizer) is published only below this size: the
 # compact CNN's 295k float32 weights are 1.2 MB, the Nature CNN's on pixels far more.
@@ -408,6 +408,8 @@ def reproduce(
     from gvgai_pcg.report import build_report
 
     out = Path(out).resolve()
+    if publish_to is not None:  # before any training: refused now, not after hours of it
+        refuse_publishing_into_the_sweep(out, Path(publish_to))
     if train:
         check_planned(budget, conditions, overrides)
     protocol = Protocol(**budget.protocol)

@@ -43,6 +43,25 @@ def refuse_other_configs(runs: Sequence[Path], published: Path) -> None:
             )
 
 
+def refuse_publishing_into_the_sweep(out: Path, dest: Path, runs: Sequence[Path] = ()) -> None:
+    """``ValueError`` when ``dest``'s runs would be the sweep's own (``out/runs``, or ``runs``):
+    the same folder, or one inside the other. A ``published.json`` written into a training run
+    names its model then; once the run trains on, it is still read as the published, older one."""
+
+    def overlap(a: Path, b: Path) -> bool:
+        a, b = Path(a).resolve(), Path(b).resolve()
+        return a == b or a in b.parents or b in a.parents
+
+    published = Path(dest) / "runs"
+    for trained in (Path(out) / "runs", *runs):
+        if overlap(trained, published):
+            raise ValueError(
+                f"--publish {dest}: its runs would be the sweep's own ({trained}), which would then "
+                "read as published at the frames of this publish after they train on; publish into "
+                "another folder (results/<budget>)"
+            )
+
+
 def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = None) -> Path:
     """Copy what rebuilds the report into ``dest``: each run's config, log, evaluation results and
     a ``published.json`` naming its model (the model itself only below ``MODEL_LIMIT_BYTES``), the
@@ -52,11 +71,13 @@ def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = 
     records are published, and the model named is the one they were made from, so a run that
     trained on after its evaluation is published as evaluated. ``runs`` (default: all under
     ``out/runs``) are the runs to publish: those of the report; a published run is never replaced
-    by a copy that has trained fewer frames."""
+    by a copy that has trained fewer frames. ``dest`` may not hold the sweep's own runs
+    (``refuse_publishing_into_the_sweep``)."""
     from gvgai_pcg.evaluation.checkpoints import PUBLISHED, find_runs, published_run_info, run_info
     from gvgai_pcg.evaluation.evaluator import read_records, run_results_path
     from gvgai_pcg.rl.atomic_files import atomic_copy, recover_folders
 
+    refuse_publishing_into_the_sweep(out, dest, runs or ())
     if runs is None:
         runs = [out / "runs"] if (out / "runs").is_dir() else []
     found = find_runs(list(runs)) if runs else []

@@ -24,10 +24,13 @@ from gvgai_pcg.study.conditions import Budget
 
 @dataclass(frozen=True)
 class RunStatus:
-    """One planned run: ``state`` is ``finished``, ``training``, ``stopped``, ``not started``,
-    ``borrowed`` or ``to borrow``; ``hours`` its training wall time so far; ``left`` the estimated
-    run-hours to finish it (``None``: no estimate, or none needed); ``extra``: a seed beyond the
-    budget's, trained into the sweep's folder (``reproduce --seeds``), which its publish judges too."""
+    """One planned run: ``state`` is ``finished``, ``training`` (a process holds it, whatever its
+    frames), ``stopped``, ``unreadable`` (it wrote a model or checkpoint, and none can be read: its
+    frames are its log's), ``not started``, ``borrowed`` or ``to borrow``; ``target`` the frames
+    its config trains to (the budget's, or a ``total_frames`` override's); ``hours`` its training
+    wall time so far; ``left`` the estimated run-hours to finish it (``None``: no estimate, or none
+    needed); ``extra``: a seed beyond the budget's, trained into the sweep's folder (``reproduce
+    --seeds``), which its publish judges too."""
 
     condition: str
     seed: int
@@ -72,16 +75,18 @@ def _progress(run: Path) -> tuple[int, float]:
     return (int(rows[-1]["frames"]), float(rows[-1]["time"]) / 3600) if rows else (0, 0.0)
 
 
-def _checkpoint_frames(run: Path, logged: int) -> int:
+def _checkpoint_frames(run: Path, logged: int) -> int | None:
     """The frames of ``run``'s newest model or checkpoint (what a resume continues from); its
-    log's ``logged`` frames where it has written none yet, or none it can read (a status never
-    stops at one bad run: training it says what is wrong)."""
+    log's ``logged`` frames where it has written none yet; ``None`` where it has written some and
+    they cannot be read (a status never stops at one bad run: training it says what is wrong)."""
     from gvgai_pcg.evaluation.checkpoints import run_info
 
     try:
         return run_info(run).frames
-    except Exception:  # noqa: BLE001 (no model yet, a diverged or unreadable one: the log's count)
+    except FileNotFoundError:  # no model or checkpoint yet
         return logged
+    except Exception:  # noqa: BLE001 (a diverged, truncated or foreign one: never "finished")
+        return None
 
 
 def _published_frames(run: Path) -> int:
@@ -107,10 +112,16 @@ def run_status(
         logged, hours = _progress(here)
         frames = _checkpoint_frames(here, logged)
         if (here / BORROWED).is_file():
-            return RunStatus(**status, frames=frames, state="borrowed", hours=0.0, where=here)
-        holder = training_holder(here)
-        state = "finished" if frames >= target else "training" if holder else "stopped"
-        return RunStatus(**status, frames=frames, state=state, hours=hours, where=here)
+            return RunStatus(**status, frames=frames or logged, state="borrowed", hours=0.0, where=here)
+        if training_holder(here):  # it trains now: on past the budget's frames, or again
+            state = "training"
+        elif frames is None:
+            state = "unreadable"
+        else:
+            state = "finished" if frames >= target else "stopped"
+        return RunStatus(
+            **status, frames=logged if frames is None else frames, state=state, hours=hours, where=here
+        )
     if published is not None and _published_frames(there := published / "runs" / name) >= target:
         frames, hours = _progress(there)
         return RunStatus(**status, frames=target, state="finished", hours=hours, where=there)
@@ -132,8 +143,8 @@ def with_estimates(runs: Sequence[RunStatus]) -> list[RunStatus]:
     estimated = []
     for run in runs:
         left = None
-        if run.state in ("training", "stopped") and run.frames and run.hours:
-            left = run.hours / run.frames * (run.target - run.frames)
+        if run.state in ("training", "stopped", "unreadable") and run.frames and run.hours:
+            left = run.hours / run.frames * max(run.target - run.frames, 0)
         elif run.state == "not started":
             known = pace([r for r in runs if r.condition == run.condition]) or pace(
                 [r for r in runs if r.game == run.game]
@@ -151,7 +162,8 @@ def sweep_status(
     published: Path | None = None,
     borrow_from: Path | None = None,
 ) -> list[RunStatus]:
-    """Every run the sweep plans, in the order it trains them (seed by seed), with its state."""
+    """Every run the sweep plans, in the order it trains them (seed by seed), with its state; a
+    run is finished at the frames its config trains to (``overrides``' ``total_frames`` too)."""
     from gvgai_pcg.study.pipeline import planned_configs
 
     if borrow_from is not None and not Path(borrow_from).is_dir():
@@ -159,9 +171,9 @@ def sweep_status(
     planned = planned_configs(budget, conditions, overrides)
     order = {condition: i for i, condition in enumerate(conditions)}
     runs = [
-        run_status(condition, seed, name, budget.frames_of(condition), Path(out), published, borrow_from)
+        run_status(condition, seed, name, int(config["total_frames"]), Path(out), published, borrow_from)
         for (condition, seed), configs in sorted(planned.items(), key=lambda kv: (kv[0][1], order[kv[0][0]]))
-        for name in configs
+        for name, config in configs.items()
     ]
     return with_estimates(runs + extra_seeds(budget, planned, Path(out), order))
 
@@ -175,17 +187,17 @@ def extra_seeds(budget: Budget, planned: dict, out: Path, order: dict[str, int])
     so the status lists them too, by seed."""
     names = {name for configs in planned.values() for name in configs}
     condition_of = {
-        match["base"]: condition
+        match["base"]: (condition, int(config["total_frames"]))
         for (condition, _), configs in planned.items()
-        for name in configs
+        for name, config in configs.items()
         if (match := SEEDED_NAME.fullmatch(name))
     }
     found = []
     for path in sorted((out / "runs").glob("*-seed*")) if (out / "runs").is_dir() else []:
         match = SEEDED_NAME.fullmatch(path.name)
         if path.is_dir() and path.name not in names and match and match["base"] in condition_of:
-            condition, seed = condition_of[match["base"]], int(match["seed"])
-            status = run_status(condition, seed, path.name, budget.frames_of(condition), out)
+            (condition, target), seed = condition_of[match["base"]], int(match["seed"])
+            status = run_status(condition, seed, path.name, target, out)
             found.append(replace(status, extra=True))
     return sorted(found, key=lambda run: (run.seed, order[run.condition]))
 
@@ -201,7 +213,7 @@ def status_text(runs: Sequence[RunStatus], jobs: int = 1) -> str:
         lines.append(f"{name:<44} {frames:>23}  {run.state:<11} {run.hours:>6.2f} {left:>8}")
     counts = {state: sum(r.state == state for r in runs) for state in dict.fromkeys(r.state for r in runs)}
     spent = sum(r.hours for r in runs if r.state != "borrowed")
-    unfinished = [r for r in runs if r.state in ("training", "stopped", "not started")]
+    unfinished = [r for r in runs if r.state in ("training", "stopped", "unreadable", "not started")]
     left = sum(r.left for r in unfinished if r.left is not None)
     unknown = sum(r.left is None for r in unfinished)
     summary = ", ".join(f"{count} {state}" for state, count in counts.items())

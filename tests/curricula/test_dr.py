@@ -87,3 +87,31 @@ def test_a_ppcg_env_reports_the_difficulty_its_levels_were_made_at(eager):
     level = env.base_env.current_levels[0]
     assert out["level_difficulty"].item() == 0.3 and out["difficulty"].item() == 0.9
     assert level == generate_level("zelda", 0.3, out["level_seed"].item())
+
+
+def test_the_gymnasium_envs_report_the_difficulty_dr_drew_for_each_level(eager):
+    import gymnasium as gym
+
+    import gvgai_pcg  # noqa: F401 (registers the ids)
+
+    env = gym.make("gvgai_pcg/Zelda-v0", regimen="dr", max_steps=3)
+    seen = [env.reset(seed=seed)[1] for seed in range(3)]
+    for info in seen:  # the level is the one generated at the reported difficulty
+        assert info["level_seed"] >= 0
+    levels = [env.unwrapped.engine.current_levels[0]]
+    assert levels[0] == generate_level("zelda", seen[-1]["difficulty"], seen[-1]["level_seed"])
+    assert len({info["difficulty"] for info in seen}) == 3 and all(0 < i["difficulty"] < 1 for i in seen)
+    vector = gym.make_vec("gvgai_pcg/Zelda-v0", num_envs=3, regimen="dr", max_steps=3)
+    _, info = vector.reset(seed=0)
+    assert info["difficulty"][0] == seen[0]["difficulty"] and len(set(info["difficulty"].tolist())) == 3
+    vector.close()
+
+
+@pytest.mark.parametrize(("argument", "takers"), [("difficulty", "pcg, ppcg"), ("alpha", "ppcg")])
+def test_the_gymnasium_envs_refuse_the_arguments_dr_would_ignore(argument, takers):
+    from gvgai_pcg.envs.gym_adapter import GVGAIGymEnv
+    from gvgai_pcg.envs.gym_vector import GVGAIVectorEnv
+
+    for make in (GVGAIGymEnv, lambda **kw: GVGAIVectorEnv(2, **kw)):
+        with pytest.raises(ValueError, match=f"regimen 'dr' takes no {argument}=.*take it: {takers}$"):
+            make(game="zelda", regimen="dr", **{argument: 0.5})

@@ -11,6 +11,7 @@ import pytest
 import torch
 from tensordict import TensorDict
 
+from gvgai_pcg.cli import main
 from gvgai_pcg.config import ConfigError, compose_config
 from gvgai_pcg.curricula.level_buffer import LevelBuffer, rank_weights, staleness_weights
 from gvgai_pcg.curricula.plr import PrioritizedLevels, ReplaySettings
@@ -217,6 +218,21 @@ def test_regimen_plr_composes_with_dcds_defaults_and_checks_its_range():
         )
     with pytest.raises(ConfigError, match="regimen.score='regret'"):
         compose_config(["game=zelda", "regimen=plr", "regimen.score=regret"])
+
+
+@pytest.mark.parametrize("regimen", ["plr", "accel"])
+def test_robust_replay_without_replays_is_refused_before_training(regimen, tmp_path, capsys):
+    # robust trains on replayed levels only: with replay_prob=0 it could never take a step
+    argv = [f"regimen={regimen}", "regimen.replay_prob=0", "total_frames=40", f"out_dir={tmp_path}"]
+    with pytest.raises(
+        ConfigError, match=r"^regimen.replay_prob=0: expected more than 0 with regimen.robust=true"
+    ):
+        compose_config(argv)
+    assert main(["train", *argv]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "regimen.robust=false" in err
+    assert not any(tmp_path.iterdir())
+    compose_config([*argv, "regimen.robust=false"])  # plain PLR trains on new levels too
 
 
 def test_the_env_reports_the_levels_it_replays(eager):

@@ -4,6 +4,7 @@ learners apart while A2C's stay those of the published runs."""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import pytest
@@ -14,6 +15,7 @@ from tensordict import TensorDict
 
 import gvgai_pcg.plugins as plugins_module
 from gvgai_pcg.config import ConfigError, checked_config, compose_config, config_dir
+from gvgai_pcg.curricula.signals import TRAIN_MASK
 from gvgai_pcg.rl import train
 from gvgai_pcg.rl.environment import EnvFactory
 from gvgai_pcg.rl.learners import get_learner_spec, learner_class, register_learner, registered_learners
@@ -145,6 +147,45 @@ def test_one_ppo_update():
     for key in ("advantage", "value_target", "state_value"):
         assert update.signals[key].shape == (4, 6)
     assert "exp_avg" in next(iter(learner.state_dict()["state"].values()))  # Adam's state
+
+
+@pytest.mark.parametrize("masked", [False, True], ids=["one-step batch", "one step kept by the mask"])
+def test_a_ppo_update_on_a_single_step_is_finite_and_takes_its_step(masked):
+    torch.manual_seed(0)
+    net = make_actor_critic("compact", "tiles", (5, 7, 9), 6, 32)
+    algo = dict(compose_config(["algo=ppo"]).algo, epochs=1, minibatches=1)
+    learner = PPO(algo, net, as_tensordict_module(net, "tiles"))
+    rollout = _rollout(2, 3, (5, 7, 9), 6) if masked else _rollout(2, 3, (5, 7, 9), 6)[:1, :1]
+    if masked:  # PLR⊥ keeps the steps of replayed levels only: here one
+        mask = torch.zeros(2, 3, dtype=torch.bool)
+        mask[0, 2] = True
+        rollout.set(TRAIN_MASK, mask)
+    before = [p.detach().clone() for p in net.parameters()]
+    checks = []
+    update = learner.update(rollout, lambda loss, norm: checks.append((loss, norm)))
+    assert len(checks) == 1 and all(torch.isfinite(loss) and torch.isfinite(norm) for loss, norm in checks)
+    assert bool(update.stacked().isfinite().all())
+    assert any(not torch.equal(a, b) for a, b in zip(before, net.parameters(), strict=True))
+
+
+def test_a_ppo_run_of_one_env_and_one_step_per_batch_trains_without_diverging(tmp_path):
+    argv = ["algo=ppo", "regimen=lv", "env.num_envs=1", "algo.n_steps=1", "algo.minibatches=1"]
+    cfg = compose_config(
+        [*argv, "env.max_steps=10", "total_frames=6", "log.curve=false", f"out_dir={tmp_path}"]
+    )
+    result = train(cfg, tmp_path / "run")
+    assert result.frames == 6 and result.model_path.is_file()
+    assert all(math.isfinite(row["value_loss"]) for row in read_updates(result.updates_path))
+
+
+@pytest.mark.parametrize(
+    ("overrides", "steps"),
+    [(["env.num_envs=1", "algo.n_steps=1"], "1 step "), (["env.num_envs=2", "algo.n_steps=3"], "6 steps ")],
+)
+def test_ppo_refuses_more_minibatches_than_a_batch_has_steps(overrides, steps):
+    with pytest.raises(ConfigError, match=rf"^algo.minibatches=8: expected at most the {steps}of a batch"):
+        compose_config(["algo=ppo", *overrides])
+    compose_config(["algo=ppo", *overrides[:1], "algo.n_steps=8"])  # 8 steps or more: accepted
 
 
 def test_run_names_tell_learners_apart_and_keep_a2cs():

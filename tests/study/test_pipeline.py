@@ -303,6 +303,35 @@ def test_publish_refuses_a_folder_holding_a_run_of_another_config(tmp_path):
     assert sorted(p.relative_to(dest) for p in dest.rglob("*")) == before  # nothing published
 
 
+@pytest.mark.parametrize("where", ["out", "out/runs/x"])
+def test_publish_refuses_the_sweeps_own_folder_and_writes_nothing_into_its_runs(where, tmp_path):
+    from gvgai_pcg.study.publish import publish
+    from tests.evaluation.conftest import make_run
+
+    out = tmp_path / "out"
+    run = make_run(out / "runs", "lv0", 0)
+    before = sorted(p.relative_to(out) for p in out.rglob("*"))
+    with pytest.raises(
+        ValueError, match=rf"^--publish {tmp_path / where}: its runs would be the sweep's own"
+    ):
+        publish(out, tmp_path / where)
+    assert not (run / "published.json").exists()  # else a run that trains on reads as published
+    assert sorted(p.relative_to(out) for p in out.rglob("*")) == before
+
+
+def test_reproduce_refuses_to_publish_into_its_own_out_before_anything_else(tmp_path, capsys):
+    from gvgai_pcg.cli import main
+
+    out = tmp_path / "sweep"
+    argv = ["reproduce", "--budget", "smoke", "--conditions", "zelda-lv0", "--no-train", "--no-progress"]
+    with pytest.raises(SystemExit) as refused:
+        main([*argv, "--out", str(out), "--publish", str(out)])
+    err = capsys.readouterr().err.strip()
+    assert refused.value.code == 2 and len(err.splitlines()) == 1
+    assert err.startswith(f"gvgai-pcg reproduce: error: --publish {out}: its runs would be the sweep's own")
+    assert not out.exists()
+
+
 def test_conditions_with_overrides_of_their_own_train_in_a_multirun_of_their_own():
     budget = replace(
         BUDGETS["smoke"],

@@ -7,6 +7,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from gvgai_pcg.rl.run_lock import FolderLock
 from gvgai_pcg.rl.run_log import COLUMNS
 from gvgai_pcg.study import BUDGETS
@@ -98,7 +100,41 @@ def test_a_run_whose_checkpoint_cannot_be_read_is_counted_by_its_log(tmp_path):
     run = _trained(tmp_path / "out" / "runs", "lv0", 0, 400, 0.2)
     (run / "model.pt").write_bytes(b"not a checkpoint")
     status = run_status("zelda-lv0", 0, run.name, 1000, tmp_path / "out")
-    assert (status.state, status.frames) == ("stopped", 400)
+    assert (status.state, status.frames) == ("unreadable", 400)
+
+
+def test_a_run_whose_model_and_checkpoints_cannot_be_read_is_not_finished_at_its_logs_frames(tmp_path):
+    run = _trained(tmp_path / "out" / "runs", "lv0", 0, 1000, 0.5)
+    (run / "model.pt").write_bytes(b"not a checkpoint")
+    (run / "checkpoints").mkdir()
+    (run / "checkpoints" / "last.pt").write_bytes(b"\x00" * 64)
+    status = run_status("zelda-lv0", 0, run.name, 1000, tmp_path / "out")
+    assert (status.state, status.frames) == ("unreadable", 1000)
+    assert "1 runs: 1 unreadable;" in status_text(with_estimates([status]))
+
+
+def test_a_run_that_a_process_trains_is_training_even_past_the_budgets_frames(tmp_path):
+    run = _trained(tmp_path / "out" / "runs", "lv0", 0, 1600, 0.2)  # trains on to total_frames=3200
+    with FolderLock(run, "a test holds it"):
+        status = run_status("zelda-lv0", 0, run.name, 1600, tmp_path / "out")
+    assert (status.state, status.frames) == ("training", 1600)
+    assert with_estimates([status])[0].left == 0.0  # none left: never a negative estimate
+
+
+def _planned_run(out: Path, frames: int) -> Path:
+    """The smoke budget's zelda-lv0 seed 0, trained to ``frames``."""
+    run = _trained(out / "runs", "lv0", 0, frames, 0.1)
+    return run.rename(out / "runs" / "zelda-lv0-tiles-compact-seed0")
+
+
+def test_the_status_finishes_a_run_at_the_total_frames_of_an_override(tmp_path):
+    out = tmp_path / "out"
+    _planned_run(out, 1600)  # the smoke budget's frames
+    (plain,) = sweep_status(BUDGETS["smoke"], ["zelda-lv0"], out)
+    (longer,) = sweep_status(BUDGETS["smoke"], ["zelda-lv0"], out, ["total_frames=3200"])
+    assert (plain.state, plain.target) == ("finished", 1600)
+    assert (longer.state, longer.frames, longer.target) == ("stopped", 1600, 3200)
+    assert longer.left == pytest.approx(0.1)  # its own pace, for the 1600 frames left
 
 
 def test_a_file_for_a_sweep_folder_or_a_missing_sweep_to_borrow_from_is_one_line(tmp_path):

@@ -9,7 +9,9 @@ Kostrikov's ``pytorch-a2c-ppo-acktr`` that facebookresearch/level-replay and dcd
 value loss is ``value_coef * 1/2 (V - R)^2`` (TorchRL's ``l2`` with ``critic_coeff = value_coef / 2``).
 The acting passes keep no graph: every minibatch is evaluated again at the current weights.
 Where the rollout has a ``train_mask`` (a curriculum's: PLR⊥), the epochs use its steps only (the
-advantages are still computed over the whole rollout); none: no step, and NaN losses (as A2C's).
+advantages are still computed over the whole rollout); none: no step, and NaN losses (as A2C's);
+fewer than ``minibatches``: one minibatch per step. A single step's advantage is not normalised
+(it has no spread); a config whose whole batch has fewer steps than ``minibatches`` is refused.
 Its checkpoint holds the Adam state.
 """
 
@@ -26,7 +28,7 @@ from torchrl.modules import ProbabilisticActor
 from torchrl.objectives import ClipPPOLoss
 from torchrl.objectives.value import GAE
 
-from gvgai_pcg.config_rules import Flag, Integer, Number
+from gvgai_pcg.config_rules import ConfigError, Flag, Integer, Number
 from gvgai_pcg.curricula.signals import TRAIN_MASK
 from gvgai_pcg.rl.learners.base import Learner, Update, UpdateCheck
 from gvgai_pcg.rl.learners.spec import LearnerSpec
@@ -86,7 +88,7 @@ class PPO(Learner):
             flat = flat[mask.reshape(-1)]
             if flat.shape[0] == 0:  # no replayed step: no step, and no losses to log
                 return Update.untrained(signals)
-        if self.normalize_advantage:
+        if self.normalize_advantage and flat.shape[0] > 1:  # one step has no spread to divide by
             advantage = flat.get("advantage")
             flat.set("advantage", (advantage - advantage.mean()) / (advantage.std() + 1e-5))
         sums = torch.zeros(3)
@@ -114,6 +116,17 @@ class PPO(Learner):
         self.optimizer.load_state_dict(state)
 
 
+def check_batch(algo: Mapping[str, Any], config: Mapping[str, Any]) -> None:
+    """Every minibatch needs a step: ``torch.chunk`` would silently make fewer of them."""
+    steps = int(config["env"]["num_envs"]) * int(algo["n_steps"]) * int(config["collector"]["workers"])
+    if int(algo["minibatches"]) > steps:
+        counted = f"{steps} step{'s' if steps != 1 else ''}"
+        raise ConfigError(
+            f"algo.minibatches={algo['minibatches']}: expected at most the {counted} of a batch "
+            "(env.num_envs x algo.n_steps x collector.workers); lower it, or raise algo.n_steps"
+        )
+
+
 SPEC = LearnerSpec(
     name="ppo",
     learner=PPO,
@@ -133,4 +146,5 @@ SPEC = LearnerSpec(
         "normalize_advantage": Flag(),
     },
     description="PPO (TorchRL's ClipPPOLoss and GAE), the UED libraries' Procgen defaults",
+    check=check_batch,
 )

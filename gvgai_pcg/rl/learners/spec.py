@@ -8,7 +8,7 @@ only a run builds the class (``load_object("module:Class")``).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -28,6 +28,9 @@ class LearnerSpec:
         config: the yaml of a learner from outside the package (its ``algo`` defaults), stored as
             the ``algo`` group's option ``name`` so that ``gvgai-pcg train algo=<name>`` finds it;
             ``None`` for ours (``conf/algo/<name>.yaml``).
+        check: rules across keys, called with the checked ``algo`` section and the whole checked
+            config before a run starts (PPO: no more minibatches than a batch has steps); it
+            raises ``gvgai_pcg.config.ConfigError`` with a one-line message. ``None``: none.
     """
 
     name: str
@@ -36,6 +39,7 @@ class LearnerSpec:
     run_tag: str | None = None
     description: str = ""
     config: str | Path | None = None
+    check: Callable[[Mapping[str, Any], Mapping[str, Any]], None] | None = None
 
     @property
     def tag(self) -> str:
