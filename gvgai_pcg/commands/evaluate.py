@@ -320,8 +320,9 @@ def _run_levels(args: argparse.Namespace, agent: str) -> int:
         print(file=sys.stdout)
         print(table, file=sys.stderr)
         return 0
-    if args.json:
-        with open(args.json, "w") as handle:
-            json.dump(payload, handle, indent=1)
+    if args.json:  # whole or not at all: a full disk leaves no empty or half file
+        from gvgai_pcg.rl.atomic_files import atomic_write_text
+
+        atomic_write_text(Path(args.json), json.dumps(payload, indent=1))
     print(table)
     return 0

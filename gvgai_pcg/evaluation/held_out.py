@@ -16,6 +16,7 @@ from pathlib import Path
 
 from gvgai_pcg.evaluation.evaluator import EVAL_DIR, LevelRecord, evaluate_run
 from gvgai_pcg.evaluation.protocol import HUMAN_SETS, Protocol
+from gvgai_pcg.rl.snapshots import snapshot_frames
 
 SNAPSHOT_EVAL_DIR = "snapshots"
 HUMAN_MEAN = "human"  # the mean over the five human levels, one line of the plot
@@ -26,11 +27,6 @@ HELD_OUT_LINES = {
     HUMAN_MEAN: ("tab:green", "held out: human levels (mean)"),
     "train": ("tab:purple", "its own training levels"),
 }
-
-
-def snapshot_frames(path: Path) -> int:
-    """The frames in a snapshot's name, ``model-0001000000.pt`` -> 1000000."""
-    return int(Path(path).stem.removeprefix("model-"))
 
 
 def snapshot_results_path(run_dir: Path, protocol: Protocol, frames: int) -> Path:

@@ -196,6 +196,12 @@ def read_file(path: Path) -> dict[str, Any]:
             f"{path} has format {version!r}, written by a newer gvgai-pcg; this one reads formats up to "
             f"{FORMAT_VERSION}: upgrade gvgai-pcg to use it"
         )
+    frames = state.get("frames", 0)
+    if isinstance(frames, bool) or not isinstance(frames, int) or frames < 0:
+        raise UnusableCheckpointError(
+            f"{path}: its 'frames' entry is {frames!r}, not a count of frames; it was not written by "
+            "gvgai-pcg train (or was edited)"
+        )
     _check_stored_whole(state, path)
     return state
 
