@@ -12,6 +12,7 @@ from omegaconf import OmegaConf
 
 from gvgai_pcg.cli import main
 from gvgai_pcg.config import ConfigError, check_jobs, compose_config, config_dir, sweep_jobs, validate
+from tests.waiting import PATIENCE_S
 
 
 def refusal(argv: list[str], capsys, tmp_path) -> str:
@@ -76,7 +77,9 @@ def test_every_run_of_a_sweep_is_checked_before_any_starts(capsys, tmp_path):
 
 def test_debug_shows_the_traceback(tmp_path):
     command = [sys.executable, "-m", "gvgai_pcg.cli", "train", f"out_dir={tmp_path}", "algo.lr=abc"]
-    done = subprocess.run(command, capture_output=True, text=True, timeout=120, env={"GVGAI_PCG_DEBUG": "1"})
+    done = subprocess.run(
+        command, capture_output=True, text=True, timeout=PATIENCE_S, env={"GVGAI_PCG_DEBUG": "1"}
+    )
     assert done.returncode != 0 and "Traceback" in done.stderr and "ConfigError: algo.lr='abc'" in done.stderr
 
 
