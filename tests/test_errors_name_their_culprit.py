@@ -115,3 +115,29 @@ def test_json_on_a_full_disk_leaves_no_empty_file(tmp_path, capsys):
         err = one_line_error(argv, capsys)
     assert "File too large" in err and not target.exists()
     assert not [p for p in tmp_path.iterdir()]  # nor a temporary file
+
+
+@pytest.mark.parametrize(
+    ("flags", "says"),
+    [
+        (["--snapshots", "--every", "-1000"], "--every -1000: expected a positive number of frames"),
+        (["--snapshots", "--every", "0"], "--every 0: expected a positive number of frames"),
+        (["--every", "1000", *LEVEL], "--every picks snapshots to evaluate; it needs --snapshots"),
+        (["--snapshots", "--every", "1000000"], "one snapshot per 1,000,000 frames picks none of its 2"),
+    ],
+)
+def test_every_is_checked_and_a_period_that_picks_nothing_says_so(tmp_path, capsys, flags, says):
+    run = with_snapshots(tmp_path, frames=(500, 1000))
+    err = one_line_error(["evaluate", str(run), *flags, "--no-progress"], capsys)
+    assert says in err
+
+
+@pytest.mark.parametrize(
+    "flag",
+    [["--test-sets", "large"], ["--test-levels", "3"], ["--test-episodes", "2"], ["--human-episodes", "5"]],
+)
+def test_ued_refuses_the_study_protocols_settings_it_would_ignore(tmp_path, capsys, flag):
+    argv = ["evaluate", "--game", "zelda", "--ued", *flag, "--cache-dir", str(tmp_path / "cache")]
+    err = one_line_error(argv, capsys)
+    assert f"{flag[0]}: settings of the study's protocol, which --ued does not play" in err
+    assert not (tmp_path / "cache").exists()

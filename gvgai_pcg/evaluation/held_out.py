@@ -66,11 +66,20 @@ def evaluate_snapshots(
     from gvgai_pcg.rl.snapshots import snapshot_paths
 
     run_dir = Path(run_dir).resolve()
-    paths = pick_snapshots(snapshot_paths(run_dir), every)
-    if not paths:
+    if every < 0:
+        raise ValueError(f"every={every}: expected 0 (every snapshot) or a positive number of frames")
+    kept = snapshot_paths(run_dir)
+    if not kept:
         raise FileNotFoundError(
             f"{run_dir}: no snapshots (snapshots/model-*.pt) to evaluate; a run keeps them when trained "
             "with checkpoint.keep_every_frames=N"
+        )
+    paths = pick_snapshots(kept, every)
+    if not paths:
+        latest = max(map(snapshot_frames, kept))
+        raise ValueError(
+            f"{run_dir}: one snapshot per {every:,} frames picks none of its {len(kept)} snapshots (the "
+            f"latest at {latest:,} frames); give a smaller --every"
         )
     results = {}
     for path in paths:
