@@ -354,15 +354,30 @@ def check_jobs(jobs: Sequence[Sequence[str]], config_name: str = CONFIG_NAME) ->
         for job in jobs:
             try:
                 cfg = compose(config_name, overrides=list(job))
-            except ConfigCompositionException as error:
+            except (ConfigCompositionException, HydraException) as error:
                 unknown = _unknown_override(error, job, config_name)
                 if unknown:
                     raise ConfigError(unknown) from None
-                return False
-            except HydraException:
-                return False
+                # Hydra's own settings (a launcher's keys, a launcher this composer cannot load) do
+                # not shape the run's config: it is checked without them, and Hydra judges them.
+                task = [override for override in job if not _is_hydra_override(override)]
+                if len(task) == len(job):
+                    return False
+                try:
+                    cfg = compose(config_name, overrides=task)
+                except (ConfigCompositionException, HydraException) as task_error:
+                    unknown = _unknown_override(task_error, task, config_name)
+                    if unknown:
+                        raise ConfigError(unknown) from None
+                    return False
             validate(cfg)
     return True
+
+
+def _is_hydra_override(override: str) -> bool:
+    """Whether ``override`` sets Hydra's own config (``hydra.run.dir=...``, ``hydra/launcher=...``)."""
+    key = override.split("=", 1)[0].lstrip("~+")
+    return key == "hydra" or key.startswith(("hydra.", "hydra/"))
 
 
 def _unknown_override(error: Exception, job: Sequence[str], config_name: str) -> str | None:

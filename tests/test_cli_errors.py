@@ -8,6 +8,7 @@ import sys
 import pytest
 
 from gvgai_pcg.cli import main
+from tests.waiting import PATIENCE_S
 
 
 def _error_of(argv: list[str], capsys) -> str:
@@ -51,7 +52,7 @@ def test_bad_input_is_one_line(argv, says, capsys, tmp_path):
 def test_output_cut_short_by_the_reader_is_not_an_error():
     generate = "generate --game zelda --difficulty 0:1:0.01 --count 5"
     command = f"{sys.executable} -m gvgai_pcg.cli {generate} | head -1"
-    done = subprocess.run(command, shell=True, capture_output=True, text=True, timeout=120)
+    done = subprocess.run(command, shell=True, capture_output=True, text=True, timeout=PATIENCE_S)
     assert done.stdout == "# game=zelda d=0 seed=0\n"
     assert done.stderr == ""
 

@@ -12,6 +12,7 @@ from omegaconf import OmegaConf
 
 from gvgai_pcg.cli import main
 from gvgai_pcg.config import ConfigError, check_jobs, compose_config, config_dir, sweep_jobs, validate
+from tests.waiting import PATIENCE_S
 
 
 def refusal(argv: list[str], capsys, tmp_path) -> str:
@@ -74,9 +75,24 @@ def test_every_run_of_a_sweep_is_checked_before_any_starts(capsys, tmp_path):
     assert err == "algo.lr='abc': expected a finite number > 0"
 
 
+@pytest.mark.parametrize(
+    "hydra_setting",
+    ["hydra.no_such_key=1", "hydra.launcher.timeout_min=10", "hydra/launcher=no_such_launcher"],
+)
+def test_a_hydra_setting_that_does_not_compose_here_still_has_every_run_checked(hydra_setting):
+    """Before Hydra starts a sweep: its second run's bad value is refused with Hydra's own setting
+    on the line (Hydra judges that setting itself), not after the first run has trained."""
+    from gvgai_pcg.commands.train import check_command_line
+
+    with pytest.raises(ConfigError, match=r"^algo\.lr=-1: expected a finite number > 0$"):
+        check_command_line(["-m", hydra_setting, "algo.lr=0.001,-1"])
+
+
 def test_debug_shows_the_traceback(tmp_path):
     command = [sys.executable, "-m", "gvgai_pcg.cli", "train", f"out_dir={tmp_path}", "algo.lr=abc"]
-    done = subprocess.run(command, capture_output=True, text=True, timeout=120, env={"GVGAI_PCG_DEBUG": "1"})
+    done = subprocess.run(
+        command, capture_output=True, text=True, timeout=PATIENCE_S, env={"GVGAI_PCG_DEBUG": "1"}
+    )
     assert done.returncode != 0 and "Traceback" in done.stderr and "ConfigError: algo.lr='abc'" in done.stderr
 
 

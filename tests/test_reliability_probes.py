@@ -18,6 +18,7 @@ from gvgai_pcg.cli import main, say, silence_closed_streams
 from gvgai_pcg.log_backends import BACKENDS
 from gvgai_pcg.progress import PlainProgress
 from gvgai_pcg.rl.run_log import RunLog
+from tests.waiting import PATIENCE_S
 
 # 8 envs x 5 steps = 40 frames a batch; a row per 8 episodes of at most 10 steps
 TINY = ["regimen=lv", "env.num_envs=8", "env.max_steps=10", "log.every_episodes=8", "log.curve=false"]
@@ -160,7 +161,7 @@ def test_ctrl_c_through_a_pipe_whose_reader_died_keeps_the_run(tmp_path):
         assert job.poll() is None
         os.killpg(job.pid, signal.SIGINT)
         job.stdout.close()  # the reader (tee) is gone
-        assert job.wait(timeout=120) == 130
+        assert job.wait(timeout=PATIENCE_S) == 130
     finally:
         if job.poll() is None:
             os.killpg(job.pid, signal.SIGKILL)
@@ -274,7 +275,7 @@ def test_the_gymnasium_entry_points_leave_the_start_method_unset():
         "import torchrl  # (already imported: its own setting was undone)\n"
         "print(multiprocessing.get_start_method(allow_none=True))\n"
     )
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=PATIENCE_S)
     assert done.stdout.strip() == "None", done.stderr[-2000:]
 
 
@@ -285,7 +286,7 @@ def test_a_start_method_set_by_the_user_is_kept():
         "import gvgai_pcg.envs.gym_adapter\n"
         "print(multiprocessing.get_start_method(allow_none=True))\n"
     )
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=PATIENCE_S)
     assert done.stdout.strip() == "forkserver", done.stderr[-2000:]
 
 

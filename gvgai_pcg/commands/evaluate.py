@@ -39,6 +39,8 @@ if TYPE_CHECKING:
     from gvgai_pcg.evaluation.ued import UEDProtocol
 
 AGENTS = ("random", "trained")
+# Settings of the study's protocol that the UED protocol has no use for (their defaults are None).
+STUDY_ONLY = ("test_sets", "test_levels", "test_episodes", "human_episodes")
 
 
 def add_protocol_arguments(parser: argparse.ArgumentParser) -> None:
@@ -54,8 +56,12 @@ def add_protocol_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument(
         "--test-levels", type=int, default=None, help="levels used of each frozen test set (default: all)"
     )
-    group.add_argument("--test-episodes", type=int, default=1, help="episodes per generated test level")
-    group.add_argument("--human-episodes", type=int, default=30, help="episodes per human level")
+    group.add_argument(
+        "--test-episodes", type=int, default=None, help="episodes per generated test level (default 1)"
+    )
+    group.add_argument(
+        "--human-episodes", type=int, default=None, help="episodes per human level (default 30)"
+    )
     group.add_argument("--max-steps", type=int, default=2000, help="step limit per episode")
     group.add_argument("--greedy", action="store_true", help="argmax actions instead of sampling")
     group.add_argument("--seed", type=int, default=0)
@@ -73,8 +79,8 @@ def protocol_from(args: argparse.Namespace) -> Protocol:
         return Protocol(
             test_sets=test_sets,
             test_levels=TEST_SET_SIZES[test_sets] if args.test_levels is None else args.test_levels,
-            test_episodes=args.test_episodes,
-            human_episodes=args.human_episodes,
+            test_episodes=1 if args.test_episodes is None else args.test_episodes,
+            human_episodes=30 if args.human_episodes is None else args.human_episodes,
             max_steps=args.max_steps,
             greedy=args.greedy,
             seed=args.seed,
@@ -98,7 +104,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "and plot the held-out scores beside the training curve",
     )
     parser.add_argument(
-        "--every", type=int, default=0, metavar="FRAMES", help="--snapshots: one snapshot per FRAMES frames"
+        "--every",
+        type=int,
+        default=None,
+        metavar="FRAMES",
+        help="--snapshots: one snapshot per FRAMES frames (default: every snapshot)",
     )
     parser.add_argument(
         "--agent", choices=AGENTS, help="'random' or 'trained' (the default when RUNs are given, else random)"
@@ -188,10 +198,20 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(
             "--snapshots evaluates trained RUNs on the protocol; leave out --levels, --checkpoint and --ued"
         )
+    if args.every is not None and not args.snapshots:
+        raise ValueError("--every picks snapshots to evaluate; it needs --snapshots")
+    if args.every is not None and args.every < 1:
+        raise ValueError(f"--every {args.every}: expected a positive number of frames")
     if args.snapshots:
         return _run_snapshots(args)
     if args.ued and (args.levels or args.protocol):
         raise ValueError("--ued is a protocol of its own; leave out --levels and --protocol")
+    ignored = [f"--{name.replace('_', '-')}" for name in STUDY_ONLY if getattr(args, name) is not None]
+    if args.ued and ignored:
+        raise ValueError(
+            f"{', '.join(ignored)}: settings of the study's protocol, which --ued does not play (it plays "
+            "--ued-levels new levels --ued-seeds times); leave them out"
+        )
     if args.ued:
         return _run_ued(args, agent)
     if agent == "trained" and not args.levels:
@@ -241,7 +261,7 @@ def _run_snapshots(args: argparse.Namespace) -> int:
     runs = _runs_of(args)
     for path in runs:
         results = evaluate_snapshots(
-            path, protocol, args.every, args.device, not args.no_progress, args.force
+            path, protocol, args.every or 0, args.device, not args.no_progress, args.force
         )
         curves = held_out_scores(results)
         print(format_held_out_table(f"{path}: held-out mean score per snapshot", curves))
@@ -329,8 +349,9 @@ def _run_levels(args: argparse.Namespace, agent: str) -> int:
         print(file=sys.stdout)
         print(table, file=sys.stderr)
         return 0
-    if args.json:
-        with open(args.json, "w") as handle:
-            json.dump(payload, handle, indent=1)
+    if args.json:  # whole or not at all: a full disk leaves no empty or half file
+        from gvgai_pcg.rl.atomic_files import atomic_write_text
+
+        atomic_write_text(Path(args.json), json.dumps(payload, indent=1))
     print(table)
     return 0

@@ -216,6 +216,10 @@ def run_info(run_dir: Path, checkpoint: Path | None = None) -> RunInfo:
         checkpoint = max(found, key=lambda path: int(states[path].get("frames", 0)))  # first on a tie
         state = states[checkpoint]
     elif not Path(checkpoint).is_file():
+        if Path(checkpoint).is_dir():
+            raise IsADirectoryError(f"{checkpoint}: a folder, not a model or checkpoint file")
+        if Path(checkpoint).exists():
+            raise ValueError(f"{checkpoint}: not a regular file, so not a model or checkpoint file")
         raise FileNotFoundError(f"{checkpoint}: no such checkpoint")
     else:
         state = load_state(Path(checkpoint))

@@ -16,6 +16,7 @@ from pathlib import Path
 
 from gvgai_pcg.evaluation.evaluator import EVAL_DIR, LevelRecord, evaluate_run
 from gvgai_pcg.evaluation.protocol import HUMAN_SETS, Protocol
+from gvgai_pcg.rl.snapshots import snapshot_frames
 
 SNAPSHOT_EVAL_DIR = "snapshots"
 HUMAN_MEAN = "human"  # the mean over the five human levels, one line of the plot
@@ -26,11 +27,6 @@ HELD_OUT_LINES = {
     HUMAN_MEAN: ("tab:green", "held out: human levels (mean)"),
     "train": ("tab:purple", "its own training levels"),
 }
-
-
-def snapshot_frames(path: Path) -> int:
-    """The frames in a snapshot's name, ``model-0001000000.pt`` -> 1000000."""
-    return int(Path(path).stem.removeprefix("model-"))
 
 
 def snapshot_results_path(run_dir: Path, protocol: Protocol, frames: int) -> Path:
@@ -70,11 +66,20 @@ def evaluate_snapshots(
     from gvgai_pcg.rl.snapshots import snapshot_paths
 
     run_dir = Path(run_dir).resolve()
-    paths = pick_snapshots(snapshot_paths(run_dir), every)
-    if not paths:
+    if every < 0:
+        raise ValueError(f"every={every}: expected 0 (every snapshot) or a positive number of frames")
+    kept = snapshot_paths(run_dir)
+    if not kept:
         raise FileNotFoundError(
             f"{run_dir}: no snapshots (snapshots/model-*.pt) to evaluate; a run keeps them when trained "
             "with checkpoint.keep_every_frames=N"
+        )
+    paths = pick_snapshots(kept, every)
+    if not paths:
+        latest = max(map(snapshot_frames, kept))
+        raise ValueError(
+            f"{run_dir}: one snapshot per {every:,} frames picks none of its {len(kept)} snapshots (the "
+            f"latest at {latest:,} frames); give a smaller --every"
         )
     results = {}
     for path in paths:

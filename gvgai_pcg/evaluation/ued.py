@@ -57,6 +57,9 @@ from gvgai_pcg.levels.seeds import TEST_SEED_BASE, TRAINING_SEED_SPACE
 # [TEST_SEED_BASE, TEST_SEED_BASE + 2^24), training seeds lie below TRAINING_SEED_SPACE.
 UED_SEED_BASE = TEST_SEED_BASE + 2**32
 MAX_UED_LEVELS = 2**24
+# Every episode of the protocol (levels x seeds) is in one batched env, so their number is bounded
+# up front, not by an allocation failing after the levels were generated.
+MAX_UED_EPISODES = 2**18
 DEFAULT_ALPHAS = (0.01, 0.1)
 METRICS = ("score", "solved")
 # Bumped when the same settings would give other results; part of ``UEDProtocol.key``.
@@ -82,6 +85,11 @@ class UEDProtocol:
         if self.seeds < 2:
             raise ValueError(
                 f"seeds must be at least 2 (CVaR ranks with one, scores with another), got {self.seeds}"
+            )
+        if self.levels * self.seeds > MAX_UED_EPISODES:
+            raise ValueError(
+                f"levels x seeds = {self.levels} x {self.seeds} = {self.levels * self.seeds:,} episodes, "
+                f"more than the {MAX_UED_EPISODES:,} that one batched env holds; give fewer"
             )
         if self.max_steps < 1:
             raise ValueError(f"max_steps must be positive, got {self.max_steps}")

@@ -104,6 +104,20 @@ def atomic_copy(source: Path, target: Path) -> Path:
     return Path(target)
 
 
+def copy_tree(source: Path, target: Path, **copytree_kwargs) -> None:
+    """``shutil.copytree``, but a failure (a full disk) is one ``OSError`` line naming the first
+    file that could not be copied, not the repr of ``shutil.Error``'s list of every failure."""
+    try:
+        shutil.copytree(source, target, **copytree_kwargs)
+    except shutil.Error as error:
+        failures = error.args[0] if error.args and isinstance(error.args[0], list) else []
+        if not failures or not isinstance(failures[0], tuple) or len(failures[0]) != 3:
+            raise
+        copied_from, copied_to, why = failures[0]
+        more = f"; and {len(failures) - 1} more" if len(failures) > 1 else ""
+        raise OSError(f"{copied_to} could not be copied from {copied_from} ({why}){more}") from None
+
+
 def atomic_savefig(fig, path: Path, **savefig_kwargs) -> Path:
     """``fig.savefig(path)`` through a temporary file: a kill mid-render leaves the old figure."""
     path = Path(path)

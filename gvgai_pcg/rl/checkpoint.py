@@ -25,6 +25,7 @@ import os
 import pickle
 import random
 import re
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -185,7 +186,7 @@ def read_file(path: Path) -> dict[str, Any]:
         raise
     except Exception as error:
         raise _unreadable(path, error) from error
-    if not isinstance(state, dict) or "model" not in state or "config" not in state:
+    if not isinstance(state, dict) or not isinstance(state.get("model"), dict) or "config" not in state:
         raise UnusableCheckpointError(
             f"{path}: not a gvgai-pcg model or checkpoint (it needs 'model' and 'config' entries)"
         )
@@ -195,7 +196,40 @@ def read_file(path: Path) -> dict[str, Any]:
             f"{path} has format {version!r}, written by a newer gvgai-pcg; this one reads formats up to "
             f"{FORMAT_VERSION}: upgrade gvgai-pcg to use it"
         )
+    frames = state.get("frames", 0)
+    if isinstance(frames, bool) or not isinstance(frames, int) or frames < 0:
+        raise UnusableCheckpointError(
+            f"{path}: its 'frames' entry is {frames!r}, not a count of frames; it was not written by "
+            "gvgai-pcg train (or was edited)"
+        )
+    _check_stored_whole(state, path)
     return state
+
+
+def _tensors(value: Any, name: str = "") -> Iterator[tuple[str, torch.Tensor]]:
+    """Every tensor in ``value`` (nested dicts, lists and tuples), with its dotted name."""
+    if isinstance(value, torch.Tensor):
+        yield name, value
+    elif isinstance(value, dict):
+        for key, item in value.items():
+            yield from _tensors(item, f"{name}.{key}" if name else str(key))
+    elif isinstance(value, list | tuple):
+        for index, item in enumerate(value):
+            yield from _tensors(item, f"{name}[{index}]")
+
+
+def _check_stored_whole(state: dict[str, Any], path: Path) -> None:
+    """Refuse a tensor that shows more values than its file stores (a stride-0 or overlapping
+    view): checking or copying it would materialise all of them, gigabytes from a small file.
+    gvgai-pcg saves every tensor whole, so such a file was crafted or written by another program."""
+    for name, value in _tensors(state):
+        stored = value.untyped_storage().nbytes() // max(value.element_size(), 1)
+        if value.numel() > stored:
+            raise UnusableCheckpointError(
+                f"{path}: refused: its tensor {name} shows {value.numel()} values of {tuple(value.shape)} "
+                f"but stores {stored}; gvgai-pcg saves every tensor whole, so the file was crafted or "
+                "written by another program"
+            )
 
 
 def _unreadable(path: Path, error: BaseException) -> UnusableCheckpointError:
@@ -233,6 +267,8 @@ def check_identity(state: dict[str, Any], path: Path, expected: dict[str, Any], 
 
 
 def check_finite(state: dict[str, Any], path: Path) -> None:
+    """Refuse NaN or inf weights; reads only what the file stores (``read_file`` refused views
+    larger than their storage)."""
     bad = nonfinite_names(state["model"])
     if bad:
         more = f" and {len(bad) - 1} more" if len(bad) > 1 else ""

@@ -23,6 +23,17 @@ def snapshot_path(run_dir: Path, frames: int) -> Path:
     return Path(run_dir) / SNAPSHOT_DIR / f"model-{int(frames):010d}.pt"
 
 
+def snapshot_frames(path: Path) -> int:
+    """The frames in a snapshot's name, ``model-0001000000.pt`` -> 1000000; a ``ValueError`` naming
+    the file for any other name."""
+    digits = Path(path).stem.removeprefix("model-")
+    if not digits.isdigit() or not digits.isascii():
+        raise ValueError(
+            f"{path}: not a snapshot's name (model-<frames>.pt, written by training); rename or remove it"
+        )
+    return int(digits)
+
+
 def snapshot_paths(run_dir: Path) -> list[Path]:
     """A run's snapshots, oldest first."""
     return sorted((Path(run_dir) / SNAPSHOT_DIR).glob("model-*.pt"))

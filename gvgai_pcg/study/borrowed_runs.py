@@ -84,29 +84,38 @@ def borrowable_model(run: Path, planned: dict, frames: int) -> Path | None:
 def borrow_run(source: Path, model: Path, frames: int, target: Path) -> Path:
     """``target``: the run ``source`` at ``frames`` frames with ``model`` as its final model, made
     beside ``target`` and renamed into place, so that a stopped borrow leaves no half run."""
-    from gvgai_pcg.evaluation.checkpoints import FINAL_MODEL, read_run_config
-    from gvgai_pcg.rl.provenance import SESSIONS_NAME
-    from gvgai_pcg.rl.snapshots import SNAPSHOT_DIR, snapshot_paths
-
     building = target.parent / f".borrowing-{target.name}"
     shutil.rmtree(building, ignore_errors=True)
     building.mkdir(parents=True)
+    try:
+        _build_borrowed(source, model, frames, target, building)
+    except BaseException:
+        shutil.rmtree(building, ignore_errors=True)
+        raise
+    os.replace(building, target)
+    return target
+
+
+def _build_borrowed(source: Path, model: Path, frames: int, target: Path, building: Path) -> None:
+    """Into ``building``: the run ``source`` at ``frames`` frames, ``model`` its final model."""
+    from gvgai_pcg.evaluation.checkpoints import FINAL_MODEL, read_run_config
+    from gvgai_pcg.rl.provenance import SESSIONS_NAME
+    from gvgai_pcg.rl.snapshots import SNAPSHOT_DIR, snapshot_frames, snapshot_paths
+
     config = dict(read_run_config(source) or {})
     trained = int(config["total_frames"])
     config.update(total_frames=frames, out_dir=str(target.parent.resolve()))
     OmegaConf.save(OmegaConf.create(config), building / "config.yaml")
     shutil.copy2(model, building / FINAL_MODEL)
-    _copy_rows(source / "log.csv", building / "log.csv", lambda row: int(row["frames"]) <= frames)
-    _copy_rows(source / SESSIONS_NAME, building / SESSIONS_NAME, lambda row: int(row["frames"]) < frames)
-    kept = [path for path in snapshot_paths(source) if int(path.stem.split("-")[-1]) <= frames]
+    _copy_rows(source / "log.csv", building / "log.csv", lambda at: at <= frames)
+    _copy_rows(source / SESSIONS_NAME, building / SESSIONS_NAME, lambda at: at < frames)
+    kept = [path for path in snapshot_paths(source) if snapshot_frames(path) <= frames]
     if kept:
         (building / SNAPSHOT_DIR).mkdir()
         for path in kept:
             shutil.copy2(path, building / SNAPSHOT_DIR / path.name)
     record = {"from": str(source.resolve()), "frames": frames, "trained_frames": trained, "model": model.name}
     (building / BORROWED).write_text(json.dumps(record, indent=1) + "\n")
-    os.replace(building, target)
-    return target
 
 
 def borrowed_from(run: Path) -> dict | None:
@@ -138,12 +147,22 @@ def borrowed_lines(runs: Sequence[Path]) -> list[str]:
 
 
 def _copy_rows(source: Path, target: Path, keep) -> None:
-    """The header and the rows of the CSV ``source`` that ``keep`` accepts, into ``target``."""
+    """The header and the rows of the CSV ``source`` whose ``frames`` ``keep`` accepts, into
+    ``target``; a row without a whole number of frames is a ``ValueError`` naming the file."""
     if not source.is_file():
         return
     with open(source, newline="") as file:
         reader = csv.DictReader(file)
-        rows = [row for row in reader if keep(row)]
+        rows = []
+        for row in reader:
+            frames = row.get("frames")
+            if frames is None or not frames.strip().isdigit():
+                raise ValueError(
+                    f"{source}: line {reader.line_num}: frames {frames!r} is not a whole number; the run's "
+                    "file is damaged, so it is not borrowed (restore it, or train the run here)"
+                )
+            if keep(int(frames)):
+                rows.append(row)
         fields = reader.fieldnames or []
     with open(target, "w", newline="") as file:
         writer = csv.DictWriter(file, fieldnames=fields)

@@ -406,6 +406,7 @@ def reproduce(
         raise ValueError("; ".join(refused.values()))
     from gvgai_pcg.evaluation.protocol import Protocol
     from gvgai_pcg.report import build_report
+    from gvgai_pcg.rl.atomic_files import copy_tree
 
     out = Path(out).resolve()
     if publish_to is not None:  # before any training: refused now, not after hours of it
@@ -424,12 +425,15 @@ def reproduce(
         skip |= published_skip
         random = Path(publish_to) / "random"
         if random.is_dir():  # the random agent's records travel too
-            shutil.copytree(random, out / "random", dirs_exist_ok=True, copy_function=_keep)
+            copy_tree(random, out / "random", dirs_exist_ok=True, copy_function=_keep)
     seconds = run_sweep(budget, conditions, out, jobs, launcher, overrides, skip) if train else 0.0
     report_dir = out / "report"
     report_dir.mkdir(parents=True, exist_ok=True)
     fewest = budget.frames_range[0] if finished_only else None
     here = _trained_here(out / "runs", fewest, {p.name for p in elsewhere})
+    if not here and not elsewhere:
+        finished = f" that finished (trained at least {fewest:,} frames)" if fewest is not None else ""
+        raise FileNotFoundError(f"no run directories{finished} under {out / 'runs'}")
     build_report([*here, *elsewhere], report_dir, protocol, cache_dir=out / "random", progress=progress)
     target = budget.frames_range[0]
     if budget.comparison == "curricula":

@@ -75,7 +75,7 @@ def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = 
     (``refuse_publishing_into_the_sweep``)."""
     from gvgai_pcg.evaluation.checkpoints import PUBLISHED, find_runs, published_run_info, run_info
     from gvgai_pcg.evaluation.evaluator import read_records, run_results_path
-    from gvgai_pcg.rl.atomic_files import atomic_copy, recover_folders
+    from gvgai_pcg.rl.atomic_files import atomic_copy, copy_tree, recover_folders
 
     refuse_publishing_into_the_sweep(out, dest, runs or ())
     if runs is None:
@@ -101,9 +101,9 @@ def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = 
             _stage_run(run, staged, model, info.frames, info.model_file)
     if (out / "report").is_dir():  # replaced whole: no figure of an earlier report stays
         with staged_folder(dest / "report", keep=False) as staged:
-            shutil.copytree(out / "report", staged, ignore=WRITER_LOCKS, dirs_exist_ok=True)
+            copy_tree(out / "report", staged, ignore=WRITER_LOCKS, dirs_exist_ok=True)
     if (out / "random").is_dir():
-        shutil.copytree(
+        copy_tree(
             out / "random",
             dest / "random",
             dirs_exist_ok=True,
@@ -118,12 +118,12 @@ def staged_folder(target: Path, keep: bool = True) -> Iterator[Path]:
     """A folder to build ``target``'s new content in (``keep``: starting from a copy of what
     ``target`` holds now), swapped in when the block ends; a block cut short leaves ``target`` as
     it was and removes the staging folder."""
-    from gvgai_pcg.rl.atomic_files import staging_folder, swap_in_folder
+    from gvgai_pcg.rl.atomic_files import copy_tree, staging_folder, swap_in_folder
 
     staged = staging_folder(target)
     shutil.rmtree(staged, ignore_errors=True)
     if keep and target.is_dir():
-        shutil.copytree(target, staged)
+        copy_tree(target, staged)
     staged.mkdir(parents=True, exist_ok=True)
     try:
         yield staged
@@ -137,6 +137,7 @@ def _stage_run(run: Path, staged: Path, model: dict, frames: int, model_file: Pa
     """Into ``staged``: ``run``'s config, logs, pictures and evaluation records, its model when it
     is small and the one evaluated, and ``published.json`` naming that model."""
     from gvgai_pcg.evaluation.checkpoints import PUBLISHED
+    from gvgai_pcg.rl.atomic_files import copy_tree
 
     (staged / "eval").mkdir(parents=True, exist_ok=True)
     for name in (
@@ -156,7 +157,7 @@ def _stage_run(run: Path, staged: Path, model: dict, frames: int, model_file: Pa
             shutil.copy2(results, staged / "eval" / results.name)
     # the held-out score over training (``evaluate --snapshots``): records and figure, not the models
     if (run / "eval" / "snapshots").is_dir():
-        shutil.copytree(
+        copy_tree(
             run / "eval" / "snapshots", staged / "eval" / "snapshots", dirs_exist_ok=True, ignore=WRITER_LOCKS
         )
     if model["frames"] == frames and model_file.stat().st_size < MODEL_LIMIT_BYTES:

@@ -11,6 +11,7 @@ from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.difficulty import DifficultyTransform
 from gvgai_pcg.envs.level_sources import GeneratedLevels
 from gvgai_pcg.levels.seeds import TEST_SEED_BASE, TRAINING_SEED_SPACE
+from tests.waiting import PATIENCE_S
 
 
 def test_progressive_update_follows_wins_and_losses_in_order():
@@ -85,7 +86,7 @@ def test_workers_sharing_through_files_never_lose_a_move(tmp_path):
     for child in children:
         child.start()
     for child in children:
-        child.join(120)
+        child.join(PATIENCE_S)
         assert child.exitcode == 0
     assert transform.episodes.item() == 12000
     assert transform.difficulty == pytest.approx(0.12)

@@ -79,6 +79,20 @@ def test_a_crafted_checkpoint_is_refused_and_runs_nothing(tiny_run, tmp_path, ca
     assert not marker.exists()
 
 
+def test_a_small_file_of_a_huge_view_is_refused_without_materialising_it(tiny_run, tmp_path, capsys):
+    saved = torch.load(tiny_run / "model.pt", weights_only=True)
+    name = next(iter(saved["model"]))
+    # 4 stored bytes shown as 4M values (a crafted file shows billions: 160 GB to check them)
+    saved["model"][name] = torch.zeros(1).as_strided((2000, 2000), (0, 0))
+    torch.save(saved, tmp_path / "view.pt")
+    assert (tmp_path / "view.pt").stat().st_size < 100_000
+    err = _one_line_error(
+        ["evaluate", str(tiny_run), "--checkpoint", str(tmp_path / "view.pt"), *FAST], capsys
+    )
+    assert str(tmp_path / "view.pt") in err and f"tensor model.{name} shows 4000000 values" in err
+    assert "stores 1;" in err and "crafted" in err
+
+
 def _diverge(run_dir: Path) -> None:
     saved = torch.load(run_dir / "model.pt", weights_only=True)
     name = next(iter(saved["model"]))

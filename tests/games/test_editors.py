@@ -203,3 +203,26 @@ def test_the_env_plays_edited_levels(game, monkeypatch):
 def test_frogs_checks_read_a_frog_that_starts_on_a_log():
     """Human level 4 starts the frog on a log (B): its checks name the start row, not crash."""
     assert playability_problems(human_level("frogs", 4)) == ["the start row is not grass"]
+
+
+def _hand_built(game: str) -> dict[str, Level]:
+    """``Level`` objects built by hand that are not levels of ``game``."""
+    good = human_level(game, 0)
+    return {
+        "no rows": Level(game, ()),
+        "ragged": Level(game, (*good.rows[:-1], good.rows[-1][:-3])),
+        "an unknown character": Level(game, (good.rows[0][:-1] + "?", *good.rows[1:])),
+        "no avatar": Level(game, tuple("w" * len(row) for row in good.rows)),
+    }
+
+
+@pytest.mark.parametrize("game", GAMES)
+def test_a_hand_built_invalid_level_is_refused_in_one_line_naming_what_is_wrong(game):
+    edit = registry.level_editor(game)
+    says = {"no rows": "empty level", "ragged": "ragged rows", "an unknown character": "'?'"}
+    for case, level in _hand_built(game).items():
+        with pytest.raises(ValueError) as error:
+            edit(level, 0)
+        text = str(error.value)
+        assert text.startswith(f"the {game} editor was given a level that is not a valid {game} level: ")
+        assert says.get(case, "no avatar") in text and "\n" not in text, (case, text)

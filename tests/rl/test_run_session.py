@@ -18,6 +18,7 @@ import torch
 from gvgai_pcg.cli import main
 from gvgai_pcg.rl import train
 from gvgai_pcg.rl.run_log import read_log
+from tests.waiting import PATIENCE_S
 
 # 8 envs x 5 steps = 40 frames a batch; a row per 8 episodes of at most 10 steps
 TINY = ["regimen=lv", "env.num_envs=8", "env.max_steps=10", "log.every_episodes=8", "log.curve=false"]
@@ -69,7 +70,7 @@ def test_a_second_training_in_a_run_directory_is_refused_and_sigterm_stops_the_f
     command = [sys.executable, "-m", "gvgai_pcg.cli", "train", *overrides, "total_frames=10000000"]
     holder = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
-        deadline = time.monotonic() + 120
+        deadline = time.monotonic() + PATIENCE_S
         while not (run_dir / "log.csv").exists() and holder.poll() is None and time.monotonic() < deadline:
             time.sleep(0.05)  # the session is accepted (and has taken the lock) before the log exists
         assert holder.poll() is None, holder.communicate()[1][-2000:]
@@ -80,7 +81,7 @@ def test_a_second_training_in_a_run_directory_is_refused_and_sigterm_stops_the_f
         assert "two trainings in one run directory would corrupt" in err
         assert {name: _files(run_dir)[name] for name in written} == written  # the refused one wrote none
         holder.send_signal(15)
-        out, err = holder.communicate(timeout=120)
+        out, err = holder.communicate(timeout=PATIENCE_S)
     finally:
         if holder.poll() is None:
             holder.kill()

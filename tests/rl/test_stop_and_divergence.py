@@ -18,6 +18,7 @@ from gvgai_pcg.rl import train
 from gvgai_pcg.rl.divergence import DivergenceError, DivergenceGuard
 from gvgai_pcg.rl.run_log import EpisodeTracker, read_log
 from tests.rl.conftest import needs_generated_levels
+from tests.waiting import PATIENCE_S
 
 TINY = ["regimen=lv", "env.num_envs=8", "env.max_steps=10", "log.every_episodes=8", "log.curve=false"]
 
@@ -86,7 +87,7 @@ def test_sigterm_to_a_run_with_collector_workers_stops_it_and_it_resumes(tmp_pat
                 break
             time.sleep(0.2)
         os.killpg(first.pid, signal.SIGTERM)  # as a terminal or SLURM does: every process of the job
-        _, err = first.communicate(timeout=120)
+        _, err = first.communicate(timeout=PATIENCE_S)
     finally:
         if first.poll() is None:
             os.killpg(first.pid, signal.SIGKILL)
@@ -130,14 +131,14 @@ def test_a_launcher_that_requeues_on_its_own_signal_gets_it_after_the_checkpoint
     command = [sys.executable, "-c", FAKE_SUBMITIT, str(marker), "train", *overrides]
     job = subprocess.Popen(command, stderr=subprocess.PIPE, text=True)
     try:
-        deadline = time.monotonic() + 120
+        deadline = time.monotonic() + PATIENCE_S
         while not (run_dir / "log.csv").exists() and job.poll() is None and time.monotonic() < deadline:
             time.sleep(0.05)
         for name in signals:
             job.send_signal(getattr(signal, name))
             time.sleep(3)
             assert not marker.exists() or name == signals[-1]  # a SIGTERM alone is not a requeue
-        _, err = job.communicate(timeout=120)
+        _, err = job.communicate(timeout=PATIENCE_S)
     finally:
         if job.poll() is None:
             job.kill()

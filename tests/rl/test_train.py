@@ -19,6 +19,7 @@ from gvgai_pcg.rl import CheckpointError, train
 from gvgai_pcg.rl.provenance import code_commit
 from gvgai_pcg.rl.run_log import COLUMNS, read_log
 from tests.rl.conftest import needs_generated_levels
+from tests.waiting import PATIENCE_S
 
 SMALL = ["env.num_envs=64", "env.max_steps=50", "checkpoint.every_frames=10000", "log.every_episodes=64"]
 
@@ -101,7 +102,7 @@ def test_a_killed_run_resumes_at_its_checkpoint(tmp_path):
     checkpoint = run_dir / "checkpoints" / "last.pt"
     first = subprocess.Popen(command, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
-        deadline = time.monotonic() + 120
+        deadline = time.monotonic() + PATIENCE_S
         while not checkpoint.exists() and first.poll() is None and time.monotonic() < deadline:
             time.sleep(0.05)
         assert checkpoint.exists(), "the first run wrote no checkpoint"

@@ -30,6 +30,7 @@ from gvgai_pcg.study.pipeline import (
     sweep_plan,
 )
 from gvgai_pcg.study.publish import MODEL_LIMIT_BYTES
+from tests.waiting import PATIENCE_S
 
 PROTOCOL = Protocol(**BUDGETS["smoke"].protocol)
 REGIMEN_NAMES = {"lv0": "lv", "lv4": "lv", "lv0-3": "lv0-3", "pcg0.5": "pcg", "pcg1": "pcg", "ppcg": "ppcg"}
@@ -143,12 +144,12 @@ def test_sigterm_to_the_sweep_stops_its_training_runs_at_a_checkpoint(tmp_path):
     runs = [tmp_path / "runs" / f"zelda-{c}-tiles-compact-seed0" for c in ("lv0", "lv4")]
     checkpoints = [run / "checkpoints" for run in runs]
     try:
-        deadline = time.monotonic() + 120
+        deadline = time.monotonic() + PATIENCE_S
         while not all((c / "last.pt").exists() for c in checkpoints) and time.monotonic() < deadline:
             time.sleep(0.2)
         assert sweep.poll() is None, sweep.stderr.read()
         sweep.send_signal(signal.SIGTERM)
-        _, errors = sweep.communicate(timeout=120)
+        _, errors = sweep.communicate(timeout=PATIENCE_S)
     finally:
         if sweep.poll() is None:
             sweep.kill()
