@@ -36,8 +36,10 @@ from gvgai_pcg.study.intervals import (
     ALPHA,
     LEVEL,
     MOST_SEEDS,
+    POWER,
     SEEDS_AND_LEVELS_INTERVAL,
     Estimate,
+    agents_estimate,
     estimate,
     holm,
     random_estimate,
@@ -112,6 +114,7 @@ class SetResult:
     scores: list[float] = field(default_factory=list)
     # per level (by name, in the records' order), each seed's mean score on it
     level_means: dict[str, list[float]] = field(default_factory=dict)
+    seed_episodes: list[int] = field(default_factory=list)  # each seed's episodes on the set
 
     @property
     def mean(self) -> float:
@@ -200,6 +203,8 @@ class Table:
     late: dict[str, list[float]] = field(default_factory=dict)  # PPCG: mean d over the last 0.5M frames
     # per condition and generated set, the per-level normalised mean over seeds (level sampling)
     levels: dict[str, dict[str, list[float]]] = field(default_factory=dict)
+    # per condition and set, each seed's (episodes won, episodes played): an agent's own test
+    wins: dict[str, dict[str, list[tuple[int, int]]]] = field(default_factory=dict)
 
     def level_values(self, terms: Sequence[tuple[str, str, float]]) -> tuple[tuple[float, ...], ...]:
         """A linear statistic's per-level values on each generated set: for each ``(label, set,
@@ -239,7 +244,15 @@ def table_of(game: GameResults, level_sampling: bool = False) -> Table:
         for label in cells
         if level_sampling
     }
-    return Table(game.game, cells, False, dict(game.frames), dict(game.max_difficulty), late, levels)
+    wins = {
+        label: {
+            s: [(round(rate * n), n) for rate, n in zip(r.seed_wins, r.seed_episodes, strict=True)]
+            for s, r in sets.items()
+            if len(r.seed_episodes) == len(r.seed_wins)
+        }
+        for label, sets in game.conditions.items()
+    }
+    return Table(game.game, cells, False, dict(game.frames), dict(game.max_difficulty), late, levels, wins)
 
 
 def study_table(game: str) -> Table:
@@ -261,6 +274,9 @@ class Comparison:
     above: bool
     # per generated set, the statistic's per-level values (its level-sampling variance); () = none
     levels: tuple[tuple[float, ...], ...] = ()
+    # per agent (seed), (episodes won, played): a test of each agent, not of the seeds' mean
+    # (``intervals.agents_estimate``); () = the t test over seeds
+    agents: tuple[tuple[int, int], ...] = ()
 
     def claim_text(self) -> str:
         return f"{'>' if self.above else '<'} {self.bound:g}"
@@ -467,20 +483,42 @@ def frogs_ppcg_wins_hard(table: Table) -> Claim:
 
 
 def frogs_no_human_win(table: Table) -> Claim:
+    """Each agent (seed) is a claim of its own: "no agent wins" fails when one is shown to. Where
+    the table has each seed's wins, a condition's comparison is its agents' exact binomial tests of
+    their win rate over the five human levels (an agent above ``NOTHING`` there wins some level
+    more often than that); otherwise each seed's best human level, over seeds."""
     claim = Claim(table.game, "No generated-level agent wins a human Frogs level.", ("PCG 1", "PPCG"))
     present = [label for label in ("PCG 0.5", "PCG 1", "PPCG") if label in table.cells]
     if not present:
         return _not_run(claim, claim.uses, table)
-    claim.comparisons = [
-        Comparison(
-            f"{label}, its best human level",
-            tuple(table.per_seed(label, HUMAN_SETS, max)),
-            None,
-            NOTHING,
-            False,
+    for label in present:
+        counts = table.wins.get(label, {})
+        if all(counts.get(s) for s in HUMAN_SETS):
+            per_agent = tuple(
+                (sum(w for w, _ in seed), sum(n for _, n in seed))
+                for seed in zip(*(counts[s] for s in HUMAN_SETS), strict=True)
+            )
+            claim.comparisons.append(
+                Comparison(
+                    f"{label}, its most-winning agent over the human levels (each agent's wins: "
+                    f"{', '.join(f'{w} of {n}' for w, n in per_agent)})",
+                    tuple(w / n for w, n in per_agent),
+                    None,
+                    NOTHING,
+                    False,
+                    agents=per_agent,
+                )
+            )
+            continue
+        claim.comparisons.append(
+            Comparison(
+                f"{label}, its best human level",
+                tuple(table.per_seed(label, HUMAN_SETS, max)),
+                None,
+                NOTHING,
+                False,
+            )
         )
-        for label in present
-    ]
     return claim
 
 
@@ -586,37 +624,57 @@ def claims_of(tables: dict[str, Table]) -> list[Claim]:
     return [rule(tables[game]) for game, rules in RULES.items() if game in tables for rule in rules]
 
 
-def _estimate_text(comparison: Comparison, value: Estimate, adjusted: float | None) -> str:
+def _estimate_text(comparison: Comparison, value: Estimate, adjusted: float | None, note: str = "") -> str:
+    """One comparison's evidence; ``note``: said after its claim (what would decide it)."""
     text = f"{comparison.what}: {value.value:+.2f}"
+    claim = f"(claim {comparison.claim_text()}{f'; {note}' if note else ''})"
     if value.seeds == 0:
-        return f"{text} (claim {comparison.claim_text()})"
+        return f"{text} {claim}"
     if not value.has_interval:
-        return f"{text}, no interval (one seed) (claim {comparison.claim_text()})"
+        return f"{text}, no interval (one seed) {claim}"
     if value.low == value.high:  # no t statistic: its p (0 or 1) is a decision, not a test's
-        return f"{text}, no spread in the data, so decided without a test (claim {comparison.claim_text()})"
+        return f"{text}, no spread in the data, so decided without a test {claim}"
     interval = f"[{value.low:+.2f}, {value.high:+.2f}]"
-    return f"{text} {interval}, Holm p {adjusted:.3g} (claim {comparison.claim_text()})"
+    return f"{text} {interval}, Holm p {adjusted:.3g} {claim}"
 
 
 def judge(claims: Sequence[Claim], point: bool = False) -> list[Verdict]:
     """Each claim's verdict. Per-seed tables: every comparison of every claim is one family for
     Holm's correction. Point estimates: each comparison is decided by the estimate's side."""
     tested = [(i, c) for i, claim in enumerate(claims) if not claim.status for c in claim.comparisons]
-    values = [estimate(c.a, c.b, c.bound, point, c.levels) for _, c in tested]
+    values = [
+        agents_estimate(c.agents, c.bound)
+        if c.agents and not point
+        else estimate(c.a, c.b, c.bound, point, c.levels)
+        for _, c in tested
+    ]
     adjusted, rejected = holm([v.p for v in values]) if not point else ([math.nan] * len(values), [])
     outcomes: dict[int, list[str]] = {}
     texts: dict[int, list[str]] = {}
     needs: dict[int, list[tuple[int | None, str]]] = {}
+    against: dict[int, list[str]] = {}  # undecided comparisons whose estimate lies against the claim
     for k, ((i, comparison), value) in enumerate(zip(tested, values, strict=True)):
         on_claim_side = value.value > comparison.bound if comparison.above else value.value < comparison.bound
         decided = value.value != comparison.bound if point else rejected[k]
         outcomes.setdefault(i, []).append("?" if not decided else "claim" if on_claim_side else "against")
-        texts.setdefault(i, []).append(_estimate_text(comparison, value, None if point else adjusted[k]))
+        note = ""
         if not decided and not point:  # Bonferroni's alpha / K: Holm never needs more seeds than it
             bonferroni = ALPHA / len(tested)
-            needs.setdefault(i, []).append(
-                seeds_to_decide(comparison.a, comparison.b, comparison.bound, bonferroni, comparison.levels)
+            need = (
+                (None, "each agent's own episodes, not more seeds, decide it")
+                if comparison.agents
+                else seeds_to_decide(
+                    comparison.a, comparison.b, comparison.bound, bonferroni, comparison.levels
+                )
             )
+            needs.setdefault(i, []).append(need)
+            note = _need_text(*need)
+            if value.value != comparison.bound and not on_claim_side:
+                against.setdefault(i, []).append(comparison.what)
+                note = f"the estimate lies against the claim; {note}"
+        texts.setdefault(i, []).append(
+            _estimate_text(comparison, value, None if point else adjusted[k], note)
+        )
     verdicts = []
     for i, claim in enumerate(claims):
         if claim.status:
@@ -633,17 +691,35 @@ def judge(claims: Sequence[Claim], point: bool = False) -> list[Verdict]:
         evidence = "; ".join(texts.get(i, []))
         if verdict == "inconclusive" and needs.get(i):
             evidence += f". Undecided at this budget: {seeds_needed_text(needs[i])}"
+            if against.get(i):
+                evidence += (
+                    f" Where the estimate lies against the claim ({'; '.join(against[i])}), more seeds "
+                    "would, at the means seen, decide that it does not hold."
+                )
         verdicts.append(Verdict(claim.text, verdict, evidence, len(outcome)))
     return verdicts
 
 
+def _need_text(seeds: int | None, why: str) -> str:
+    """One undecided comparison's projection, short, for its place in the evidence."""
+    if seeds is not None:
+        return f"{POWER * 100:.0f} % power at about {seeds} seeds"
+    if why.startswith("the test sets' level sampling"):
+        return "held open by the test sets' level sampling"
+    return why
+
+
 def seeds_needed_text(needs: Sequence[tuple[int | None, str]]) -> str:
-    """What would decide a claim's undecided comparisons (``intervals.seeds_to_decide`` each)."""
+    """What would decide a claim's undecided comparisons (``intervals.seeds_to_decide`` each):
+    all of them, so the most seeds any needs, or every reason none would."""
     reasons = sorted({why for seeds, why in needs if seeds is None})
     if reasons:
         return "; ".join(reasons) + "."
     most = max(seeds for seeds, _ in needs if seeds is not None)
-    return f"about {most} seeds per condition would decide it, if the means and spreads seen held."
+    return (
+        f"about {most} seeds per condition would decide it at {POWER * 100:.0f} % power, if the means "
+        "and spreads seen held."
+    )
 
 
 def study_verdicts() -> list[tuple[str, Verdict]]:
@@ -706,6 +782,7 @@ def collect(
             result = sets.setdefault(test_set, SetResult())
             result.seed_means.append(sum(scores) / len(scores))
             result.seed_wins.append(sum(wins) / len(wins))
+            result.seed_episodes.append(len(wins))
             result.scores.extend(scores)
             for record in of_set:
                 result.level_means.setdefault(record.level, []).append(record.mean_score)
@@ -811,9 +888,23 @@ def statistics_note(verdicts: Sequence[tuple[str, Verdict]], level_sampling: boo
             f"after Holm's correction over all {family} comparisons below (family-wise alpha {ALPHA:.2f}).",
             "A claim holds when every comparison is decided on its side (Holm p <= 0.05), does not hold",
             "when one is decided against it, and is inconclusive otherwise.",
-            "An inconclusive claim says what would decide it: the seeds per condition at which its",
-            f"undecided comparisons would reach Bonferroni's alpha / {family} (Holm never needs more), if",
-            f"the means and per-seed spreads seen were the truth ({MOST_SEEDS} at most), or why no number",
+            *(
+                [
+                    '"No generated-level agent wins a human Frogs level" tests each agent (seed) on',
+                    "its own episodes instead: the exact binomial test of its win rate over the five human",
+                    "levels, Bonferroni over a condition's agents for some agent winning more often than the",
+                    "bound and the largest p for every agent winning less often; its interval is the",
+                    "most-winning agent's 95 %",
+                    "Clopper-Pearson interval.",
+                ]
+                if any(verdict.claim.startswith("No generated-level agent") for _, verdict in verdicts)
+                else []
+            ),
+            "An inconclusive claim says what would decide it: the seeds per condition at which each",
+            f"undecided comparison would be decided with {POWER * 100:.0f} % power (the noncentral t",
+            "power of the one-sided t test in the direction seen, at half of Bonferroni's alpha /",
+            f"{family}: a comparison decided there is decided by Holm whatever the others do) if the",
+            f"means and per-seed spreads seen were the truth ({MOST_SEEDS} at most), or why no number",
             "of seeds would; where the test sets' level sampling alone keeps one open, the levels per",
             "set (and seeds) that would decide it at the per-level spread seen.",
             *left_out,

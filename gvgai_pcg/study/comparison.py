@@ -23,7 +23,16 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from gvgai_pcg.study.intervals import ALPHA, LEVEL, MOST_SEEDS, Estimate, estimate, holm, seeds_to_decide
+from gvgai_pcg.study.intervals import (
+    ALPHA,
+    LEVEL,
+    MOST_SEEDS,
+    POWER,
+    Estimate,
+    estimate,
+    holm,
+    seeds_to_decide,
+)
 from gvgai_pcg.study.table1 import GENERATED_SETS, HUMAN_SETS
 
 BASELINE = "PPCG"
@@ -175,7 +184,10 @@ def judge(games: dict[str, dict[str, CurriculumRuns]], baseline: str = BASELINE)
         decides = ""
         if outcome == INCONCLUSIVE and difference.has_interval:  # Holm never needs more than alpha / K
             seeds, why = seeds_to_decide(ours, theirs, 0.0, ALPHA / len(tested))
-            decides = why or f"about {seeds} seeds each would decide it, if the means and spreads seen held"
+            decides = why or (
+                f"about {seeds} seeds each would decide it at {POWER * 100:.0f} % power, if the means and "
+                "spreads seen held"
+            )
         verdicts[i] = Verdict(v.game, v.label, v.metric, outcome, difference, p, decides)
     return verdicts
 
@@ -270,9 +282,10 @@ def comparison_markdown(games: dict[str, dict[str, CurriculumRuns]], baseline: s
             "comparisons together "
             f"(family-wise alpha {ALPHA:.2f}). holds: decided with the curriculum ahead; does not hold: "
             f"decided with {baseline} ahead, or no spread on either side and the curriculum not ahead; "
-            "inconclusive: not decided, with the seeds per side that would decide it at Bonferroni's "
-            f"alpha / {tested} (Holm never needs more) if the means and spreads seen held ("
-            f"{MOST_SEEDS} at most).",
+            "inconclusive: not decided, with the seeds per side that would decide it with "
+            f"{POWER * 100:.0f} % power (the noncentral t power of the one-sided Welch t test in the "
+            f"direction seen, at half of Bonferroni's alpha / {tested}: decided there, Holm decides it "
+            f"whatever the others do) if the means and spreads seen held ({MOST_SEEDS} at most).",
             "",
             *answer_sentences(verdicts, baseline=baseline),
             "",

@@ -130,6 +130,21 @@ def estimate(
 
 MOST_SEEDS = 30  # the projection below stops here: more seeds than any budget of this package trains
 LEVEL_FACTORS = (2, 3, 5, 10, 20, 50, 100)  # larger test sets tried, as multiples of the ones seen
+POWER = 0.8  # the chance a projected number of seeds decides a comparison, if the spreads seen held
+
+
+def power(value: float, bound: float, se: float, df: float, alpha: float) -> float:
+    """The chance that ``estimate``'s test decides a statistic whose true value is ``value``, with
+    standard error ``se`` and ``df`` degrees of freedom, on the side of ``value`` at two-sided
+    ``alpha``: the one-sided t test at ``alpha / 2`` in that direction, whose statistic is
+    noncentral t with noncentrality ``|value - bound| / se`` (the chance of deciding it the other
+    way, below 1e-3 wherever this is near ``POWER``, is left out)."""
+    if not math.isfinite(se) or not math.isfinite(df) or df <= 0:
+        return 0.0
+    if se <= NO_SPREAD * max(1.0, abs(value)):  # no spread: decided without a test (``_from_t``)
+        return 0.0 if value == bound else 1.0
+    critical = float(stats.t.ppf(1 - alpha / 2, df))
+    return float(stats.nct.sf(critical, df, abs(value - bound) / se))
 
 
 def seeds_to_decide(
@@ -141,11 +156,15 @@ def seeds_to_decide(
     most: int = MOST_SEEDS,
 ) -> tuple[int | None, str]:
     """How many seeds per condition ``estimate`` would need to decide "the statistic equals
-    ``bound``" at two-sided ``alpha``, if the observed mean and per-seed variance were the truth:
-    ``(seeds, "")``, or ``(None, why not)``. The seeds' variance shrinks with more seeds; the
-    test sets' level-sampling variance does not (the same levels for every seed), so where it
-    alone keeps the comparison undecided, no number of seeds decides it: then ``why`` says how
-    many levels per test set (with how many seeds) would, if the per-level spread held."""
+    ``bound``" at two-sided ``alpha`` with ``POWER`` (80 %), if the observed mean and per-seed
+    variance were the truth: ``(seeds, "")``, or ``(None, why not)``. Only reaching ``alpha``
+    at the observed mean would be a coin toss (about 50 % power): a new set of seeds would land
+    on either side of it. The seeds' variance shrinks with more seeds; the test sets'
+    level-sampling variance does not (the same levels for every seed), so where it alone keeps
+    the comparison from ``POWER``, no number of seeds decides it: then ``why`` says how many
+    levels per test set (with how many seeds) would, if the per-level spread held. With a level
+    term ``estimate`` takes the larger of two p values, so the power is the smaller of the two
+    tests' (an upper bound on deciding both, which share their numerator)."""
     if len(a) < 2 or (b is not None and len(b) < 2):
         return None, "one seed: no spread to project from"
     mean_a, var_a = _mean_var(a)
@@ -155,20 +174,25 @@ def seeds_to_decide(
         return None, "the estimate sits on the bound"
     first = min(len(a), len(b) if b is not None else len(a))
 
+    def power_of(terms: list[tuple[float, int]]) -> float:
+        return power(value, bound, *_satterthwaite(terms), alpha)
+
     def seeds_for(sampled: list[tuple[float, int]]) -> int | None:
         for seeds in range(first, most + 1):
             terms = [(var_a / seeds, seeds - 1)] + ([(var_b / seeds, seeds - 1)] if b is not None else [])
-            p = _from_t(value, *_satterthwaite(terms), bound, seeds).p
+            chance = power_of(terms)
             if sampled:
-                p = max(p, _from_t(value, *_satterthwaite(terms + sampled), bound, seeds).p)
-            if p <= alpha:
+                chance = min(chance, power_of(terms + sampled))
+            if chance >= POWER:
                 return seeds
         return None
 
     sampled = level_terms(levels)
-    if not sampled or _from_t(value, *_satterthwaite(sampled), bound, 0).p <= alpha:
+    if not sampled or power_of(sampled) >= POWER:
         seeds = seeds_for(sampled)
-        return (seeds, "") if seeds is not None else (None, f"more than {most} seeds would be needed")
+        if seeds is None:
+            return None, f"more than {most} seeds would be needed for {POWER * 100:.0f} % power"
+        return seeds, ""
     sizes = [len(values) for values in levels if len(values) > 1]
     for factor in LEVEL_FACTORS:  # a set k times larger: s^2 / (k L), with k L - 1 df
         seeds = seeds_for([(q / factor, factor * (df + 1) - 1) for q, df in sampled])
@@ -176,12 +200,28 @@ def seeds_to_decide(
             return None, (
                 "the test sets' level sampling alone leaves it undecided: about "
                 f"{factor * max(sizes):,} levels per test set (now {max(sizes):,}) and {seeds} seeds "
-                "per condition would decide it, if the spreads seen held"
+                f"per condition would decide it at {POWER * 100:.0f} % power, if the spreads seen held"
             )
     return None, (
         f"the test sets' level sampling alone leaves it undecided, and neither {LEVEL_FACTORS[-1]} times "
-        f"the levels nor {most} seeds would decide it"
+        f"the levels nor {most} seeds would decide it at {POWER * 100:.0f} % power"
     )
+
+
+def agents_estimate(wins: Sequence[tuple[int, int]], bound: float) -> Estimate:
+    """Whether every agent's win rate is on one side of ``bound``, from each agent's (episodes won,
+    played): a fixed policy's episodes are independent draws, so each agent has its exact two-sided
+    binomial test. "Some agent is above" is decided by the smallest p of the agents above,
+    Bonferroni over the agents; "every agent is below" by the largest p of all (each must be
+    decided: an intersection-union test). The value is the most-winning agent's rate, with its
+    95 % Clopper-Pearson interval (``seeds``: the agents)."""
+    tests = [stats.binomtest(k, n, bound) for k, n in wins]
+    rates = [k / n for k, n in wins]
+    top = max(range(len(wins)), key=rates.__getitem__)
+    above = [test.pvalue for test, rate in zip(tests, rates, strict=True) if rate > bound]
+    p = min(1.0, len(wins) * min(above)) if above else max(test.pvalue for test in tests)
+    interval = tests[top].proportion_ci(LEVEL)
+    return Estimate(rates[top], interval.low, interval.high, p, len(wins))
 
 
 def random_estimate(scores: Sequence[float], bound: float = 0.0) -> Estimate:

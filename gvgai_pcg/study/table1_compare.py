@@ -10,6 +10,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from gvgai_pcg.study.table1 import (
+    BOULDERDASH_GENERATED_MAX,
+    BOULDERDASH_HUMAN_MAX,
+    BOULDERDASH_PRINTED_MAX,
     LATE_FRAMES,
     STUDY_FRAMES,
     STUDY_REACHED,
@@ -56,7 +59,11 @@ def side_by_side_markdown(games: Mapping) -> str:
         "",
         "Each cell is `study / ours`, normalised per test set with each side's own rows: "
         "(score - random) / (max - random), so 0 is the random agent and 1 the maximum (the study's "
-        "Boulderdash Max on the human levels is the rules' cap of 22, not the paper's misprint). ✗: the "
+        "Boulderdash Max is the package's formula in all seven columns, not the paper's misprinted row: "
+        f"{BOULDERDASH_GENERATED_MAX[0]:.2f} / {BOULDERDASH_GENERATED_MAX[1]:.2f} on the generated sets "
+        "(its mean over 10,000 generated levels; the paper prints "
+        f"{BOULDERDASH_PRINTED_MAX[0]:.2f} / {BOULDERDASH_PRINTED_MAX[1]:.2f}, and no level at d = 0.5 "
+        f"allows more than 24) and the rules' cap of {BOULDERDASH_HUMAN_MAX:g} on every human level). ✗: the "
         f"two sides lie on different sides of the random agent (above, below, or within {AT_RANDOM} of "
         "it). The study's rows trained "
         f"{', '.join(f'{game} {frames / 1e6:g}M' for game, frames in STUDY_FRAMES.items())} frames; ours the "

@@ -255,3 +255,49 @@ def test_a_condition_is_pending_until_its_runs_reach_their_own_planned_frames():
     assert not verdicts["PCG 1 learns nothing (0.00 at d = 1)."].verdict.startswith("pending")
     ppcg = verdicts["PPCG wins 57 % of the d = 1 levels (a large share)."]
     assert ppcg.verdict.startswith("pending") and "PPCG at 10,000,000 frames" in ppcg.evidence
+
+
+def test_frogs_human_wins_are_judged_per_agent_from_its_own_episodes():
+    """One agent of four winning 6 of 30 episodes on every human level (the others none) is an agent
+    that wins human levels: decided against the claim by that agent's own binomial test over its
+    150 episodes, where the mean of the seeds' best levels (0.05 with one seed's spread) decides
+    nothing. Agents that win none of their 150 episodes each are decided below the bound."""
+
+    def frogs(label: str, human_wins: list[int]) -> GameResults:
+        sets = {}
+        for s in TEST_SETS:
+            won = human_wins if s.startswith("lv") else [0] * len(human_wins)
+            rates = [w / 30 for w in won]
+            sets[s] = SetResult(rates, rates, [], {}, [30] * len(won))
+        seeds = len(human_wins)
+        return GameResults(
+            "frogs",
+            {label: sets},
+            {label: [10_000_000] * seeds},
+            {s: 0.0 for s in TEST_SETS},
+            {s: 1.0 for s in TEST_SETS},
+            {},
+        )
+
+    def verdict(game: GameResults):
+        verdicts = [v for _, v in study_claims({"frogs": game}) if "wins a human" in v.claim]
+        return verdicts[0]
+
+    against = verdict(frogs("PPCG", [0, 0, 6, 0]))
+    assert against.verdict == "does not hold"
+    assert "each agent's wins: 0 of 150, 0 of 150, 30 of 150, 0 of 150" in against.evidence
+    assert verdict(frogs("PCG 1", [0, 0, 0, 0])).verdict == "holds"
+
+
+def test_an_undecided_comparison_whose_estimate_lies_against_the_claim_says_so():
+    """Solarfox's PCG 1 minus PPCG at d = 0.5 is below 0 where the claim says above: the evidence
+    says more seeds would, at the means seen, decide that the claim does not hold."""
+    t = table({"PCG 1": {"pcg0.5": [0.3, 0.5, 0.4], "*": [0.6, 0.7, 0.65]}, "PPCG": {"*": [0.5, 0.6, 0.4]}})
+    [v] = judge([pcg1_beats_ppcg_generated(t)])
+    assert v.verdict == "inconclusive"
+    assert "PCG 1 minus PPCG on pcg0.5: -0.10" in v.evidence
+    assert "(claim > 0; the estimate lies against the claim; 80 % power at about" in v.evidence
+    assert v.evidence.endswith(
+        "Where the estimate lies against the claim (PCG 1 minus PPCG on pcg0.5), more seeds would, at the "
+        "means seen, decide that it does not hold."
+    )

@@ -90,3 +90,40 @@ def test_the_published_claims_rebuild_from_the_runs(page_path):
     rebuilt = claims_markdown(study_claims(games, target, sampling), games, sampling)
     assert rebuilt == (published / "report" / "claims.md").read_text()
     assert "Four levels transfer more" not in PAGE.read_text()  # the backwards sentence stays gone
+
+
+def _claim_row(block: str, game: str, start: str) -> str:
+    return next(line for line in block.splitlines() if line.startswith(f"| {game} | {start}"))
+
+
+def _seed_range(row: str, pattern: str) -> str:
+    seeds = sorted(int(n) for n in re.findall(pattern + r"[^;]*; 80 % power at about (\d+) seeds", row))
+    return f"{seeds[0]}-{seeds[-1]}"
+
+
+def test_the_medium_pages_statements_are_what_its_claims_carry():
+    """The statements a review found the data do not carry: seeds at 80 % power, Lv 0-3's gains
+    apart from its lowest training level, Frogs' human-level wins per agent, Solarfox at d = 0.5
+    against the claim, no "undertraining", and the study's Boulderdash Max in all columns."""
+    text = (PAGE.parent / "results-medium.md").read_text()
+    block, prose = block_of(text), prose_of(text, "## What the runs show", START)
+    assert "decided with 80 % power (the noncentral t" in block and "at 80 % power" in prose
+    four = _claim_row(block, "zelda", "Trained on four human levels")
+    assert (
+        "Lv 0-3, its lowest training level: +0.71 [+0.45, +0.96], Holm p 1 (claim > 0.7; more than 30" in four
+    )
+    above, under = _seed_range(four, r"\(claim > 0"), _seed_range(four, r"\(claim < 0\.5")
+    assert f"{above} seeds to show each above 0, {under} to show each under the bound of 0.5" in prose
+    assert "Lv 0-3's lowest training level (+0.71 [+0.45, +0.96], on the same" in prose
+    frogs = _claim_row(block, "frogs", "No generated-level agent")
+    assert "| **does not hold** |" in frogs and "0 of 150, 4 of 150, 26 of 150, 13 of 150" in frogs
+    assert 'One claim is contradicted: "no generated-level agent wins a human Frogs level"' in prose
+    solarfox = _claim_row(block, "solarfox", "PCG 1 scores higher than PPCG on the generated")
+    assert "on pcg0.5: -0.19 [-0.41, +0.03], Holm p 0.492 (claim > 0; the estimate lies against" in solarfox
+    assert "points against the study at d = 0.5: PCG 1 is below" in prose
+    assert "undertraining, and it is gone" not in text and "cannot say the gap was undertraining" in prose
+    assert "Boulderdash Max is the package's formula in all seven columns" in block
+    assert "21.51 / 25.73 on the generated sets" in block and "the paper prints 31.50 / 29.80" in block
+    assert "Boulderdash on 12 of 14 at 1.02" in prose
+    readme = (ROOT / "README.md").read_text()
+    assert "undertraining" not in readme and "one claim is contradicted" in readme

@@ -21,6 +21,21 @@ def test_boulderdash_human_max_is_the_rules_cap_not_the_misprint():
     assert all(TABLE1["boulderdash"]["Max"][f"lv{i}"] == BOULDERDASH_HUMAN_MAX == 22 for i in range(5))
 
 
+def test_boulderdash_generated_max_is_the_package_formula_not_the_misprint():
+    """The printed 31.50 / 29.80 are not what the rules allow on the generator's levels: the
+    formula's mean over fresh levels (500 per d here; its standard error about 0.04 and 0.08) is
+    the row's value, and no level at d = 0.5 allows 31.50."""
+    from gvgai_pcg.evaluation.max_score import level_max_score
+    from gvgai_pcg.games.boulderdash.generator import generate
+
+    row = TABLE1["boulderdash"]["Max"]
+    for test_set, d in (("pcg0.5", 0.5), ("pcg1", 1.0)):
+        maxima = [level_max_score(generate(d, seed)) for seed in range(20_000, 20_500)]
+        assert row[test_set] == pytest.approx(sum(maxima) / len(maxima), abs=0.35), test_set
+        if d == 0.5:
+            assert max(maxima) < 31.5
+
+
 def test_normalise_puts_random_at_zero_and_max_at_one_with_the_tables_own_rows():
     rows = {"Max": {"a": 10.0, "b": 4.0}, "Random": {"a": 2.0, "b": 4.0}, "X": {"a": 6.0, "b": 3.0}}
     assert normalise(rows) == {"X": {"a": 0.5}}  # b has no gap: left out
