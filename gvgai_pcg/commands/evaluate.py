@@ -12,7 +12,7 @@ Two uses:
 * the UED protocol (``gvgai_pcg.evaluation.ued``): ``gvgai-pcg evaluate RUN --ued`` (and
   ``--agent random --game G --ued``) plays ``--ued-levels`` newly generated levels over d in
   [0, 1], ``--ued-rank-episodes`` times to rank each and ``--ued-score-episodes`` other times to
-  score it (the tail protocol, 2,000 levels x 10 + 10 by default; ``--ued-seeds N`` is the first
+  score it (the tail protocol, 1,000 levels x 10 + 10 by default; ``--ued-seeds N`` is the first
   protocol, the published curricula records'), and reports the solved rate, the mean score and the
   bias-corrected alpha-CVaRs of the score and the win rate (``--alphas``); per-level CSV in
   ``<run>/eval/ued-<key>.csv``.
@@ -127,12 +127,7 @@ def add_ued_arguments(parser: argparse.ArgumentParser, what: str, alphas: bool =
     CVaR at the default fractions only: ``alphas=False``)."""
     group = parser.add_argument_group("UED protocol (--ued)")
     group.add_argument("--ued", action="store_true", help=what)
-    group.add_argument(
-        "--ued-levels",
-        type=int,
-        default=None,
-        help="generated levels, d evenly in [0, 1] (default 2000; 1000 with --ued-seeds)",
-    )
+    group.add_argument("--ued-levels", type=int, default=1000, help="generated levels, d evenly in [0, 1]")
     group.add_argument(
         "--ued-rank-episodes",
         type=int,
@@ -165,7 +160,6 @@ def add_ued_arguments(parser: argparse.ArgumentParser, what: str, alphas: bool =
 def ued_protocol_from(args: argparse.Namespace) -> tuple[UEDProtocol, tuple[float, ...]]:
     """The UED protocol's settings and CVaR fractions, or one ValueError naming the bad one."""
     from gvgai_pcg.evaluation.ued import (
-        TAIL_LEVELS,
         TAIL_RANK_EPISODES,
         TAIL_SCORE_EPISODES,
         UEDProtocol,
@@ -182,10 +176,10 @@ def ued_protocol_from(args: argparse.Namespace) -> tuple[UEDProtocol, tuple[floa
             raise ValueError(
                 "--ued-seeds is the first protocol: leave out --ued-rank-episodes and --ued-score-episodes"
             )
-        settings = {"levels": 1000 if args.ued_levels is None else args.ued_levels, "seeds": args.ued_seeds}
+        settings = {"levels": args.ued_levels, "seeds": args.ued_seeds}
     else:
         settings = {
-            "levels": TAIL_LEVELS if args.ued_levels is None else args.ued_levels,
+            "levels": args.ued_levels,
             "rank_episodes": TAIL_RANK_EPISODES if args.ued_rank_episodes is None else args.ued_rank_episodes,
             "score_episodes": TAIL_SCORE_EPISODES
             if args.ued_score_episodes is None

@@ -81,7 +81,7 @@ METRICS = ("score", "solved")
 UED_METHOD_VERSION = 1
 TAIL_METHOD_VERSION = 2
 # The tail protocol's defaults (docs/concepts/evaluation.md says why these).
-TAIL_LEVELS = 2000
+TAIL_LEVELS = 1000
 TAIL_RANK_EPISODES = 10
 TAIL_SCORE_EPISODES = 10
 CONFIDENCE = 0.95

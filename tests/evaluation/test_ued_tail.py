@@ -117,7 +117,7 @@ def test_the_first_protocols_records_keep_their_key():
     assert first.key == "9b4390cbf2" and not first.tail and first.ranking_episodes == 1
     assert first.as_dict() == {"levels": 1000, "seeds": 2, "max_steps": 2000, "greedy": False, "seed": 0}
     tail = tail_protocol()
-    assert (tail.levels, tail.rank_episodes, tail.score_episodes, tail.seeds) == (2000, 10, 10, 20)
+    assert (tail.levels, tail.rank_episodes, tail.score_episodes, tail.seeds) == (1000, 10, 10, 20)
     assert "seeds" not in tail.as_dict() and tail.key != first.key
     assert UEDProtocol(**tail.as_dict()) == tail  # a record's settings make the same protocol
 
