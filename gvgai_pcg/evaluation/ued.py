@@ -19,10 +19,10 @@ Two protocols share this module; a protocol's settings name which (and its recor
   at the boundary of the worst ``k`` are **averaged**: the levels strictly worse than the k-th
   count fully and the levels tied with it share the remaining places equally, which is the mean
   of the CVaR over every order of the tied levels, so no permutation decides it. Zelda's levels
-  tie heavily (more than 1 % of the levels are never won in 10 episodes by every published Zelda
-  policy), and more levels do not break such ties (the tied share is the policy's, not N's):
-  averaging does. Each CVaR keeps its tie structure (``below``: levels strictly worse than the
-  boundary, ``tied``: levels at it).
+  tie heavily (71 % of the levels are never won in 10 episodes by the published ACCEL seed 0), and
+  more levels do not break such ties (the tied share is the policy's, not N's): averaging does.
+  Each CVaR keeps its tie structure (``below``: levels strictly worse than the boundary,
+  ``tied``: levels at it).
 * **the first protocol** (``seeds`` alone, the published curricula records): every level played
   once per evaluation seed, ranked by seed 0 and scored by the mean of the others; ties broken by
   a fixed random order of the levels (seeded by the protocol seed). With one ranking episode most
@@ -80,7 +80,7 @@ METRICS = ("score", "solved")
 # protocol keeps version 1 so the published records keep their keys.
 UED_METHOD_VERSION = 1
 TAIL_METHOD_VERSION = 2
-# The tail protocol's defaults (docs/concepts/evaluation.md says why these).
+# The tail protocol's defaults (docs/evaluation.md says why these).
 TAIL_LEVELS = 1000
 TAIL_RANK_EPISODES = 10
 TAIL_SCORE_EPISODES = 10
@@ -132,11 +132,6 @@ class UEDProtocol:
     def tail(self) -> bool:
         """Whether this is the tail protocol (separate ranking and scoring episodes, ties averaged)."""
         return self.rank_episodes is not None
-
-    @property
-    def ranking_episodes(self) -> int:
-        """Episodes per level that rank it (the first protocol: one)."""
-        return self.rank_episodes if self.tail else 1
 
     def as_dict(self) -> dict:
         """The settings as records keep them: the first protocol's as they always were."""
