@@ -127,7 +127,9 @@ def add_ued_arguments(parser: argparse.ArgumentParser, what: str, alphas: bool =
     CVaR at the default fractions only: ``alphas=False``)."""
     group = parser.add_argument_group("UED protocol (--ued)")
     group.add_argument("--ued", action="store_true", help=what)
-    group.add_argument("--ued-levels", type=int, default=1000, help="generated levels, d evenly in [0, 1]")
+    group.add_argument(
+        "--ued-levels", type=int, default=1000, help="generated levels, d evenly in [0, 1] (default 1000)"
+    )
     group.add_argument(
         "--ued-rank-episodes",
         type=int,
