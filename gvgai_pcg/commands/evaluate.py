@@ -11,8 +11,11 @@ Two uses:
   records go to a file of their own (another key), beside the study-sized ones.
 * the UED protocol (``gvgai_pcg.evaluation.ued``): ``gvgai-pcg evaluate RUN --ued`` (and
   ``--agent random --game G --ued``) plays ``--ued-levels`` newly generated levels over d in
-  [0, 1], once per evaluation seed (``--ued-seeds``), and reports the solved rate, the mean score
-  and the bias-corrected alpha-CVaRs (``--alphas``); per-level CSV in ``<run>/eval/ued-<key>.csv``.
+  [0, 1], ``--ued-rank-episodes`` times to rank each and ``--ued-score-episodes`` other times to
+  score it (the tail protocol, 1,000 levels x 10 + 10 by default; ``--ued-seeds N`` is the first
+  protocol, the published curricula records'), and reports the solved rate, the mean score and the
+  bias-corrected alpha-CVaRs of the score and the win rate (``--alphas``); per-level CSV in
+  ``<run>/eval/ued-<key>.csv``.
 * held-out scores over training: ``gvgai-pcg evaluate RUN --snapshots [--every FRAMES]`` plays
   each of the run's snapshots (on the 100-level sets unless ``--test-sets study``), prints a table
   and plots the held-out scores beside the training curve (``gvgai_pcg.evaluation.held_out``).
@@ -134,8 +137,28 @@ def add_ued_arguments(parser: argparse.ArgumentParser, what: str, alphas: bool =
     CVaR at the default fractions only: ``alphas=False``)."""
     group = parser.add_argument_group("UED protocol (--ued)")
     group.add_argument("--ued", action="store_true", help=what)
-    group.add_argument("--ued-levels", type=int, default=1000, help="generated levels, d evenly in [0, 1]")
-    group.add_argument("--ued-seeds", type=int, default=2, help="evaluation seeds (episodes per level)")
+    group.add_argument(
+        "--ued-levels", type=int, default=1000, help="generated levels, d evenly in [0, 1] (default 1000)"
+    )
+    group.add_argument(
+        "--ued-rank-episodes",
+        type=int,
+        default=None,
+        help="episodes per level that rank it for the CVaR (the tail protocol, default 10)",
+    )
+    group.add_argument(
+        "--ued-score-episodes",
+        type=int,
+        default=None,
+        help="other episodes per level that score it for the CVaR (the tail protocol, default 10)",
+    )
+    group.add_argument(
+        "--ued-seeds",
+        type=int,
+        default=None,
+        help="the first protocol instead (the published curricula records): this many episodes per level, "
+        "ranked by one, ties by a fixed order",
+    )
     if alphas:
         group.add_argument(
             "--alphas",
@@ -148,21 +171,34 @@ def add_ued_arguments(parser: argparse.ArgumentParser, what: str, alphas: bool =
 
 def ued_protocol_from(args: argparse.Namespace) -> tuple[UEDProtocol, tuple[float, ...]]:
     """The UED protocol's settings and CVaR fractions, or one ValueError naming the bad one."""
-    from gvgai_pcg.evaluation.ued import UEDProtocol, check_alphas
+    from gvgai_pcg.evaluation.ued import (
+        TAIL_RANK_EPISODES,
+        TAIL_SCORE_EPISODES,
+        UEDProtocol,
+        check_alphas,
+    )
 
     try:
         alphas = tuple(float(part) for part in args.alphas.split(",") if part.strip())
     except ValueError:
         raise ValueError(f"--alphas {args.alphas!r}: expected comma-separated numbers in (0, 1]") from None
+    common = {"max_steps": args.max_steps, "greedy": args.greedy, "seed": args.seed}
+    if args.ued_seeds is not None:
+        if args.ued_rank_episodes is not None or args.ued_score_episodes is not None:
+            raise ValueError(
+                "--ued-seeds is the first protocol: leave out --ued-rank-episodes and --ued-score-episodes"
+            )
+        settings = {"levels": args.ued_levels, "seeds": args.ued_seeds}
+    else:
+        settings = {
+            "levels": args.ued_levels,
+            "rank_episodes": TAIL_RANK_EPISODES if args.ued_rank_episodes is None else args.ued_rank_episodes,
+            "score_episodes": TAIL_SCORE_EPISODES
+            if args.ued_score_episodes is None
+            else args.ued_score_episodes,
+        }
     try:
-        protocol = UEDProtocol(
-            levels=args.ued_levels,
-            seeds=args.ued_seeds,
-            max_steps=args.max_steps,
-            greedy=args.greedy,
-            seed=args.seed,
-        )
-        return protocol, check_alphas(alphas)
+        return UEDProtocol(**settings, **common), check_alphas(alphas)
     except ValueError as error:
         raise ValueError(f"invalid UED protocol setting: {error}") from None
 

@@ -10,18 +10,35 @@ Levels: ``levels`` (1,000) generated levels, level i at d_i = i / (levels - 1) (
 seed (``TRAINING_SEED_SPACE``) and above the frozen study test sets' block
 (``[TEST_SEED_BASE, TEST_SEED_BASE + 2^24)``), so no training run and no study test set meets one.
 
-Play: every level is played once per evaluation seed (``seeds``, 2), all in ONE batched env with
-the study's runner (``play_episodes``: 2,000 steps, actions sampled with per-env draws). The
-copies of a level get different env seeds (``episode_seeds``), so evaluation seed k of a level is
-its (k+1)-th copy in the batch.
+Two protocols share this module; a protocol's settings name which (and its record files' key):
+
+* **the tail protocol** (``rank_episodes`` and ``score_episodes`` set; ``tail_protocol()``:
+  ``TAIL_LEVELS`` levels, 10 + 10 episodes): as SFL's evaluation (Rutherford et al. 2024), each
+  level is ranked by the mean of its first ``rank_episodes`` episodes and scored by the mean of
+  ``score_episodes`` other ones, for the score and for the win rate (SFL's headline CVaR). Ties
+  at the boundary of the worst ``k`` are **averaged**: the levels strictly worse than the k-th
+  count fully and the levels tied with it share the remaining places equally, which is the mean
+  of the CVaR over every order of the tied levels, so no permutation decides it. Zelda's levels
+  tie heavily (71 % of the levels are never won in 10 episodes by the published ACCEL seed 0), and
+  more levels do not break such ties (the tied share is the policy's, not N's): averaging does.
+  Each CVaR keeps its tie structure (``below``: levels strictly worse than the boundary,
+  ``tied``: levels at it).
+* **the first protocol** (``seeds`` alone, the published curricula records): every level played
+  once per evaluation seed, ranked by seed 0 and scored by the mean of the others; ties broken by
+  a fixed random order of the levels (seeded by the protocol seed). With one ranking episode most
+  of Zelda's tail is a tie, so this CVaR depends on that order; kept so the published records
+  still read and rebuild.
+
+Play: all episodes of all levels in ONE batched env with the study's runner (``play_episodes``:
+2,000 steps, actions sampled with per-env draws). The copies of a level get different env seeds
+(``episode_seeds``), so episode k of a level is its (k+1)-th copy in the batch (the tail
+protocol's ranking episodes are copies 0..rank_episodes-1, its scoring ones the rest).
 
 Bias-corrected alpha-CVaR (as the SFL repository's evaluation does): rank the levels by their
-result under evaluation seed 0, take the worst ``k = max(1, floor(alpha * levels))``, and report
-their mean result under the other seeds (seed 1; the mean of seeds 1.. when there are more). The
-naive estimate, the same levels scored with the seed that chose them, is biased low (the worst
-draws of a noisy policy look worse than the levels are) and is reported beside it. Ties in the
-ranking (every unsolved level has the same solved value) are broken by a fixed random order of
-the levels (seeded by the protocol seed), not by index, which would favour low d.
+ranking episodes, take the worst ``k = max(1, floor(alpha * levels))``, and report their mean
+result in the other episodes. The naive estimate, the same levels scored with the episodes that
+chose them, is biased low (the worst draws of a noisy policy look worse than the levels are) and
+is reported beside it.
 
 Intervals (95 %): the solved rate's is Wilson's score interval over levels (each level counted
 once, with its solved fraction over the seeds, so the correlated episodes of one level do not
@@ -62,8 +79,14 @@ MAX_UED_LEVELS = 2**24
 MAX_UED_EPISODES = 2**18
 DEFAULT_ALPHAS = (0.01, 0.1)
 METRICS = ("score", "solved")
-# Bumped when the same settings would give other results; part of ``UEDProtocol.key``.
+# Bumped when the same settings would give other results; part of ``UEDProtocol.key``. The first
+# protocol keeps version 1 so the published records keep their keys.
 UED_METHOD_VERSION = 1
+TAIL_METHOD_VERSION = 2
+# The tail protocol's defaults (docs/evaluation.md says why these).
+TAIL_LEVELS = 1000
+TAIL_RANK_EPISODES = 10
+TAIL_SCORE_EPISODES = 10
 CONFIDENCE = 0.95
 
 assert UED_SEED_BASE >= TEST_SEED_BASE + 2**24 and UED_SEED_BASE > TRAINING_SEED_SPACE
@@ -71,17 +94,36 @@ assert UED_SEED_BASE >= TEST_SEED_BASE + 2**24 and UED_SEED_BASE > TRAINING_SEED
 
 @dataclass(frozen=True)
 class UEDProtocol:
-    """How many generated levels, how many evaluation seeds, how long, how actions are chosen."""
+    """How many generated levels, how many episodes of each rank and score it, how long, how
+    actions are chosen. ``rank_episodes`` and ``score_episodes`` set: the tail protocol (``seeds``
+    is then their sum); unset: the first protocol (``seeds`` episodes, ranked by the first)."""
 
     levels: int = 1000
-    seeds: int = 2  # episodes per level, one per evaluation seed; CVaR ranks with 0, scores with 1..
+    seeds: int | None = None  # episodes per level; the first protocol's default is 2
     max_steps: int = 2000
     greedy: bool = False
-    seed: int = 0  # the protocol seed: env seeds, action draws, CVaR tie-breaks
+    seed: int = 0  # the protocol seed: env seeds, action draws, the first protocol's tie-breaks
+    rank_episodes: int | None = None
+    score_episodes: int | None = None
 
     def __post_init__(self) -> None:
         if not 1 <= self.levels <= MAX_UED_LEVELS:
             raise ValueError(f"levels must be in 1..{MAX_UED_LEVELS}, got {self.levels}")
+        if (self.rank_episodes is None) != (self.score_episodes is None):
+            raise ValueError("rank_episodes and score_episodes go together (the tail protocol): give both")
+        if self.tail:
+            for name in ("rank_episodes", "score_episodes"):
+                if getattr(self, name) < 1:
+                    raise ValueError(f"{name} must be at least 1, got {getattr(self, name)}")
+            episodes = self.rank_episodes + self.score_episodes
+            if self.seeds not in (None, episodes):
+                raise ValueError(
+                    f"seeds is rank_episodes + score_episodes ({episodes}) in the tail protocol, "
+                    f"got {self.seeds}"
+                )
+            object.__setattr__(self, "seeds", episodes)
+        elif self.seeds is None:
+            object.__setattr__(self, "seeds", 2)
         if self.seeds < 2:
             raise ValueError(
                 f"seeds must be at least 2 (CVaR ranks with one, scores with another), got {self.seeds}"
@@ -94,14 +136,36 @@ class UEDProtocol:
         if self.max_steps < 1:
             raise ValueError(f"max_steps must be positive, got {self.max_steps}")
 
+    @property
+    def tail(self) -> bool:
+        """Whether this is the tail protocol (separate ranking and scoring episodes, ties averaged)."""
+        return self.rank_episodes is not None
+
     def as_dict(self) -> dict:
-        return asdict(self)
+        """The settings as records keep them: the first protocol's as they always were."""
+        settings = asdict(self)
+        if self.tail:
+            del settings["seeds"]
+        else:
+            del settings["rank_episodes"], settings["score_episodes"]
+        return settings
 
     @property
     def key(self) -> str:
         """A short stable id of these settings (names the record files)."""
-        text = json.dumps({**self.as_dict(), "ued_method": UED_METHOD_VERSION}, sort_keys=True)
+        method = TAIL_METHOD_VERSION if self.tail else UED_METHOD_VERSION
+        text = json.dumps({**self.as_dict(), "ued_method": method}, sort_keys=True)
         return hashlib.sha256(text.encode()).hexdigest()[:10]
+
+
+def tail_protocol(
+    levels: int = TAIL_LEVELS,
+    rank_episodes: int = TAIL_RANK_EPISODES,
+    score_episodes: int = TAIL_SCORE_EPISODES,
+    **settings,
+) -> UEDProtocol:
+    """The tail protocol, with its defaults."""
+    return UEDProtocol(levels=levels, rank_episodes=rank_episodes, score_episodes=score_episodes, **settings)
 
 
 def check_alphas(alphas: Sequence[float]) -> tuple[float, ...]:
@@ -217,9 +281,54 @@ def worst_levels(ranking: Sequence[float], alpha: float, seed: int = 0) -> list[
 
 
 @dataclass(frozen=True)
+class TailWeights:
+    """The worst ``k`` places shared out: ``weights`` (level -> share), ``below`` levels strictly
+    worse than the k-th value, ``tied`` levels equal to it."""
+
+    k: int
+    weights: dict[int, float]
+    below: int
+    tied: int
+
+
+def tail_weights(ranking: Sequence[float], alpha: float) -> TailWeights:
+    """Level -> its share of the worst ``k = cvar_count(alpha)`` places by ``ranking``, ties
+    averaged: 1 for each level strictly worse than the k-th value, ``(k - below) / tied`` for each
+    of the ``tied`` levels equal to it. The weights sum to k, and the weighted mean of any values is
+    their CVaR's mean over every order of the tied levels."""
+    count = len(ranking)
+    k = cvar_count(alpha, count)
+    rounded = [round(float(v), 9) for v in ranking]  # means of the same outcomes compare equal
+    boundary = sorted(rounded)[k - 1]
+    below = [i for i in range(count) if rounded[i] < boundary]
+    tied = [i for i in range(count) if rounded[i] == boundary]
+    share = (k - len(below)) / len(tied)
+    return TailWeights(k, {**dict.fromkeys(below, 1.0), **dict.fromkeys(tied, share)}, len(below), len(tied))
+
+
+def weighted_interval(
+    values: Sequence[float], weights: Sequence[float], proportion: bool, confidence: float = CONFIDENCE
+) -> tuple[float, float]:
+    """The 95 % interval of a weighted mean: Wilson (``proportion``) or Student's t, over the
+    effective number of levels ``(sum w)^2 / sum w^2`` (k when no level is shared)."""
+    from scipy import stats
+
+    total = sum(weights)
+    mean = sum(w * v for w, v in zip(weights, values, strict=True)) / total
+    n = total * total / sum(w * w for w in weights)
+    if proportion:
+        return wilson_interval(mean, max(1, round(n)), confidence)
+    if n < 1.5:
+        return mean, mean
+    variance = sum(w * (v - mean) ** 2 for w, v in zip(weights, values, strict=True)) / total * n / (n - 1)
+    half = float(stats.t.ppf(0.5 + confidence / 2, n - 1)) * math.sqrt(variance / n)
+    return mean - half, mean + half
+
+
+@dataclass(frozen=True)
 class CVaR:
-    """alpha-CVaR of one metric: bias-corrected (ranked with one seed, scored with another) and
-    naive (ranked and scored with the same seed)."""
+    """alpha-CVaR of one metric: bias-corrected (ranked with some episodes, scored with others)
+    and naive (ranked and scored with the same episodes)."""
 
     metric: str  # "score" or "solved"
     alpha: float
@@ -227,25 +336,41 @@ class CVaR:
     corrected: float
     naive: float
     interval: tuple[float, float]  # 95 % of ``corrected`` over its k levels (Wilson or t)
+    below: int = 0  # levels ranked strictly worse than the k-th (the tail protocol)
+    tied: int = 0  # levels ranked equal to the k-th, sharing the rest of the k places
 
 
 def alpha_cvar(
-    ranking: Sequence[float], scoring: Sequence[float], alpha: float, seed: int = 0, proportion: bool = False
+    ranking: Sequence[float],
+    scoring: Sequence[float],
+    alpha: float,
+    seed: int = 0,
+    proportion: bool = False,
+    average_ties: bool = False,
 ) -> CVaR:
     """The mean of ``scoring`` over the worst ``alpha`` of the levels by ``ranking`` (corrected),
     and of ``ranking`` over them (naive). ``proportion``: the values are solved fractions (Wilson
-    interval) rather than scores (t interval)."""
+    interval) rather than scores (t interval). Ties at the boundary: averaged (``average_ties``,
+    ``tail_weights``), else broken by the fixed order ``tie_break_order(seed)``."""
     if len(ranking) != len(scoring) or not ranking:
         raise ValueError(
             f"ranking and scoring need one value per level, got {len(ranking)} and {len(scoring)}"
         )
     (alpha,) = check_alphas([alpha])
+    metric = "solved" if proportion else "score"
+    if average_ties:
+        tail = tail_weights(ranking, alpha)
+        weights = tail.weights
+        corrected = sum(w * scoring[i] for i, w in weights.items()) / tail.k
+        naive = sum(w * ranking[i] for i, w in weights.items()) / tail.k
+        interval = weighted_interval([scoring[i] for i in weights], list(weights.values()), proportion)
+        return CVaR(metric, alpha, tail.k, corrected, naive, interval, tail.below, tail.tied)
     chosen = worst_levels(ranking, alpha, seed)
-    corrected = [scoring[i] for i in chosen]
-    mean = sum(corrected) / len(corrected)
-    interval = wilson_interval(mean, len(corrected)) if proportion else t_interval(corrected)
+    values = [scoring[i] for i in chosen]
+    mean = sum(values) / len(values)
+    interval = wilson_interval(mean, len(values)) if proportion else t_interval(values)
     naive = sum(ranking[i] for i in chosen) / len(chosen)
-    return CVaR("solved" if proportion else "score", alpha, len(chosen), mean, naive, interval)
+    return CVaR(metric, alpha, len(chosen), mean, naive, interval)
 
 
 @dataclass
@@ -259,27 +384,44 @@ class UEDSummary:
     mean_score: float
     score_interval: tuple[float, float]  # Student's t, over the levels' mean scores
     cvars: list[CVaR] = field(default_factory=list)
+    rank_episodes: int | None = None  # the tail protocol's; None: the first protocol
 
     def as_dict(self) -> dict:
         return asdict(self)
 
 
+def _mean(values: Sequence) -> float:
+    return sum(map(float, values)) / len(values)
+
+
 def summarise(
-    rows: Sequence[UEDLevelResult], alphas: Sequence[float] = DEFAULT_ALPHAS, seed: int = 0
+    rows: Sequence[UEDLevelResult],
+    alphas: Sequence[float] = DEFAULT_ALPHAS,
+    seed: int = 0,
+    rank_episodes: int | None = None,
 ) -> UEDSummary:
-    """Rates, means, their intervals and the alpha-CVaRs of ``rows``."""
+    """Rates, means, their intervals and the alpha-CVaRs of ``rows``: each level ranked by the
+    mean of its first ``rank_episodes`` episodes and scored by the mean of the rest, ties averaged
+    (the tail protocol), or, with ``rank_episodes`` None (the first protocol), ranked by its first
+    episode with ties broken by the fixed order of ``seed``."""
     alphas = check_alphas(alphas)
     if not rows:
         raise ValueError("no levels to summarise")
+    first = 1 if rank_episodes is None else rank_episodes
+    if not 1 <= first < min(len(r.wins) for r in rows):
+        raise ValueError(f"rank_episodes must leave scoring episodes on every level, got {rank_episodes}")
     solved = [sum(r.wins) / len(r.wins) for r in rows]
     scores = [sum(r.scores) / len(r.scores) for r in rows]
     n = len(rows)
     cvars = []
     for metric in METRICS:
-        rank = [float(r.wins[0]) if metric == "solved" else r.scores[0] for r in rows]
-        rest = [(r.wins[1:] if metric == "solved" else r.scores[1:]) for r in rows]
-        score = [sum(map(float, values)) / len(values) for values in rest]
-        cvars += [alpha_cvar(rank, score, a, seed, proportion=metric == "solved") for a in alphas]
+        outcomes = [r.wins if metric == "solved" else r.scores for r in rows]
+        rank = [_mean(values[:first]) for values in outcomes]
+        score = [_mean(values[first:]) for values in outcomes]
+        cvars += [
+            alpha_cvar(rank, score, a, seed, metric == "solved", average_ties=rank_episodes is not None)
+            for a in alphas
+        ]
     return UEDSummary(
         levels=n,
         episodes=sum(len(r.wins) for r in rows),
@@ -288,7 +430,15 @@ def summarise(
         mean_score=sum(scores) / n,
         score_interval=t_interval(scores),
         cvars=cvars,
+        rank_episodes=rank_episodes,
     )
+
+
+def summarise_protocol(
+    rows: Sequence[UEDLevelResult], alphas: Sequence[float], protocol: UEDProtocol
+) -> UEDSummary:
+    """``summarise`` as ``protocol`` ranks and breaks ties."""
+    return summarise(rows, alphas, protocol.seed, protocol.rank_episodes)
 
 
 # --- records --------------------------------------------------------------------------------
@@ -387,9 +537,9 @@ def evaluate_run_ued(
         policy = load_policy(info, greedy=protocol.greedy, seed=protocol.seed, device=device)
         with writer_lock(folder, f"the evaluation results of {info.path}"):
             rows = play_ued(info.game, policy, protocol, info.obs, device, progress)
-            summary = summarise(rows, alphas, protocol.seed)
+            summary = summarise_protocol(rows, alphas, protocol)
             write_ued_records(folder, stem, rows, header, summary)
-    return summarise(rows, alphas, protocol.seed), ued_paths(folder, stem)[0]
+    return summarise_protocol(rows, alphas, protocol), ued_paths(folder, stem)[0]
 
 
 def evaluate_random_ued(
@@ -414,25 +564,33 @@ def evaluate_random_ued(
         agent = RandomAgent(get_game(game).num_actions, seed=protocol.seed, device=device)
         with writer_lock(folder, f"the random agent's cache {stem}", lock_name=f".{stem}.lock"):
             rows = play_ued(game, agent, protocol, "tiles", device, progress)
-            summary = summarise(rows, alphas, protocol.seed)
+            summary = summarise_protocol(rows, alphas, protocol)
             write_ued_records(folder, stem, rows, header, summary)
-    return summarise(rows, alphas, protocol.seed), ued_paths(folder, stem)[0]
+    return summarise_protocol(rows, alphas, protocol), ued_paths(folder, stem)[0]
 
 
 def format_ued_summary(title: str, summary: UEDSummary) -> str:
     """A few lines: rate and mean with intervals, then one line per CVaR."""
     low, high = summary.solved_interval
     s_low, s_high = summary.score_interval
+    rank = summary.rank_episodes
+    how = (
+        f"ranked by {rank} episodes per level, scored by the others, ties averaged"
+        if rank is not None
+        else "ranked by one episode per level, scored by the others, ties by a fixed order"
+    )
     lines = [
         title,
-        f"  {summary.levels} generated levels, d in [0, 1], {summary.episodes} episodes",
+        f"  {summary.levels} generated levels, d in [0, 1], {summary.episodes} episodes; CVaR {how}",
         f"  solved rate {summary.solved_rate:.3f}  (95 % Wilson {low:.3f}-{high:.3f})",
         f"  mean score  {summary.mean_score:.3f}  (95 % t {s_low:.3f}-{s_high:.3f})",
-        f"  {'CVaR':<8}{'alpha':>7}{'levels':>8}{'corrected':>11}{'naive':>9}{'95 % interval':>22}",
+        f"  {'CVaR':<8}{'alpha':>7}{'levels':>8}{'corrected':>11}{'naive':>9}{'95 % interval':>22}"
+        + ("  ties (below + tied)" if rank is not None else ""),
     ]
     for c in summary.cvars:
+        ties = f"  {c.below} + {c.tied}" if rank is not None else ""
         lines.append(
             f"  {c.metric:<8}{c.alpha:>7g}{c.levels:>8}{c.corrected:>11.3f}{c.naive:>9.3f}"
-            f"{f'{c.interval[0]:.3f}-{c.interval[1]:.3f}':>22}"
+            f"{f'{c.interval[0]:.3f}-{c.interval[1]:.3f}':>22}{ties}"
         )
     return "\n".join(lines)

@@ -46,8 +46,13 @@ def write_ued_table(
             summaries[Path(info.path)] = summary.as_dict()
     games = collect_runs([info.path for info in infos], protocol, ued_protocol.as_dict(), summaries)
     settings = ued_protocol.as_dict()
+    episodes = (
+        f"({ued_protocol.rank_episodes} episodes to rank + {ued_protocol.score_episodes} to score)"
+        if ued_protocol.tail
+        else f"{settings['seeds']} evaluation seeds"
+    )
     head = [
-        f"# UED protocol: {settings['levels']:,} generated levels x {settings['seeds']} evaluation seeds, "
+        f"# UED protocol: {settings['levels']:,} generated levels x {episodes}, "
         f"at most {settings['max_steps']:,} steps; each curriculum against {baseline}",
         "",
     ]

@@ -4,15 +4,18 @@ and on the tail (CVaR) of newly generated ones?
 Per game and curriculum, each run (seed) gives: its mean score over the five human levels and on
 each generated test set (the study's protocol), and where the UED protocol evaluated it
 (``gvgai_pcg.evaluation.ued``), its solved rate, mean score and bias-corrected score CVaR at
-alpha 1 % and 10 % on the UED levels. Every cell of the tables is a mean over seeds with its 95 %
-Student t interval over seeds (``gvgai_pcg.study.intervals``).
+alpha 1 % and 10 % on the UED levels, and with the tail protocol's records the win-rate CVaR at
+1 % and 10 % too (SFL's headline; shown and judged only where a run has it). Every cell of the
+tables is a mean over seeds with its 95 % Student t interval over seeds
+(``gvgai_pcg.study.intervals``).
 
-The question is three comparisons of each curriculum with PPCG per game (``QUESTIONS``): the
-difference of means with its Welch t interval, Holm's correction over every comparison of the page
-together (family-wise alpha 0.05). "beats PPCG" **holds** when Holm rejects "no difference" with the
-curriculum ahead, **does not hold** when it rejects with PPCG ahead, or when every seed of both is
-the same value and the curriculum is not ahead (no spread: equal, or behind, on every seed), and is
-**inconclusive** otherwise; **not measured** where either side lacks the metric.
+The question is three comparisons of each curriculum with PPCG per game (``QUESTIONS``; five
+with the tail protocol's win-rate CVaRs): the difference of means with its Welch t interval,
+Holm's correction over every comparison of the page together (family-wise alpha 0.05). "beats
+PPCG" **holds** when Holm rejects "no difference" with the curriculum ahead, **does not hold**
+when it rejects with PPCG ahead, or when every seed of both is the same value and the curriculum
+is not ahead (no spread: equal, or behind, on every seed), and is **inconclusive** otherwise;
+**not measured** where either side lacks the metric.
 """
 
 from __future__ import annotations
@@ -46,11 +49,19 @@ UED_METRICS = {
     "cvar1": "UED score CVaR 1 %",
     "cvar10": "UED score CVaR 10 %",
 }
+# The tail protocol's win-rate CVaR (SFL's headline), shown and judged where a run has it: the first
+# protocol's one-episode win ranking is a tie over most of the tail, so its records leave it out.
+WIN_METRICS = {
+    "wincvar1": "UED win-rate CVaR 1 %",
+    "wincvar10": "UED win-rate CVaR 10 %",
+}
 # The question's comparisons with PPCG: metric -> what it says.
 QUESTIONS = {
     "human": "the human levels (mean score over levels 0-4)",
     "cvar1": "the worst 1 % of the UED levels (score CVaR, bias-corrected)",
     "cvar10": "the worst 10 % of the UED levels (score CVaR, bias-corrected)",
+    "wincvar1": "the worst 1 % of the UED levels by win rate (SFL's CVaR, 10 + 10 episodes)",
+    "wincvar10": "the worst 10 % of the UED levels by win rate (SFL's CVaR, 10 + 10 episodes)",
 }
 HOLDS, DOES_NOT_HOLD, INCONCLUSIVE, NOT_MEASURED = "holds", "does not hold", "inconclusive", "not measured"
 
@@ -84,10 +95,26 @@ class Verdict:
 def ued_values(summary: dict) -> dict[str, float]:
     """The UED metrics of one run from its summary (``UEDSummary.as_dict()``)."""
     values = {"solved": summary["solved_rate"], "ued_score": summary["mean_score"]}
+    tail = summary.get("rank_episodes") is not None  # the tail protocol's record
     for cvar in summary.get("cvars", []):
-        if cvar["metric"] == "score" and float(cvar["alpha"]) in ALPHAS:
-            values[f"cvar{round(float(cvar['alpha']) * 100)}"] = cvar["corrected"]
+        if float(cvar["alpha"]) not in ALPHAS:
+            continue
+        percent = round(float(cvar["alpha"]) * 100)
+        if cvar["metric"] == "score":
+            values[f"cvar{percent}"] = cvar["corrected"]
+        elif cvar["metric"] == "solved" and tail:
+            values[f"wincvar{percent}"] = cvar["corrected"]
     return values
+
+
+def _measured(games: dict[str, dict[str, CurriculumRuns]]) -> set[str]:
+    return {metric for curricula in games.values() for runs in curricula.values() for metric in runs.values}
+
+
+def questions_of(games: dict[str, dict[str, CurriculumRuns]]) -> dict[str, str]:
+    """The questions asked of these runs: every one but the win-rate CVaRs no run has."""
+    measured = _measured(games)
+    return {m: what for m, what in QUESTIONS.items() if m not in WIN_METRICS or m in measured}
 
 
 def ued_record(run: Path, settings: dict) -> tuple[Path, dict] | None:
@@ -163,7 +190,7 @@ def judge(games: dict[str, dict[str, CurriculumRuns]], baseline: str = BASELINE)
         for label, runs in sorted(curricula.items()):
             if label == baseline:
                 continue
-            for metric in QUESTIONS:
+            for metric in questions_of(games):
                 ours, theirs = runs.values.get(metric), base.values.get(metric) if base else None
                 if not ours or not theirs:
                     verdicts.append(Verdict(game, label, metric, NOT_MEASURED))
@@ -222,9 +249,12 @@ def answer_sentences(
     by_game: dict[str, list[Verdict]] = {}
     for v in verdicts:
         by_game.setdefault(v.game, []).append(v)
+    asked = {v.metric for v in verdicts}
     for game, ours in sorted(by_game.items()):
         for metric, what in QUESTIONS.items():
             of_metric = [v for v in ours if v.metric == metric]
+            if metric not in asked:
+                continue
             winners = [v.label for v in of_metric if v.outcome == HOLDS]
             open_ = [v.label for v in of_metric if v.outcome == INCONCLUSIVE]
             if winners:
@@ -248,7 +278,9 @@ def _order(runs: CurriculumRuns) -> tuple[int, str]:
 
 def tables_markdown(games: dict[str, dict[str, CurriculumRuns]]) -> str:
     """Per game, each curriculum's scores (study protocol) and UED metrics over seeds."""
-    columns = {"human": "human levels 0-4", **{s: f"test {s}" for s in GENERATED_SETS}, **UED_METRICS}
+    measured = _measured(games)
+    wins = {m: title for m, title in WIN_METRICS.items() if m in measured}
+    columns = {"human": "human levels 0-4", **{s: f"test {s}" for s in GENERATED_SETS}, **UED_METRICS, **wins}
     out = []
     for game, curricula in sorted(games.items()):
         out += [f"#### {game.capitalize()}", ""]

@@ -97,6 +97,11 @@ def test_the_report_evaluates_the_ued_protocol_where_a_run_lacks_it(tmp_path, ca
     run = make_run(tmp_path / "runs", "ppcg", 0)
     cache = ["--cache-dir", str(tmp_path / "cache")]
     study = ["--test-levels", "1", "--test-episodes", "1", "--human-episodes", "1", "--max-steps", "10"]
-    assert main(["report", str(run), *study, *cache, "--ued", "--ued-levels", "2", "--no-progress"]) == 0
+    tail = ["--ued-rank-episodes", "2", "--ued-score-episodes", "2"]  # the tail protocol, kept small
+    assert (
+        main(["report", str(run), *study, *cache, "--ued", "--ued-levels", "2", *tail, "--no-progress"]) == 0
+    )
     assert list((run / "eval").glob("ued-*.csv"))  # played, and kept for the next report
-    assert "| PPCG | 1 | 1,000 |" in (tmp_path / "runs" / "report" / "ued.md").read_text()
+    table = (tmp_path / "runs" / "report" / "ued.md").read_text()
+    assert "| PPCG | 1 | 1,000 |" in table and "UED win-rate CVaR 1 %" in table
+    assert table.startswith("# UED protocol: 2 generated levels x (2 episodes to rank + 2 to score)")

@@ -167,6 +167,29 @@ def test_the_answer_is_written_as_sentences_with_its_intervals():
     assert "| DR | 3 | 800 | 5.00 [4.75, 5.25] |" in page
 
 
+def test_the_tail_protocols_win_rate_cvar_is_shown_and_judged_only_where_runs_have_it():
+    tail = {**SUMMARY, "rank_episodes": 10}
+    assert ued_values(tail) == {
+        "solved": 0.25,
+        "ued_score": 1.5,
+        "cvar1": -1.0,
+        "cvar10": 0.5,
+        "wincvar10": 0.0,
+    }
+    old_page = comparison_markdown(synthetic())
+    assert "win-rate" not in old_page  # the first protocol's records: the page as it was
+    games = synthetic()
+    games["zelda"]["PPCG"].values["wincvar1"] = [0.30, 0.32, 0.28]
+    games["zelda"]["DR"].values["wincvar1"] = [0.0, 0.02, 0.01]
+    verdicts = {(v.game, v.label, v.metric): v for v in judge(games)}
+    assert verdicts["zelda", "DR", "wincvar1"].outcome == DOES_NOT_HOLD
+    assert verdicts["frogs", "DR", "wincvar1"].outcome == NOT_MEASURED
+    assert ("zelda", "DR", "wincvar10") not in verdicts  # no run has it: not asked
+    page = comparison_markdown(games)
+    assert "UED win-rate CVaR 1 %" in page and "UED win-rate CVaR 10 %" not in page
+    assert "the worst 1 % of the UED levels by win rate" in page
+
+
 def test_a_ued_summary_is_read_from_the_runs_records_of_the_budgets_protocol(tmp_path):
     assert ued_values(SUMMARY) == {"solved": 0.25, "ued_score": 1.5, "cvar1": -1.0, "cvar10": 0.5}
     (tmp_path / "eval").mkdir()
