@@ -15,6 +15,7 @@ from gvgai_pcg.evaluation.protocol import Protocol
 from gvgai_pcg.study.publish import publish
 from tests.evaluation.conftest import make_run
 
+TEXTS = (".json", ".jsonl", ".yaml", ".csv")
 TINY = Protocol(test_levels=2, test_episodes=1, human_episodes=1, max_steps=30)
 
 
@@ -27,7 +28,8 @@ def test_a_published_model_loads_weights_only_and_reproduces_its_published_score
     shutil.rmtree(tmp_path / "out")  # another machine: only the published folder is there
 
     copy = dest / "runs" / run.name
-    assert json.loads((copy / "published.json").read_text())["copied"] == "model.pt"
+    assert json.loads((copy / "published.json").read_text()) == {"model": "model.pt", "frames": 1000}
+    assert str(tmp_path) not in "".join(p.read_text() for p in copy.rglob("*") if p.suffix in TEXTS)
     torch.load(copy / "model.pt", weights_only=True)  # tensors and plain data only
     info = published_run_info(copy)
     assert info.model_file == copy / "model.pt"
