@@ -7,7 +7,7 @@ the model. A test holds the list to what ``results/`` holds: a listed run has no
 other run folder has one.
 
 ``python -m gvgai_pcg.study.awaiting_retraining [RESULTS]`` writes the list again from ``RESULTS``
-(default ``results``).
+(default ``results``), and its block on each budget's page (``PAGES``).
 """
 
 from __future__ import annotations
@@ -70,10 +70,43 @@ def page_lines(results: Path, budget: str) -> list[str]:
     return [f"- `{entry['run']}`: `{entry['command']}`" for entry in read_list(results).get(budget, [])]
 
 
+PAGES = {
+    "small": "docs/results.md",
+    "medium": "docs/results-medium.md",
+    "curricula": "docs/results-curricula.md",
+    "pilot": "docs/pilot.md",
+}
+START, END = "<!-- awaiting-retraining:start -->", "<!-- awaiting-retraining:end -->"
+
+
+def page_block(results: Path, budget: str) -> str:
+    """The page's block between ``START`` and ``END``: the list, or a line saying none waits."""
+    lines = page_lines(results, budget) or ["None: every run of this page holds its model."]
+    return "\n".join([START, *lines, END])
+
+
+def write_page(page: Path, results: Path, budget: str) -> None:
+    """Replace the block in ``page`` (appended, under its heading, where it has none)."""
+    text = page.read_text()
+    block = page_block(results, budget)
+    if START in text:
+        head, rest = text.split(START, 1)
+        text = head + block + rest.split(END, 1)[1]
+    else:
+        text = text.rstrip("\n") + (
+            "\n\n## Runs awaiting retraining\n\nTheir models exist on no machine any more: their records "
+            "rebuild the tables above, and `replay`/`evaluate` refuse them in one line. Each trains again "
+            "with the same config and seed (then publishes with the budget's sweep):\n\n" + block + "\n"
+        )
+    page.write_text(text)
+
+
 def main(argv: list[str] | None = None) -> int:
     args = sys.argv[1:] if argv is None else argv
     results = Path(args[0]) if args else Path("results")
     (results / LIST_NAME).write_text(json.dumps(awaiting(results), indent=1) + "\n")
+    for budget, page in PAGES.items():
+        write_page(results.parent / page, results, budget)
     return 0
 
 

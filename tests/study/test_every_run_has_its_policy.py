@@ -99,3 +99,10 @@ def test_replay_of_a_run_awaiting_retraining_says_so_in_one_line(tmp_path, capsy
     err = capsys.readouterr().err.strip()
     assert stopped.value.code == 2 and len(err.splitlines()) == 1
     assert "its model is not published" in err and "awaits retraining" in err
+
+
+def test_each_budgets_page_lists_its_runs_awaiting_retraining():
+    from gvgai_pcg.study.awaiting_retraining import PAGES, page_block
+
+    for budget, page in PAGES.items():
+        assert page_block(RESULTS, budget) in (ROOT / page).read_text(), page
