@@ -53,6 +53,12 @@ class RunInfo:
         return self.checkpoint
 
     @property
+    def agent(self) -> str:
+        """What its evaluation records name the agent: a published run by its folder's name, so that
+        records made in ``results/`` name nothing outside the repository; any other by its path."""
+        return self.path.name if (self.path / PUBLISHED).is_file() else str(self.path)
+
+    @property
     def game(self) -> str:
         return self.config["game"]["name"]
 

@@ -123,7 +123,8 @@ def evaluated_model(info, model: dict) -> Path | None:
             return info.model_file
         except FileNotFoundError:  # a published run without its model, published again
             return None
-    earlier = Path(model["checkpoint"])
+    earlier = Path(model["checkpoint"])  # a published run's records name a file of its folder
+    earlier = earlier if earlier.is_absolute() else Path(info.path) / earlier
     if earlier.is_file() and int(load_state(earlier).get("frames", -1)) == model["frames"]:
         return earlier
     return None
