@@ -87,18 +87,20 @@ def page_block(results: Path, budget: str) -> str:
 
 def write_page(page: Path, results: Path, budget: str) -> None:
     """Replace the block in ``page`` (appended, under its heading, where it has none)."""
-    text = page.read_text()
+    from gvgai_pcg.rl.atomic_files import atomic_write_text
+    from gvgai_pcg.study.page import replace_block
+
     block = page_block(results, budget)
-    if START in text:
-        head, rest = text.split(START, 1)
-        text = head + block + rest.split(END, 1)[1]
-    else:
-        text = text.rstrip("\n") + (
-            "\n\n## Runs awaiting retraining\n\nTheir models exist on no machine any more: their records "
-            "rebuild the tables above, and `replay`/`evaluate` refuse them in one line. Each trains again "
-            "with the same config and seed (then publishes with the budget's sweep):\n\n" + block + "\n"
-        )
-    page.write_text(text)
+    if START in page.read_text():
+        replace_block(page, block, START, END)
+        return
+    heading = (
+        "\n\n## Runs awaiting retraining\n\n"
+        "Their models exist on no machine any more: their records rebuild the tables above, and\n"
+        "`replay`/`evaluate` refuse them in one line. Each trains again with the same config and\n"
+        "seed (then publishes with the budget's sweep; `results/awaiting-retraining.json`):\n\n"
+    )
+    atomic_write_text(page, page.read_text().rstrip("\n") + heading + block + "\n")
 
 
 def main(argv: list[str] | None = None) -> int:

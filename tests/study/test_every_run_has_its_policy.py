@@ -53,7 +53,8 @@ def _play_one_short_episode(run: Path) -> None:
 
 def test_the_list_of_runs_awaiting_retraining_is_exactly_the_runs_without_a_model():
     listed = read_list(RESULTS)
-    assert listed == awaiting(RESULTS)  # a listed run with a model, or an unlisted one without, fails
+    # a listed run with a model, or an unlisted one without, fails
+    assert listed == awaiting(RESULTS), "run python -m gvgai_pcg.study.awaiting_retraining after a publish"
     assert len(WITH_MODEL) + sum(map(len, listed.values())) == len(RUNS)
     for budget, runs in listed.items():
         for entry in runs:
