@@ -134,7 +134,7 @@ def _stage_run(run: Path, staged: Path, model: dict, model_file: Path | None) ->
     """Into ``staged``: ``run``'s config, logs, pictures and evaluation records, the model they
     were made from (``model_file``, whatever its size) and ``published.json`` naming it, all made
     to name nothing outside the run folder."""
-    from gvgai_pcg.evaluation.checkpoints import FINAL_MODEL, PUBLISHED
+    from gvgai_pcg.evaluation.checkpoints import FINAL_MODEL, PUBLISHED, load_state
     from gvgai_pcg.study.portable import make_portable, write_portable_model
 
     (staged / "eval").mkdir(parents=True, exist_ok=True)
@@ -158,10 +158,14 @@ def _stage_run(run: Path, staged: Path, model: dict, model_file: Path | None) ->
         shutil.copytree(
             run / "eval" / "snapshots", staged / "eval" / "snapshots", dirs_exist_ok=True, ignore=WRITER_LOCKS
         )
-    (staged / FINAL_MODEL).unlink(missing_ok=True)  # an earlier publish's model is not this one's
+    earlier = staged / FINAL_MODEL  # an earlier publish's: kept only where it is the model evaluated
     if model_file is not None:
         write_portable_model(model_file, staged / FINAL_MODEL)
         model["copied"] = FINAL_MODEL
+    elif earlier.is_file() and int(load_state(earlier).get("frames", -1)) == model["frames"]:
+        model["copied"] = FINAL_MODEL
+    else:
+        earlier.unlink(missing_ok=True)
     # the training machine's record of the model, made portable with the rest
     (staged / PUBLISHED).write_text(json.dumps(model, indent=1) + "\n")
     make_portable(staged)

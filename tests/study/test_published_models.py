@@ -85,3 +85,14 @@ def test_a_boulderdash_model_of_the_studys_size_is_published_whatever_its_size(t
     state = torch.load(copy / "model.pt", weights_only=True)
     assert all(torch.equal(state["model"][k], v) for k, v in net.state_dict().items())
     assert published_run_info(copy).model_file == copy / "model.pt"
+
+
+def test_publishing_again_from_a_copy_without_the_model_keeps_the_published_model(tmp_path):
+    run = make_run(tmp_path / "out" / "runs", "ppcg", seed=1)
+    dest = publish(tmp_path / "out", tmp_path / "published", None, [run])
+    source = tmp_path / "copy" / "runs" / run.name  # the published run, its model gone
+    shutil.copytree(dest / "runs" / run.name, source)
+    (source / "model.pt").unlink()
+    publish(tmp_path / "copy", dest, None, [source])
+    assert json.loads((dest / "runs" / run.name / "published.json").read_text())["model"] == "model.pt"
+    assert published_run_info(dest / "runs" / run.name).model_file.is_file()
