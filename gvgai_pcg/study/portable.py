@@ -8,8 +8,9 @@ package's default (``runs``), a borrowed run's source is ``<sweep>/runs/<run>``.
 migrates a folder published in the older form (``make_portable``), changing no number.
 
 ``published.json`` then names the model as a file beside it (``{"model": "model.pt", "frames":
-N}``), or says it is not published (``"model": null`` with a ``not_published`` reason): such a run's
-records still rebuild its report, and ``replay``/``evaluate`` refuse it in one line.
+N}``), or says it is not published (``"model": null`` with a ``not_published`` reason, and
+``evaluated``: the name its records give the model): such a run's records still rebuild its
+report, and ``replay``/``evaluate`` refuse it in one line.
 """
 
 from __future__ import annotations
