@@ -27,16 +27,23 @@ class RunInfo:
 
     path: Path
     config: dict = field(repr=False)
-    checkpoint: Path  # the model its records name (a published run: where it was trained)
+    checkpoint: Path  # the model its records name (a published run: its file in the run folder)
     frames: int
     published_copy: Path | None = None  # a published run's model, copied beside its records
+    not_published: str | None = None  # why a published run holds no model
 
     @property
     def model_file(self) -> Path:
         """The file that holds the run's weights here. A published run without its model, whose
-        record names a file of the machine that trained it, is one line saying so."""
+        record names a file of the machine that trained it or says it is not published, is one
+        line saying so."""
         if self.published_copy is not None:
             return self.published_copy
+        if self.not_published is not None:
+            raise FileNotFoundError(
+                f"{self.path}: its model is not published ({self.not_published}), so it cannot be "
+                "played or evaluated here; its published records still rebuild the report"
+            )
         if not self.checkpoint.is_file() and (self.path / PUBLISHED).is_file():
             raise FileNotFoundError(
                 f"{self.path}: its model was not published with it ({PUBLISHED} names "
@@ -44,6 +51,12 @@ class RunInfo:
                 "played or evaluated here; its published records still rebuild the report"
             )
         return self.checkpoint
+
+    @property
+    def agent(self) -> str:
+        """What its evaluation records name the agent: a published run by its folder's name, so that
+        records made in ``results/`` name nothing outside the repository; any other by its path."""
+        return self.path.name if (self.path / PUBLISHED).is_file() else str(self.path)
 
     @property
     def game(self) -> str:
@@ -231,7 +244,10 @@ def run_info(run_dir: Path, checkpoint: Path | None = None) -> RunInfo:
 
 def published_run_info(run_dir: Path) -> RunInfo:
     """A published run: its config from ``config.yaml``, its model as ``published.json`` names it,
-    and the copy of that model published beside it, where there is one."""
+    and the copy of that model published beside it, where there is one. ``published.json`` names
+    the model as a file of the run folder (``"model"``, ``null`` with ``not_published`` when there
+    is none: ``gvgai_pcg.study.portable``), or, in the older form, as the path it had on the
+    machine that trained it (``"checkpoint"``, with ``"copied"`` where a copy is beside it)."""
     import json
 
     from omegaconf import OmegaConf
@@ -239,7 +255,13 @@ def published_run_info(run_dir: Path) -> RunInfo:
     path = run_dir / PUBLISHED
     try:
         model = json.loads(path.read_text())
-        int(model["frames"]), str(model["checkpoint"])
+        int(model["frames"])
+        if "checkpoint" in model or "model" not in model:
+            str(model["checkpoint"])
+        elif model["model"] is None:
+            str(model["not_published"])
+        elif not isinstance(model["model"], str) or Path(model["model"]).is_absolute():
+            raise ValueError(f"'model' is {model['model']!r}, not a file of the run folder")
     except (ValueError, KeyError, TypeError) as error:
         raise ValueError(
             f"{path}: not a published run's record ({type(error).__name__}: {error}); restore it, or "
@@ -247,6 +269,13 @@ def published_run_info(run_dir: Path) -> RunInfo:
         ) from None
     read_run_config(run_dir)  # a file that is not a config: one line naming it
     config = OmegaConf.to_container(OmegaConf.load(run_dir / "config.yaml"), resolve=True)
+    if "checkpoint" not in model:  # records name the model by its path inside the run folder
+        name = model["model"] or model.get("evaluated", FINAL_MODEL)
+        copy = run_dir / name if model["model"] and (run_dir / name).is_file() else None
+        reason = model.get("not_published") if model["model"] is None else None
+        if model["model"] is not None and copy is None:
+            reason = f"{PUBLISHED} names {name}, which is not in the run folder"
+        return RunInfo(run_dir, config, Path(name), int(model["frames"]), copy, reason)
     copy = run_dir / model["copied"] if model.get("copied") else None
     copy = copy if copy is not None and copy.is_file() else None
     return RunInfo(run_dir, config, Path(model["checkpoint"]), int(model["frames"]), copy)

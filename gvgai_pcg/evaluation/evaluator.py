@@ -32,7 +32,7 @@ EVAL_DIR = "eval"
 class LevelRecord:
     """One JSON line: what an agent did on one level of one test set."""
 
-    agent: str  # "random" or the run directory
+    agent: str  # "random", the run directory, or a published run's folder name
     game: str
     test_set: str  # pcg0.5, pcg1, lv0 … lv4; train (the run's own training levels)
     level: str
@@ -174,7 +174,7 @@ def evaluate_run(
     )
     with writer_lock(path.parent, f"the evaluation results of {info.path}"):
         records = evaluate_policy(
-            info.game, policy, protocol, str(info.path), info.obs, device, progress, [own] if own else []
+            info.game, policy, protocol, info.agent, info.obs, device, progress, [own] if own else []
         )
         for record in records:
             record.frames, record.checkpoint = info.frames, str(info.checkpoint)

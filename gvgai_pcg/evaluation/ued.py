@@ -526,7 +526,7 @@ def evaluate_run_ued(
     alphas = check_alphas(alphas)
     folder, stem = Path(info.path) / EVAL_DIR, run_ued_stem(protocol)
     header = {
-        "agent": str(info.path),
+        "agent": info.agent,
         "game": info.game,
         "protocol": protocol.as_dict(),
         "frames": info.frames,

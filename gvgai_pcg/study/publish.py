@@ -17,7 +17,6 @@ from pathlib import Path
 from gvgai_pcg.study.borrowed_runs import BORROWED
 from gvgai_pcg.study.curricula_runs import REPLAY_PICTURE, REPLAY_STATS
 
-MODEL_LIMIT_BYTES = 2_000_000
 WRITER_LOCKS = shutil.ignore_patterns(".lock", ".*.lock")  # the evaluator's, never published
 
 
@@ -64,8 +63,9 @@ def refuse_publishing_into_the_sweep(out: Path, dest: Path, runs: Sequence[Path]
 
 def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = None) -> Path:
     """Copy what rebuilds the report into ``dest``: each run's config, log, evaluation results and
-    a ``published.json`` naming its model (the model itself only below ``MODEL_LIMIT_BYTES``), the
-    random agent's results, and the report.
+    its model (whatever its size, as weights and plain data only) with a ``published.json`` naming
+    it, all naming nothing outside the run folder (``gvgai_pcg.study.portable``), the random
+    agent's results, and the report.
     ``gvgai-pcg report --no-evaluate DEST/runs --cache-dir DEST/random`` then rebuilds the tables
     and curves from ``dest`` alone. With ``protocol``, only runs with its
     records are published, and the model named is the one they were made from, so a run that
@@ -98,7 +98,7 @@ def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = 
             first = read_records(records_path)[0]
             model = {"checkpoint": first.checkpoint, "frames": first.frames}
         with staged_folder(target) as staged:
-            _stage_run(run, staged, model, info.frames, info.model_file)
+            _stage_run(run, staged, model, evaluated_model(info, model))
     if (out / "report").is_dir():  # replaced whole: no figure of an earlier report stays
         with staged_folder(dest / "report", keep=False) as staged:
             copy_tree(out / "report", staged, ignore=WRITER_LOCKS, dirs_exist_ok=True)
@@ -133,11 +133,31 @@ def staged_folder(target: Path, keep: bool = True) -> Iterator[Path]:
     swap_in_folder(staged, target)
 
 
-def _stage_run(run: Path, staged: Path, model: dict, frames: int, model_file: Path) -> None:
-    """Into ``staged``: ``run``'s config, logs, pictures and evaluation records, its model when it
-    is small and the one evaluated, and ``published.json`` naming that model."""
-    from gvgai_pcg.evaluation.checkpoints import PUBLISHED
+def evaluated_model(info, model: dict) -> Path | None:
+    """The file of the model the run's records were made from (``model``: their checkpoint and
+    frames): its final model, or an earlier file of it that is still there; ``None`` when that
+    model is on this machine no more."""
+    from gvgai_pcg.evaluation.checkpoints import load_state
+
+    if model["frames"] == info.frames:
+        try:
+            return info.model_file
+        except FileNotFoundError:  # a published run without its model, published again
+            return None
+    earlier = Path(model["checkpoint"])  # a published run's records name a file of its folder
+    earlier = earlier if earlier.is_absolute() else Path(info.path) / earlier
+    if earlier.is_file() and int(load_state(earlier).get("frames", -1)) == model["frames"]:
+        return earlier
+    return None
+
+
+def _stage_run(run: Path, staged: Path, model: dict, model_file: Path | None) -> None:
+    """Into ``staged``: ``run``'s config, logs, pictures and evaluation records, the model they
+    were made from (``model_file``, whatever its size) and ``published.json`` naming it, all made
+    to name nothing outside the run folder."""
+    from gvgai_pcg.evaluation.checkpoints import FINAL_MODEL, PUBLISHED, load_state
     from gvgai_pcg.rl.atomic_files import copy_tree
+    from gvgai_pcg.study.portable import make_portable, write_portable_model
 
     (staged / "eval").mkdir(parents=True, exist_ok=True)
     for name in (
@@ -160,7 +180,14 @@ def _stage_run(run: Path, staged: Path, model: dict, frames: int, model_file: Pa
         copy_tree(
             run / "eval" / "snapshots", staged / "eval" / "snapshots", dirs_exist_ok=True, ignore=WRITER_LOCKS
         )
-    if model["frames"] == frames and model_file.stat().st_size < MODEL_LIMIT_BYTES:
-        shutil.copy2(model_file, staged / model_file.name)
-        model["copied"] = model_file.name
+    earlier = staged / FINAL_MODEL  # an earlier publish's: kept only where it is the model evaluated
+    if model_file is not None:
+        write_portable_model(model_file, staged / FINAL_MODEL)
+        model["copied"] = FINAL_MODEL
+    elif earlier.is_file() and int(load_state(earlier).get("frames", -1)) == model["frames"]:
+        model["copied"] = FINAL_MODEL
+    else:
+        earlier.unlink(missing_ok=True)
+    # the training machine's record of the model, made portable with the rest
     (staged / PUBLISHED).write_text(json.dumps(model, indent=1) + "\n")
+    make_portable(staged)

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import csv
-import shutil
 import signal
 import subprocess
 import sys
@@ -29,7 +28,6 @@ from gvgai_pcg.study.pipeline import (
     sweep_arguments,
     sweep_plan,
 )
-from gvgai_pcg.study.publish import MODEL_LIMIT_BYTES
 from tests.waiting import PATIENCE_S
 
 PROTOCOL = Protocol(**BUDGETS["smoke"].protocol)
@@ -173,10 +171,9 @@ def test_a_published_run_rebuilds_the_report_without_its_model(tmp_path):
     budget = BUDGETS["smoke"]
     reproduce(budget, ["zelda-lv0"], out, publish_to=published, progress=False)
     [run] = find_runs([published / "runs"])
-    assert not (run / "model.pt").exists() or (run / "model.pt").stat().st_size < MODEL_LIMIT_BYTES
+    assert (run / "model.pt").is_file()  # whatever its size
     assert run_info(run).frames == budget.frames
     assert_committable(published, Path("results") / budget.name)
-    shutil.copy2(out / "runs" / run.name / "model.pt", run / "model.pt")  # as publish does below 1 MB
     rebuilt = tmp_path / "rebuilt"
     protocol = ["--test-levels", "2", "--human-episodes", "1", "--max-steps", "100"]
     command = [sys.executable, "-m", "gvgai_pcg.cli", "report", "--no-evaluate", str(published / "runs")]

@@ -15,6 +15,7 @@ from gvgai_pcg.evaluation.protocol import Protocol
 from gvgai_pcg.study.publish import publish
 from tests.evaluation.conftest import make_run
 
+TEXTS = (".json", ".jsonl", ".yaml", ".csv")
 TINY = Protocol(test_levels=2, test_episodes=1, human_episodes=1, max_steps=30)
 
 
@@ -27,7 +28,8 @@ def test_a_published_model_loads_weights_only_and_reproduces_its_published_score
     shutil.rmtree(tmp_path / "out")  # another machine: only the published folder is there
 
     copy = dest / "runs" / run.name
-    assert json.loads((copy / "published.json").read_text())["copied"] == "model.pt"
+    assert json.loads((copy / "published.json").read_text()) == {"model": "model.pt", "frames": 1000}
+    assert str(tmp_path) not in "".join(p.read_text() for p in copy.rglob("*") if p.suffix in TEXTS)
     torch.load(copy / "model.pt", weights_only=True)  # tensors and plain data only
     info = published_run_info(copy)
     assert info.model_file == copy / "model.pt"
@@ -36,6 +38,10 @@ def test_a_published_model_loads_weights_only_and_reproduces_its_published_score
     assert [(r.test_set, r.level, r.scores) for r in again] == [
         (r.test_set, r.level, r.scores) for r in published_records
     ]
+    assert evaluate_run(info, TINY, progress=False)[0].checkpoint == "model.pt"  # current: not replayed
+    other = Protocol(test_levels=1, test_episodes=1, human_episodes=1, max_steps=10)
+    made_here = evaluate_run(info, other, progress=False)  # evaluated in the published folder
+    assert {(r.agent, r.checkpoint) for r in made_here} == {(run.name, "model.pt")}
 
 
 def test_a_real_published_model_gives_its_published_scores_again():
@@ -65,3 +71,37 @@ def test_a_real_published_model_gives_its_published_scores_again():
     ]
     assert len(differ) <= 1, differ
     assert max(max(r.scores) for r in again if r.test_set == "lv4") >= 5  # the level it trained on
+
+
+def test_a_boulderdash_model_of_the_studys_size_is_published_whatever_its_size(tmp_path):
+    """The study's network on Boulderdash is 0.75M parameters, 3 MB: published like any other."""
+    import yaml
+
+    from gvgai_pcg.evaluation.policy import observation_shape
+    from gvgai_pcg.games import get_game
+    from gvgai_pcg.rl.models import make_actor_critic
+
+    run = make_run(tmp_path / "out" / "runs", "ppcg", seed=0, game="boulderdash")
+    config = yaml.safe_load((run / "config.yaml").read_text())
+    config["model"]["hidden"] = 256
+    (run / "config.yaml").write_text(yaml.safe_dump(config))
+    shape, actions = observation_shape("boulderdash", "tiles"), get_game("boulderdash").num_actions
+    net = make_actor_critic("compact", "tiles", shape, actions, 256)
+    torch.save({"model": net.state_dict(), "config": config, "frames": 1000}, run / "model.pt")
+    dest = publish(tmp_path / "out", tmp_path / "published", None, [run])
+    copy = dest / "runs" / run.name
+    assert (copy / "model.pt").stat().st_size > 2_000_000
+    state = torch.load(copy / "model.pt", weights_only=True)
+    assert all(torch.equal(state["model"][k], v) for k, v in net.state_dict().items())
+    assert published_run_info(copy).model_file == copy / "model.pt"
+
+
+def test_publishing_again_from_a_copy_without_the_model_keeps_the_published_model(tmp_path):
+    run = make_run(tmp_path / "out" / "runs", "ppcg", seed=1)
+    dest = publish(tmp_path / "out", tmp_path / "published", None, [run])
+    source = tmp_path / "copy" / "runs" / run.name  # the published run, its model gone
+    shutil.copytree(dest / "runs" / run.name, source)
+    (source / "model.pt").unlink()
+    publish(tmp_path / "copy", dest, None, [source])
+    assert json.loads((dest / "runs" / run.name / "published.json").read_text())["model"] == "model.pt"
+    assert published_run_info(dest / "runs" / run.name).model_file.is_file()
