@@ -12,23 +12,14 @@ from collections.abc import Iterator
 import pytest
 import torch
 
-from gvgai_pcg.cli import main
 from gvgai_pcg.evaluation.ued import UEDProtocol
 from gvgai_pcg.study import BUDGETS, reproduce
 from gvgai_pcg.study.borrowed_runs import borrow_run
 from tests.evaluation.conftest import make_run, write_log
 from tests.evaluation.test_held_out import with_snapshots
+from tests.evaluation.test_model_checks import _one_line_error as one_line_error
 
 LEVEL = ["--levels", "zelda_lvl0", "--episodes", "1", "--max-steps", "5", "--no-progress"]
-
-
-def one_line_error(argv: list[str], capsys) -> str:
-    with pytest.raises(SystemExit) as exit_info:
-        main(argv)
-    assert exit_info.value.code == 2
-    err = capsys.readouterr().err.strip()
-    assert "Traceback" not in err and len(err.splitlines()) == 1, err
-    return err
 
 
 @contextlib.contextmanager
