@@ -1,6 +1,6 @@
 """Whole jobs in the bench: the study's evaluation protocol on one run, and a short training job.
 
-Issue 38 asks short jobs to cost what the engine's batched speed says, not what compiling costs:
+Short jobs should cost what the engine's batched speed says, not what compiling costs:
 the protocol on one run (30 + 30 generated levels played once, 5 human levels x 30 episodes, at
 most 2,000 steps) in at most 30 s on 2 cores, and a 20k-frame training job at most 1.3x its time
 with compiling off. Both are timed here in the same run as the env tables:

@@ -263,7 +263,7 @@ def peer_lines(rows: list[PeerRow], griddly: Timed | None, load: str | None = No
 
 
 def peer_checks(rows: list[PeerRow], griddly: Timed | None) -> list[Check]:
-    """Issue 38's targets on this table: Zelda at 64 envs against DoorKey's bare step, and at
+    """The speed targets on this table: Zelda at 64 envs against DoorKey's bare step, and at
     4,096 against Griddly's one env (not measured where the run has no such row)."""
     by_batch = {row.batch: row for row in rows}
     at_64, at_4096 = by_batch.get(64), by_batch.get(4096)

@@ -207,8 +207,8 @@ def run_benchmarks(
     progress: bool = True,
     levels: str = "human",
 ) -> Section:
-    """Run every benchmark: the Markdown section for ``device``, with issue 38's targets on the
-    env table (every game's tiles at B = 64 on the CPU, human levels)."""
+    """Run every benchmark: the Markdown section for ``device``, with the speed targets checked on
+    the env table (every game's tiles at B = 64 on the CPU, human levels)."""
     games = games or registered_games()
     configs = [(g, o, b) for g in games for o in observations for b in batch_sizes]
     results = []

@@ -6,7 +6,7 @@ protocol, writes the report (tables and curves) into ``--out`` and, with ``--pub
 copies what rebuilds the report into DIR. Running it again continues where it stopped. Extra
 arguments are Hydra overrides for every run (e.g. ``hydra.launcher.partition=gpu``).
 
-``--budget curricula`` (and ``curricula-smoke``) runs issue 36's curricula comparison the same way:
+``--budget curricula`` (and ``curricula-smoke``) runs the curricula comparison the same way:
 a condition whose curriculum is not registered yet is refused with one line and the rest run; the
 UED protocol evaluates each run where this checkout has it; ``--page docs/results-curricula.md``
 writes the comparison's page from the published data. ``--borrow-from SWEEP`` takes the runs that

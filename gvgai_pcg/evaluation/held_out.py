@@ -1,4 +1,4 @@
-"""Held-out test scores over training (issue 35, item 6): a run's snapshots
+"""Held-out test scores over training: a run's snapshots
 (``snapshots/model-<frames>.pt``, kept every ``checkpoint.keep_every_frames``) each evaluated with
 a protocol, by default the 100-level sets (``LARGE_PROTOCOL``), so that the generalisation gap is
 seen as it opens rather than only at the end.

@@ -1,4 +1,4 @@
-"""What every game's level editor shares (ACCEL, issue 36): a mutable grid, picking a random cell
+"""What every game's level editor shares (ACCEL's mutations): a mutable grid, picking a random cell
 of some characters, and the retry loop that keeps only edits that leave the level valid.
 
 An editor is ``edit(level, seed) -> Level`` (``GameSpec.editor``). Each game lists its edit kinds,

@@ -108,7 +108,7 @@ class GameSpec:
         study_index: the game's place in the study (0-3): the order of its tables and figures
             and the block of its frozen test-set seeds. ``None`` for a game outside the study.
         bench_target: the tiles steps/s at B = 4096 on 2 CPU cores that the benchmark holds the
-            game to (what issues 2-5 asked of each game); ``None``: no target.
+            game to (what each game's port was asked to reach); ``None``: no target.
         frame_cost: the relative cost of a training frame, to share a sweep between jobs (the
             small sweep's run hours per game, Zelda = 1: docs/results.md, "Status").
         step_facts: whether and where its tick compiles, and its miscompile opt-outs

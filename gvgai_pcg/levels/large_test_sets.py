@@ -1,6 +1,6 @@
 """The large frozen test sets: per game, 100 distinct generated levels at d = 0.5 and 100 at d = 1,
 beside the study-sized 30-level sets (``gvgai_pcg.levels.test_sets``), so that an evaluation can
-carry less level-sampling error than 30 levels allow (issue 35).
+carry less level-sampling error than 30 levels allow.
 
 Stored compactly: one bundle per set (``test_sets/<game>_pcg<d>_large.txt``, the levels in order,
 each followed by one blank line) and one manifest per game (``test_sets/manifest_large.csv``: name,

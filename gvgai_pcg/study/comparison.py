@@ -1,4 +1,4 @@
-"""Issue 36's question, answered from the runs: does any curriculum beat PPCG on the human levels,
+"""The curricula comparison, answered from the runs: does any curriculum beat PPCG on the human levels,
 and on the tail (CVaR) of newly generated ones?
 
 Per game and curriculum, each run (seed) gives: its mean score over the five human levels and on

@@ -12,7 +12,7 @@ where the runs' overrides say ``hydra.searchpath=[file://DIR]`` (``reproduce --c
 adds it; ``searchpath_dirs`` reads it back).
 
 A budget also names what it compares: the study's claims (``comparison="study"``, the page
-``docs/results.md``) or issue 36's curricula comparison (``"curricula"``: PCG 1, PPCG, DR, PLR⊥,
+``docs/results.md``) or the curricula comparison (``"curricula"``: PCG 1, PPCG, DR, PLR⊥,
 ACCEL and SFL against PPCG, with the UED protocol, ``docs/results-curricula.md``). A condition whose
 curriculum is not registered (yet) is refused by name (``unregistered``).
 """
@@ -45,7 +45,7 @@ EXTRA_CONDITIONS = tuple(
     f"{game}-{regimen}" for game in GAMES[1:] for regimen in ("lv0", "lv4", "lv0-3", "pcg0.5")
 )
 
-# Issue 36's comparison: the curricula of the UED family beside the study's PCG 1 and PPCG, on
+# The curricula comparison: the curricula of the UED family beside the study's PCG 1 and PPCG, on
 # Zelda and Frogs (the games whose generated-level agents failed the human levels), Solarfox and
 # Boulderdash as extras. A condition whose curriculum is not registered is refused by name.
 CURRICULA = ("pcg1", "ppcg", "dr", "plr", "accel", "sfl")
@@ -140,7 +140,7 @@ BUDGETS = {
     ),
     "small": Budget("small", STUDY_CONDITIONS, seeds=(0, 1, 2), frames=5_000_000),
     # The study: pixels and the Nature CNN, 12 envs, 40M frames (GENERATORS.md §3), 4 seeds.
-    # Enough training to settle the study's claims (issue 35): frames per condition from the small
+    # Enough training to settle the study's claims: frames per condition from the small
     # sweep's curves (Zelda's multi-level and generated conditions still rose at 5M: 20M), 4 seeds,
     # 5 where the power estimate asks for them (Zelda's PCG/PPCG contrasts); a model kept every 1M
     # frames for the test score over training; the setup the pilot chose (docs/results.md); the
@@ -151,8 +151,8 @@ BUDGETS = {
         seeds=(0, 1, 2, 3),
         frames=10_000_000,
         overrides=MEDIUM_SETUP + ("checkpoint.keep_every_frames=1000000",),
-        # The claims are judged on the 100-level frozen sets (issue 35: at least 100 distinct levels
-        # per difficulty), so that level sampling adds little to the intervals.
+        # The claims are judged on the 100-level frozen sets (at least 100 distinct levels per
+        # difficulty), so that level sampling adds little to the intervals.
         protocol={"test_levels": 100, "test_sets": "large"},
         condition_frames={c: 20_000_000 for c in ("zelda-lv0-3", "zelda-pcg0.5", "zelda-pcg1", "zelda-ppcg")},
         condition_seeds={c: (0, 1, 2, 3, 4) for c in ("zelda-pcg0.5", "zelda-pcg1", "zelda-ppcg")},
@@ -167,7 +167,7 @@ BUDGETS = {
 
 # The comparison's learner: A2C with medium's setup, which the pilot tuned on these games
 # (docs/pilot.md) and the study's medium runs use, so its PCG 1 and PPCG are the study's learner;
-# PPO (issue 36) has only the UED libraries' defaults, untuned here. Same learner for all.
+# PPO has only the UED libraries' defaults, untuned here. Same learner for all.
 CURRICULA_BUDGETS = {
     "curricula-smoke": Budget(
         "curricula-smoke",

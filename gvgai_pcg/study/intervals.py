@@ -7,7 +7,7 @@ equals the bound". Holm's step-down procedure over every comparison of a family 
 of any wrong call at 5 %. Cells given as point estimates (the study's: the paper prints no
 per-seed values) are compared as they are, with no interval.
 
-Level sampling (issue 35): a generated test set is one draw of levels from the generator, the same
+Level sampling: a generated test set is one draw of levels from the generator, the same
 levels for every model, so the seeds' spread cannot show how the score would move with another
 draw. Where per-level results exist, a statistic's level-sampling variance is added to its seeds'
 (``levels``: per test set, the statistic's per-level contribution, e.g. one condition's per-level

@@ -353,7 +353,7 @@ def write_curricula(
     report_dir: Path,
     progress: bool = True,
 ) -> Path:
-    """Issue 36's comparison on the runs: the UED protocol (where this checkout has it) and the
+    """The curricula comparison on the runs: the UED protocol (where this checkout has it) and the
     replay picture of each run trained here, then ``report_dir/curricula.md`` (tables and the
     answer, ``gvgai_pcg.study.comparison``) and the curves of d over training."""
     from gvgai_pcg.evaluation.checkpoints import find_runs, run_info

@@ -1,4 +1,4 @@
-"""Boulderdash's level editor (ACCEL, issue 36): add or remove a boulder, a gem (diamond), an
+"""Boulderdash's level editor (ACCEL's mutations): add or remove a boulder, a gem (diamond), an
 inner wall or an enemy, move the exit.
 
 Edits stay inside the cave's outer wall (the generator's frame included) and keep the

@@ -1,4 +1,4 @@
-"""Frogs' level editor (ACCEL, issue 36): add or remove a log in a water lane, add or remove a
+"""Frogs' level editor (ACCEL's mutations): add or remove a log in a water lane, add or remove a
 vehicle in a street lane, move the goal along its row.
 
 Lanes keep their kind: a log (=) goes on water (0) in a row of water, and a vehicle on highway (.)

@@ -1,4 +1,4 @@
-"""Solarfox's level editor (ACCEL, issue 36): add or remove a pill, move an enemy along its lane,
+"""Solarfox's level editor (ACCEL's mutations): add or remove a pill, move an enemy along its lane,
 move the avatar. The generator's checks want exactly one top enemy (2) and one bottom enemy (1),
 so an enemy is moved, never added or removed. The ship never stops once it flies (RULES.md §5.3)
 and walls and the enemy lanes kill it, so the avatar only moves to a floor cell with a cell of

@@ -1,4 +1,4 @@
-"""Zelda's level editor (ACCEL, issue 36): move the key or the door, add or remove an inner wall,
+"""Zelda's level editor (ACCEL's mutations): move the key or the door, add or remove an inner wall,
 add or remove a monster; never the border walls, never a monster within ``MONSTER_CLEARANCE``
 of the avatar (the generator puts monsters far from it). ``edit`` keeps only edits after which
 the key and the door are still reachable (``checks.playability_problems``)."""
