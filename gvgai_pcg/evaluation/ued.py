@@ -252,11 +252,11 @@ def t_interval(values: Sequence[float], confidence: float = CONFIDENCE) -> tuple
 
     n = len(values)
     mean = sum(values) / n
-    if n < 2:
+    sd = math.sqrt(sum((v - mean) ** 2 for v in values) / (n - 1)) if n > 1 else 0.0
+    if sd == 0:  # scipy wants a positive scale
         return mean, mean
-    sd = math.sqrt(sum((v - mean) ** 2 for v in values) / (n - 1))
-    half = float(stats.t.ppf(0.5 + confidence / 2, n - 1)) * sd / math.sqrt(n)
-    return mean - half, mean + half
+    low, high = stats.t.interval(confidence, n - 1, loc=mean, scale=sd / math.sqrt(n))
+    return float(low), float(high)
 
 
 def cvar_count(alpha: float, levels: int) -> int:
@@ -321,8 +321,10 @@ def weighted_interval(
     if n < 1.5:
         return mean, mean
     variance = sum(w * (v - mean) ** 2 for w, v in zip(weights, values, strict=True)) / total * n / (n - 1)
-    half = float(stats.t.ppf(0.5 + confidence / 2, n - 1)) * math.sqrt(variance / n)
-    return mean - half, mean + half
+    if variance == 0:  # scipy wants a positive scale
+        return mean, mean
+    low, high = stats.t.interval(confidence, n - 1, loc=mean, scale=math.sqrt(variance / n))
+    return float(low), float(high)
 
 
 @dataclass(frozen=True)

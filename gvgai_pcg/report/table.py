@@ -51,8 +51,10 @@ def t_interval(values: Sequence[float], level: float = 0.95) -> tuple[float, flo
 
     mean = sum(values) / len(values)
     sd = math.sqrt(sum((v - mean) ** 2 for v in values) / (len(values) - 1))
-    half = float(stats.t.ppf(0.5 + level / 2, len(values) - 1)) * sd / math.sqrt(len(values))
-    return mean - half, mean + half
+    if sd == 0:  # scipy wants a positive scale
+        return mean, mean
+    low, high = stats.t.interval(level, len(values) - 1, loc=mean, scale=sd / math.sqrt(len(values)))
+    return float(low), float(high)
 
 
 @dataclass

@@ -72,9 +72,9 @@ def _from_t(value: float, se: float, df: float, bound: float, seeds: int) -> Est
     # the last bits, which would give a t statistic of 1e16 and a p of 1e-33): no spread at all.
     if se <= NO_SPREAD * max(1.0, abs(value)):
         return Estimate(value, value, value, 1.0 if value == bound else 0.0, seeds)
-    half = float(stats.t.ppf(1 - ALPHA / 2, df)) * se
+    low, high = stats.t.interval(1 - ALPHA, df, loc=value, scale=se)
     p = float(2 * stats.t.sf(abs(value - bound) / se, df))
-    return Estimate(value, value - half, value + half, p, seeds)
+    return Estimate(value, float(low), float(high), p, seeds)
 
 
 def level_terms(levels: Sequence[Sequence[float]]) -> list[tuple[float, int]]:
