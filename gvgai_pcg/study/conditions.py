@@ -168,6 +168,12 @@ BUDGETS = {
 # The comparison's learner: A2C with medium's setup, which the pilot tuned on these games
 # (docs/pilot.md) and the study's medium runs use, so its PCG 1 and PPCG are the study's learner;
 # PPO has only the UED libraries' defaults, untuned here. Same learner for all.
+# PLR-robust's and ACCEL's buffer at 10M frames: the references' 4,000 levels at rho 0.5 take
+# 17-18 % of Zelda's frames to fill (no gradient step before) and replay each slot 2-3 times; 300
+# fills in about 1.3 % and replays a slot dozens of times, as dcd's, minimax's and jaxued's maze
+# runs do (docs/curricula.md compares them).
+FAIR_BUFFER_SIZE = 300
+
 CURRICULA_BUDGETS = {
     "curricula-smoke": Budget(
         "curricula-smoke",
@@ -199,10 +205,15 @@ CURRICULA_BUDGETS = {
         seeds=(0, 1, 2),
         frames=10_000_000,
         overrides=MEDIUM_SETUP,
+        condition_overrides={
+            f"{game}-{name}": (f"regimen.buffer_size={FAIR_BUFFER_SIZE}",)
+            for game in GAMES
+            for name in ("plr", "accel")
+        },
         extra=CURRICULA_EXTRA,
         comparison="curricula",
         page="docs/results-curricula.md",
-        ued={"levels": 1000, "seeds": 2},
+        ued={"levels": 1000, "rank_episodes": 10, "score_episodes": 10},
     ),
 }
 BUDGETS.update(CURRICULA_BUDGETS)

@@ -361,4 +361,10 @@ def test_the_curricula_smoke_budget_shrinks_only_sfl_s_pool():
     smoke = BUDGETS["curricula-smoke"]
     assert "regimen.pool_size=8" in smoke.overrides_of("frogs-sfl")
     assert smoke.overrides_of("frogs-plr") == smoke.overrides
-    assert BUDGETS["curricula"].condition_overrides == {}  # the comparison runs the reference pool
+    # The comparison runs SFL's reference pool; PLR-robust and ACCEL a buffer fair for 10M frames.
+    full = BUDGETS["curricula"]
+    assert full.overrides_of("zelda-sfl") == full.overrides
+    assert full.overrides_of("frogs-accel")[-1] == "regimen.buffer_size=300"
+    assert {c for c in full.condition_overrides} == {
+        f"{game}-{name}" for game in ("zelda", "solarfox", "frogs", "boulderdash") for name in ("plr", "accel")
+    }
