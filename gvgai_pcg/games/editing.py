@@ -3,15 +3,26 @@ of some characters, and the retry loop that keeps only edits that leave the leve
 
 An editor is ``edit(level, seed) -> Level`` (``GameSpec.editor``). Each game lists its edit kinds,
 functions that change a ``Grid`` in place with a ``numpy`` generator and say whether they found
-somewhere to act; ``apply_edit`` draws a kind with the seed, applies it and keeps the result only
-if it is still valid (``still_valid``). A draw that fails is followed by another, up to
-``ATTEMPTS``; when none succeeds the level comes back unchanged. An edit costs about two parses and
+somewhere to act, and its ``BOUNDS``: the counts (monsters, walls, pills, logs per lane...) its
+generator can place, derived from the generator's own constants. ``apply_edit`` draws a kind with
+the seed, applies it and keeps the result only if it is still valid (``still_valid``) and no
+further outside any bound than its parent (``keeps_bounds``). A draw that fails is followed by
+another, up to ``ATTEMPTS``; when none succeeds the level comes back unchanged.
+
+Why bounds: without them an editor is a random walk with no floor or ceiling (a Zelda level
+kept without any selection gathers dozens of monsters in a few hundred generations), so what a
+curriculum's buffer drifts to would say as much about the editor as about the curriculum's
+score. Why a refused edit is redrawn rather than dropped: at a bound, the kinds that lead back
+inside (or move things) stay as likely as before, so the editor keeps changing the level and
+the walk reflects off the bound instead of stalling on it. An edit costs about two parses and
 two runs of the game's checks (a millisecond or less; docs/generators.md, "Level editors").
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 
@@ -109,6 +120,69 @@ def far_from(cells: Iterable[Cell], more_than: int) -> Callable[[Cell], bool]:
     return lambda cell: all(distance(cell, other) > more_than for other in cells)
 
 
+class Bound(Protocol):
+    """A count an edited level is kept within; ``excess`` is how far outside it ``level`` is (0
+    inside), so that a parent already outside (a human level, say) may still be edited, only
+    never further out."""
+
+    name: str
+
+    def excess(self, level: Level) -> int: ...
+
+
+@dataclass(frozen=True)
+class CountBound:
+    """How many cells hold one of ``chars``, in ``[low, high]``; with ``inner``, only the cells
+    inside the level's outer wall ring (``inner_box``), so that the border walls are not counted."""
+
+    name: str
+    chars: str
+    low: int
+    high: int
+    inner: bool = False
+
+    def __post_init__(self) -> None:
+        if not 0 <= self.low <= self.high:
+            raise ValueError(f"bound {self.name!r}: expected 0 <= low <= high, got [{self.low}, {self.high}]")
+
+    def count(self, level: Level) -> int:
+        grid = Grid(level)
+        return len(grid.find(self.chars, inner_box(grid) if self.inner else None))
+
+    def excess(self, level: Level) -> int:
+        have = self.count(level)
+        return max(self.low - have, have - self.high, 0)
+
+
+def keeps_bounds(parent: Level, child: Level, bounds: Sequence[Bound]) -> bool:
+    """Whether ``child`` is no further outside any of ``bounds`` than ``parent`` (inside all of
+    them where the parent was)."""
+    return all(bound.excess(child) <= bound.excess(parent) for bound in bounds)
+
+
+def out_of_bounds(level: Level, bounds: Sequence[Bound]) -> dict[str, int]:
+    """The bounds ``level`` is outside of, each with its excess (empty: inside all of them)."""
+    return {bound.name: excess for bound in bounds if (excess := bound.excess(level))}
+
+
+# A uniform draw close below 1 for a generator's highest counts. Not the very largest float below
+# 1: in ``14 d + 2 r`` that one rounds up to a whole number, a draw with a chance of 2^-53.
+ALMOST_ONE = 1.0 - 2.0**-30
+DIFFICULTY_GRID = tuple(i / 100 for i in range(101))  # the d at which a generator's range is read
+
+
+def parameter_range(
+    parameters: Callable[[float, Callable[[], float]], tuple], index: int
+) -> tuple[int, int]:
+    """(lowest, highest) of a generator's ``parameters(d, r)[index]`` over d in [0, 1]: every
+    uniform draw at 0 for the lowest and just below 1 for the highest. Exact for the counts the
+    bounds use, which grow with every draw of ``r`` (the generators' formulas: counts are
+    ``floor`` of products of terms that grow with their draws); d is read on a grid of 101."""
+    low = min(parameters(d, lambda: 0.0)[index] for d in DIFFICULTY_GRID)
+    high = max(parameters(d, lambda: ALMOST_ONE)[index] for d in DIFFICULTY_GRID)
+    return int(low), int(high)
+
+
 def still_valid(parent: Level, child: Level, parent_problems: set[str] | None = None) -> bool:
     """Whether ``child`` is as valid as ``parent``: it parses as a level of its game (one avatar,
     legal characters, the size limits), is the same size, keeps what the win condition needs
@@ -144,10 +218,12 @@ def check_editable(level: Level, game: str) -> None:
         ) from None
 
 
-def apply_edit(level: Level, seed: int, kinds: dict[str, EditKind], game: str) -> tuple[str | None, Level]:
+def apply_edit(
+    level: Level, seed: int, kinds: dict[str, EditKind], game: str, bounds: Sequence[Bound] = ()
+) -> tuple[str | None, Level]:
     """(the kind applied, the edited level): one edit drawn by ``seed`` that leaves ``level``
-    valid, redrawn up to ``ATTEMPTS`` times; ``(None, level unchanged)`` when none was. The
-    result never carries the parent's name or seed."""
+    valid and no further outside ``bounds``, redrawn up to ``ATTEMPTS`` times; ``(None, level
+    unchanged)`` when none was. The result never carries the parent's name or seed."""
     if level.game != game:
         raise ValueError(
             f"the {game} editor was given a {level.game} level; edit it with its own game's editor"
@@ -162,6 +238,10 @@ def apply_edit(level: Level, seed: int, kinds: dict[str, EditKind], game: str) -
         grid = Grid(level)
         if kinds[name](grid, rng):
             edited = grid.level()
-            if edited != level and still_valid(level, edited, parent_problems):
+            if (
+                edited != level
+                and keeps_bounds(level, edited, bounds)
+                and still_valid(level, edited, parent_problems)
+            ):
                 return name, edited
     return None, Level(level.game, level.rows)

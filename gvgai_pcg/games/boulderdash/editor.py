@@ -6,20 +6,29 @@ generator's distances: a new boulder more than ``BOULDER_CLEARANCE`` cells from 
 exit (a boulder above the start could fall on it at the first ticks), a new enemy more than
 ``ENEMY_START_CLEARANCE`` from the start and ``ENEMY_EXIT_CLEARANCE`` from the exit, the exit at
 least ``MIN_EXIT_DISTANCE`` from the start. ``edit`` keeps only edits after which every gem and
-the exit are still reachable (``checks.playability_problems``) and at least nine gems are left."""
+the exit are still reachable (``checks.playability_problems``) and at least nine gems are left.
+
+``BOUNDS``, from the generator's own ``parameters`` over d in [0, 1]: gems between its base ten
+plus the fewest and the most extra gems it draws, at most as many boulders and enemies as it
+places at d = 1, one exit (the editor only moves it). Inner walls are bounded by the level
+format only (the cave's box, ``inner_box``) and the reachability check: a cellular-automaton
+cave has no constant that limits its walls."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from gvgai_pcg.games.boulderdash.generator import (
+    BASE_GEMS,
     BOULDER_CLEARANCE,
     ENEMY_EXIT_CLEARANCE,
     ENEMY_START_CLEARANCE,
     MIN_EXIT_DISTANCE,
+    parameters,
 )
 from gvgai_pcg.games.editing import (
     Cell,
+    CountBound,
     EditKind,
     Grid,
     apply_edit,
@@ -28,6 +37,7 @@ from gvgai_pcg.games.editing import (
     far_from,
     inner_box,
     move,
+    parameter_range,
     place,
 )
 from gvgai_pcg.levels.level import Level
@@ -80,6 +90,21 @@ def move_exit(grid: Grid, rng: np.random.Generator) -> bool:
     return move(grid, rng, "e", on=".", leave=".", where=far)
 
 
+def generator_bounds() -> tuple[CountBound, ...]:
+    """What the generator can place: ``parameters`` gives (..., enemies N, boulders B, extra gems E)."""
+    _, most_enemies = parameter_range(parameters, 4)
+    _, most_boulders = parameter_range(parameters, 5)
+    fewest_extra, most_extra = parameter_range(parameters, 6)
+    return (
+        CountBound("gems", "x", BASE_GEMS + fewest_extra, BASE_GEMS + most_extra),
+        CountBound("boulders", "o", 0, most_boulders),
+        CountBound("enemies", ENEMIES, 0, most_enemies),
+        CountBound("exits", "e", 1, 1),
+    )
+
+
+BOUNDS = generator_bounds()
+
 KINDS: dict[str, EditKind] = {
     "add_boulder": add_boulder,
     "remove_boulder": remove_boulder,
@@ -95,4 +120,4 @@ KINDS: dict[str, EditKind] = {
 
 def edit(level: Level, seed: int) -> Level:
     """``level`` with one of ``KINDS`` applied, drawn by ``seed`` (gvgai_pcg.games.editing)."""
-    return apply_edit(level, seed, KINDS, "boulderdash")[1]
+    return apply_edit(level, seed, KINDS, "boulderdash", BOUNDS)[1]

@@ -12,7 +12,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from dataclasses import dataclass
+from functools import cache
+
 from gvgai_pcg.games.editing import EditKind, Grid, apply_edit, choose, place
+from gvgai_pcg.games.frogs.generator import LONGEST_SEGMENT
 from gvgai_pcg.levels.level import Level
 
 WATER_ROW = set("0=1234Bw")  # w: the generator's frame beside a lane
@@ -91,6 +95,44 @@ def _inside_grass(cells: list[str], old: int, new: int) -> bool:
     return cells[new] == "+" or (abs(new - old) == 1 and _inner(cells, new, old))
 
 
+@cache
+def most_segment_tiles(width: int, start: int = 1) -> int:
+    """The most tiles the generator's ``segments`` fills in a lane of ``width`` from column
+    ``start`` on: a segment of L tiles at s fills s .. s + L - 1 (not past column width - 2) and
+    the next one starts at s + 2 L + 1 or later."""
+    if start >= width - 1:
+        return 0
+    return max(
+        min(length, width - 1 - start) + most_segment_tiles(width, start + 2 * length + 1)
+        for length in range(1, LONGEST_SEGMENT + 1)
+    )
+
+
+@dataclass(frozen=True)
+class LaneBound:
+    """At most ``most_segment_tiles(lane width) + spare`` cells of ``chars`` in each lane: a row
+    made only of ``lane`` characters (its width: the cells that are not the frame's ``w``)."""
+
+    name: str
+    chars: str
+    lane: frozenset[str]
+    spare: int = 0
+
+    def excess(self, level: Level) -> int:
+        total = 0
+        for row in level.rows:
+            if set(row) <= self.lane:
+                have = sum(ch in self.chars for ch in row)
+                most = most_segment_tiles(sum(ch != "w" for ch in row)) + self.spare
+                total += max(have - most, 0)
+        return total
+
+
+BOUNDS = (
+    LaneBound("logs per water lane", "=", frozenset(WATER_ROW), spare=1),
+    LaneBound("vehicles per street lane", "".join(VEHICLES.values()), frozenset(STREET_ROW)),
+)
+
 KINDS: dict[str, EditKind] = {
     "add_log": add_log,
     "remove_log": remove_log,
@@ -102,4 +144,4 @@ KINDS: dict[str, EditKind] = {
 
 def edit(level: Level, seed: int) -> Level:
     """``level`` with one of ``KINDS`` applied, drawn by ``seed`` (gvgai_pcg.games.editing)."""
-    return apply_edit(level, seed, KINDS, "frogs")[1]
+    return apply_edit(level, seed, KINDS, "frogs", BOUNDS)[1]

@@ -27,6 +27,7 @@ from gvgai_pcg.levels.level import Level
 
 GRASS, STREET, WATER = 0, 1, 2
 _VEHICLES = {0: "l_", 1: "x-"}  # per lane direction: (fast, slow)
+LONGEST_SEGMENT = 4  # a segment (vehicle or log run) is 1 to this many tiles long
 
 
 def parameters(difficulty: float, r: UniformStream) -> tuple[int, int, float, float, int]:
@@ -70,7 +71,7 @@ def segments(width: int, count: int, r: UniformStream) -> list[bool]:
     filled = [False] * width
     start = math.floor(r() * (width / count)) + 1
     for _ in range(count):
-        length = math.floor(r() * 4) + 1
+        length = math.floor(r() * LONGEST_SEGMENT) + 1
         done = False
         for column in range(start, start + length):
             if column >= width - 1:

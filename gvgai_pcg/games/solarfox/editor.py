@@ -2,13 +2,30 @@
 move the avatar. The generator's checks want exactly one top enemy (2) and one bottom enemy (1),
 so an enemy is moved, never added or removed. The ship never stops once it flies (RULES.md §5.3)
 and walls and the enemy lanes kill it, so the avatar only moves to a floor cell with a cell of
-floor between it and them, as the generator's start (columns 4-5, rows 4-6) has."""
+floor between it and them, as the generator's start (columns 4-5, rows 4-6) has.
+
+``BOUNDS``: pills between one (the generator redraws a level without any) and the most the
+generator can draw at d = 1 (its pill target P, each draw mirrored into two or four cells, so
+up to P rounded up to a multiple of four); one enemy of each lane."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from gvgai_pcg.games.editing import Cell, EditKind, Grid, apply_edit, choose, move, place
+import math
+
+from gvgai_pcg.games.editing import (
+    Cell,
+    CountBound,
+    EditKind,
+    Grid,
+    apply_edit,
+    choose,
+    move,
+    parameter_range,
+    place,
+)
+from gvgai_pcg.games.solarfox.generator import parameters
 from gvgai_pcg.levels.level import Level
 
 PILLS = "bp"
@@ -41,6 +58,21 @@ def move_avatar(grid: Grid, rng: np.random.Generator) -> bool:
     return move(grid, rng, "A", on="+", leave="+", where=clear)
 
 
+MIRRORS = 4  # cells one pill draw can fill with both symmetries (generator.place_pills)
+
+
+def generator_bounds() -> tuple[CountBound, ...]:
+    """What the generator can place, from its own ``parameters`` (the pill target P)."""
+    _, most_pills = parameter_range(parameters, 0)
+    return (
+        CountBound("pills", PILLS, 1, MIRRORS * math.ceil(most_pills / MIRRORS)),
+        CountBound("top enemies", "2", 1, 1),
+        CountBound("bottom enemies", "1", 1, 1),
+    )
+
+
+BOUNDS = generator_bounds()
+
 KINDS: dict[str, EditKind] = {
     "add_pill": add_pill,
     "remove_pill": remove_pill,
@@ -51,4 +83,4 @@ KINDS: dict[str, EditKind] = {
 
 def edit(level: Level, seed: int) -> Level:
     """``level`` with one of ``KINDS`` applied, drawn by ``seed`` (gvgai_pcg.games.editing)."""
-    return apply_edit(level, seed, KINDS, "solarfox")[1]
+    return apply_edit(level, seed, KINDS, "solarfox", BOUNDS)[1]
