@@ -171,9 +171,7 @@ ALMOST_ONE = 1.0 - 2.0**-30
 DIFFICULTY_GRID = tuple(i / 100 for i in range(101))  # the d at which a generator's range is read
 
 
-def parameter_range(
-    parameters: Callable[[float, Callable[[], float]], tuple], index: int
-) -> tuple[int, int]:
+def parameter_range(parameters: Callable[[float, Callable[[], float]], tuple], index: int) -> tuple[int, int]:
     """(lowest, highest) of a generator's ``parameters(d, r)[index]`` over d in [0, 1]: every
     uniform draw at 0 for the lowest and just below 1 for the highest. Exact for the counts the
     bounds use, which grow with every draw of ``r`` (the generators' formulas: counts are

@@ -10,10 +10,10 @@ from; the move changes four cells at most."""
 
 from __future__ import annotations
 
-import numpy as np
-
 from dataclasses import dataclass
 from functools import cache
+
+import numpy as np
 
 from gvgai_pcg.games.editing import EditKind, Grid, apply_edit, choose, place
 from gvgai_pcg.games.frogs.generator import LONGEST_SEGMENT

@@ -10,9 +10,9 @@ up to P rounded up to a multiple of four); one enemy of each lane."""
 
 from __future__ import annotations
 
-import numpy as np
-
 import math
+
+import numpy as np
 
 from gvgai_pcg.games.editing import (
     Cell,
