@@ -117,7 +117,13 @@ def run(args: argparse.Namespace) -> int:
     if args.conditions:
         conditions = tuple(c.strip() for c in args.conditions.split(",") if c.strip())
         valid = dict.fromkeys(
-            (*known_conditions(), *budget.conditions, *budget.extra, *user_conditions(search))
+            (
+                *known_conditions(),
+                *budget.conditions,
+                *budget.extra,
+                *budget.controls,
+                *user_conditions(search),
+            )
         )
         unknown = sorted(set(conditions) - set(valid))
         if unknown:

@@ -160,18 +160,25 @@ class EditedLevels(PrioritizedLevels):
     def _offer(self, episode: Episode, score: float, episode_return: float) -> int:
         if not self.buffer.admits(score):
             return -1
+        content = self.offered_content(episode)
+        if content is None:
+            return -1
+        return self.buffer.insert(episode.seed, episode.difficulty, score, episode_return, content)
+
+    def offered_content(self, episode: Episode) -> torch.Tensor | None:
+        """The characters of the level ``episode`` played, to store: a child's (its queue slot is
+        freed) or a generated level's; ``None`` where it is neither (its slot already reused)."""
         height, width = self.buffer.content.shape[1:]
         if episode.seed >= EDITED_SEED_BASE:
             slot = self.buffer.child_slot(episode.seed)
             if slot < 0:
-                return -1
+                return None
             content = self.buffer.child_content[slot].clone()
             self.buffer.child_seed[slot] = -1  # scored: its slot is free
-        elif 0 <= episode.seed < TRAINING_SEED_SPACE:
-            content = encode_level(self.generated_level(episode.difficulty, episode.seed), height, width)
-        else:
-            return -1
-        return self.buffer.insert(episode.seed, episode.difficulty, score, episode_return, content)
+            return content
+        if 0 <= episode.seed < TRAINING_SEED_SPACE:
+            return encode_level(self.generated_level(episode.difficulty, episode.seed), height, width)
+        return None
 
 
 class Accel(PrioritizedLevelReplay):
@@ -183,12 +190,14 @@ class Accel(PrioritizedLevelReplay):
         "num_edits": Integer(1, 1000),
         "editor_prob": Number(0.0, 1.0),
     }
+    buffer_type: type[EditedLevelBuffer] = EditedLevelBuffer
+    levels_type: type[EditedLevels] = EditedLevels
 
     def make_state(self, game, section):
         from gvgai_pcg.levels.formats import level_format
 
         fmt = level_format(game)
-        buffer = EditedLevelBuffer(
+        buffer = self.buffer_type(
             int(section.get("buffer_size", ReplaySettings.buffer_size)), fmt.height, fmt.width
         )
         buffer.game = game  # whose levels replay_levels rebuilds
@@ -196,7 +205,7 @@ class Accel(PrioritizedLevelReplay):
 
     def make_source(self, game, section, state=None):
         buffer = state if state is not None else self.make_state(game, section)
-        return EditedLevels(
+        return self.levels_type(
             game,
             buffer,
             ReplaySettings.of(section),

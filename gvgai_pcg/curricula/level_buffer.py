@@ -144,6 +144,18 @@ class LevelBuffer(SharedState):
             return -1
         free = (~self.valid).nonzero().flatten()
         index = int(free[0]) if len(free) > 0 else int(torch.argmin(self.score))
+        return self.write(index, seed, difficulty, score, episode_return, content)
+
+    def write(
+        self,
+        index: int,
+        seed: int,
+        difficulty: float,
+        score: float,
+        episode_return: float,
+        content: torch.Tensor | None = None,
+    ) -> int:
+        """Put a new level in slot ``index`` (whatever held it is gone); returns ``index``."""
         self.seed[index], self.level_d[index], self.score[index] = seed, difficulty, score
         self.max_return[index], self.last_sampled[index] = episode_return, self.clock[0]
         self.valid[index] = True

@@ -46,6 +46,12 @@ def _package_modules() -> list[str]:
     return [m.name for m in pkgutil.iter_modules(package.__path__) if m.name not in _INFRASTRUCTURE]
 
 
+def _curriculum_name(module: str) -> str:
+    """The name of the curriculum ``module`` defines: its own, hyphens for underscores (a module
+    name cannot hold a hyphen: ``accel_noselect.py`` holds ``accel-noselect``)."""
+    return module.replace("_", "-")
+
+
 def _ours(names: list[str] | None = None) -> None:
     """Register the ``CURRICULUM`` of the package's modules ``names`` (default: all). Imported only
     when asked for, since they import torch, so that reading configs and refusing a usage error
@@ -95,13 +101,16 @@ def registered_curricula() -> dict[str, Curriculum]:
 def curriculum_names() -> list[str]:
     """Every curriculum's name without importing the modules that define them, so that a usage
     error can list the choices before torch is imported: ours (a module of this package defines
-    the curriculum of its own name: ``plr.py`` holds ``plr``), those registered in-process, and
+    the curriculum of its own name: ``plr.py`` holds ``plr``, ``accel_noselect.py``
+    ``accel-noselect``), those registered in-process, and
     the entry points' names."""
     from importlib.metadata import entry_points
 
     from gvgai_pcg.curricula.builtin import BUILTIN_CURRICULA
 
-    names = [curriculum.name for curriculum in BUILTIN_CURRICULA] + _package_modules()
+    names = [curriculum.name for curriculum in BUILTIN_CURRICULA] + [
+        _curriculum_name(m) for m in _package_modules()
+    ]
     names += list(_CURRICULA) + [point.name for point in entry_points(group=ENTRY_POINT_GROUP)]
     return list(dict.fromkeys(names))
 
@@ -109,8 +118,9 @@ def curriculum_names() -> list[str]:
 def get_curriculum(name: str) -> Curriculum:
     """The curriculum ``name``; an unknown name is refused with the registered ones."""
     _builtins()
-    if name not in _CURRICULA and name in _package_modules():
-        _ours([name])
+    modules = {_curriculum_name(module): module for module in _package_modules()}
+    if name not in _CURRICULA and name in modules:
+        _ours([modules[name]])
     if name not in _CURRICULA:
         _discover(again=True)
     try:

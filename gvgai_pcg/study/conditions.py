@@ -52,6 +52,9 @@ CURRICULA = ("pcg1", "ppcg", "dr", "plr", "accel", "sfl")
 CURRICULA_BASELINE = "ppcg"
 CURRICULA_CONDITIONS = tuple(f"{game}-{c}" for game in ("zelda", "frogs") for c in CURRICULA)
 CURRICULA_EXTRA = tuple(f"{game}-{c}" for game in ("solarfox", "boulderdash") for c in CURRICULA)
+# Controls: run only when named (--conditions), not in the comparison's tables. ACCEL without
+# selection shows where ACCEL's editor alone takes the buffer (docs/curricula.md).
+CURRICULA_CONTROLS = tuple(f"{game}-accel-noselect" for game in GAMES)
 
 
 @dataclass(frozen=True)
@@ -70,6 +73,7 @@ class Budget:
         condition_overrides: Hydra overrides of some conditions only, after ``overrides`` (a key
             that only their regimen has, as SFL's pool size in a smoke budget).
         extra: the conditions ``--extra`` adds (the study's: those it skipped).
+        controls: conditions run only when ``--conditions`` names them (no table shows them).
         comparison: ``study`` (the study's claims) or ``curricula`` (``gvgai_pcg.study.comparison``).
         page: the docs page whose results block ``--page`` writes by default.
         ued: the UED protocol's settings (``gvgai_pcg.evaluation.ued.UEDProtocol``) where the
@@ -88,6 +92,7 @@ class Budget:
     condition_seeds: dict[str, tuple[int, ...]] = field(default_factory=dict)
     condition_overrides: dict[str, tuple[str, ...]] = field(default_factory=dict)
     extra: tuple[str, ...] = EXTRA_CONDITIONS
+    controls: tuple[str, ...] = ()
     comparison: str = "study"
     page: str = "docs/results.md"
     ued: dict = field(default_factory=dict)
@@ -195,6 +200,7 @@ CURRICULA_BUDGETS = {
             for game in GAMES
         },
         extra=CURRICULA_EXTRA,
+        controls=CURRICULA_CONTROLS,
         comparison="curricula",
         page="docs/results-curricula.md",
         ued={"levels": 8, "seeds": 2, "max_steps": 50},
@@ -208,9 +214,10 @@ CURRICULA_BUDGETS = {
         condition_overrides={
             f"{game}-{name}": (f"regimen.buffer_size={FAIR_BUFFER_SIZE}",)
             for game in GAMES
-            for name in ("plr", "accel")
+            for name in ("plr", "accel", "accel-noselect")
         },
         extra=CURRICULA_EXTRA,
+        controls=CURRICULA_CONTROLS,
         comparison="curricula",
         page="docs/results-curricula.md",
         ued={"levels": 1000, "rank_episodes": 10, "score_episodes": 10},

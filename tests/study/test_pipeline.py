@@ -18,7 +18,7 @@ from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
 from gvgai_pcg.evaluation.protocol import Protocol
 from gvgai_pcg.rl.provenance import code_commit, session_commits
 from gvgai_pcg.study import BUDGETS, STUDY_CONDITIONS, reproduce
-from gvgai_pcg.study.conditions import EXTRA_CONDITIONS, known_conditions
+from gvgai_pcg.study.conditions import EXTRA_CONDITIONS, conditions_of, known_conditions
 from gvgai_pcg.study.page import write_results_page
 from gvgai_pcg.study.pipeline import (
     planned_configs,
@@ -366,5 +366,10 @@ def test_the_curricula_smoke_budget_shrinks_only_sfl_s_pool():
     assert full.overrides_of("zelda-sfl") == full.overrides
     assert full.overrides_of("frogs-accel")[-1] == "regimen.buffer_size=300"
     assert {c for c in full.condition_overrides} == {
-        f"{game}-{name}" for game in ("zelda", "solarfox", "frogs", "boulderdash") for name in ("plr", "accel")
+        f"{game}-{name}"
+        for game in ("zelda", "solarfox", "frogs", "boulderdash")
+        for name in ("plr", "accel", "accel-noselect")
     }
+    # ACCEL without selection, the control: the same fair buffer, run only when named
+    assert full.overrides_of("zelda-accel-noselect")[-1] == "regimen.buffer_size=300"
+    assert "zelda-accel-noselect" in full.controls and "zelda-accel-noselect" not in conditions_of(full, True)
