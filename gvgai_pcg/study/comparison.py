@@ -41,6 +41,9 @@ from gvgai_pcg.study.table1 import GENERATED_SETS, HUMAN_SETS
 BASELINE = "PPCG"
 # the tables' row order, by curriculum (``regimen``): the comparison's, others after
 REGIMEN_ORDER = ("pcg", "ppcg", "dr", "plr", "accel", "sfl")
+# Controls (gvgai_pcg.study.conditions.CURRICULA_CONTROLS): shown in the tables, never judged
+# against the baseline, so that they do not widen Holm's family of the comparison's questions.
+CONTROL_REGIMENS = frozenset({"accel-noselect"})
 ALPHAS = (0.01, 0.1)
 # The UED metrics of a run: key -> (column title, how it is read from a summary).
 UED_METRICS = {
@@ -188,7 +191,7 @@ def judge(games: dict[str, dict[str, CurriculumRuns]], baseline: str = BASELINE)
     for game, curricula in sorted(games.items()):
         base = curricula.get(baseline)
         for label, runs in sorted(curricula.items()):
-            if label == baseline:
+            if label == baseline or runs.regimen in CONTROL_REGIMENS:
                 continue
             for metric in questions_of(games):
                 ours, theirs = runs.values.get(metric), base.values.get(metric) if base else None

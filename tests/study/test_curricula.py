@@ -167,6 +167,18 @@ def test_the_answer_is_written_as_sentences_with_its_intervals():
     assert "| DR | 3 | 800 | 5.00 [4.75, 5.25] |" in page
 
 
+def test_a_control_is_shown_but_not_judged_so_holms_family_is_unchanged():
+    games = synthetic()
+    without = {(v.game, v.label, v.metric): v.adjusted_p for v in judge(games)}
+    games["zelda"]["ACCEL, no selection"] = runs(
+        "ACCEL, no selection", "accel-noselect", human=[9.0, 9.1, 8.9], cvar1=[0, 0, 0], cvar10=[0, 0, 0]
+    )
+    verdicts = judge(games)
+    assert not any(v.label == "ACCEL, no selection" for v in verdicts)
+    assert {(v.game, v.label, v.metric): v.adjusted_p for v in verdicts} == without
+    assert "| ACCEL, no selection | 3 | 800 | 9.00 [" in comparison_markdown(games)
+
+
 def test_the_tail_protocols_win_rate_cvar_is_shown_and_judged_only_where_runs_have_it():
     tail = {**SUMMARY, "rank_episodes": 10}
     assert ued_values(tail) == {
