@@ -79,3 +79,19 @@ def test_the_gpu_memory_table_takes_each_games_largest_batch():
         "| zelda | tiles | 4,096 | 4 | 1,000 | 1,073,742 |",
         "| frogs | tiles | 1,024 | 4 | 4,000 | 268,435 |",
     ]
+
+
+def test_the_benchmarks_page_holds_one_section_per_device_for_make_bench_to_rewrite():
+    """``make bench`` rewrites the text between a device's markers in place; a page without them
+    would get a second section appended, and its history page must hold none to be rewritten."""
+    from pathlib import Path
+
+    docs = Path(__file__).resolve().parents[2] / "docs"
+    page, notebook = (
+        (docs / "benchmarks.md").read_text(),
+        (docs / "history/benchmarks-notebook.md").read_text(),
+    )
+    for kind in ("cpu", "cuda"):
+        start, end = f"<!-- bench:{kind}:start -->", f"<!-- bench:{kind}:end -->"
+        assert page.count(start) == page.count(end) == 1 and page.index(start) < page.index(end)
+        assert start not in notebook and end not in notebook
