@@ -683,7 +683,7 @@ def test_a_report_says_when_the_random_agents_cache_lacks_levels(tmp_path, caplo
 def test_a_million_envs_are_refused_up_front_naming_the_key_and_the_estimate(
     device, tmp_path, capsys, monkeypatch
 ):
-    from gvgai_pcg import memory_estimate
+    from gvgai_pcg.config import memory as memory_estimate
 
     monkeypatch.setattr(memory_estimate, "available_bytes", lambda: 8 * 10**9)
     out = tmp_path / "runs"

@@ -12,7 +12,7 @@ Usage: python docs/experiments/auto_reset_step.py GAME ENVS [STEPS ROUNDS] [--un
 B's compiled call alone, round by round (A and B alternate).
 
 Measured at main @ 1be7ba7 and 6f66b7f (2026-11-29): a point-in-time script, not kept in step with the
-package; docs/benchmarks.md has its numbers.
+package; docs/history/benchmarks-notebook.md has its numbers.
 """
 
 from __future__ import annotations

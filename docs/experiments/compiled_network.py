@@ -5,7 +5,7 @@ package.) The acting pass over one batch of observations and a forward and backw
 Usage: python docs/experiments/compiled_network.py GAME [ENVS [HIDDEN]]   (defaults 64, 256)
 
 Measured at main @ 1be7ba7 and 6f66b7f (2026-11-29): a point-in-time script, not kept in step with the
-package; docs/benchmarks.md has its numbers.
+package; docs/history/benchmarks-notebook.md has its numbers.
 """
 
 from __future__ import annotations

@@ -13,7 +13,7 @@ changes nothing).
 Usage: python docs/experiments/crowded_zelda.py N [ENVS] [--always-compiled]
 
 Measured at main @ f2365f4 and the commit after it (2026-11-29, the second core busy with a training run):
-docs/benchmarks.md, "Crowded Zelda levels".
+docs/history/benchmarks-notebook.md, "Crowded Zelda levels".
 """
 
 from __future__ import annotations

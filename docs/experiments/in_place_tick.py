@@ -17,7 +17,7 @@ With ``--env``: µs an env step (``step_and_maybe_reset``, human levels, random 
 windows of 500 steps, the env's fused call swapped between A and B from window to window.
 
 Measured at main @ 4f606c8 (2026-11-29): a point-in-time script, not kept in step with the
-package; docs/benchmarks.md has its numbers.
+package; docs/history/benchmarks-notebook.md has its numbers.
 """
 
 from __future__ import annotations

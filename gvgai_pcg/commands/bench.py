@@ -7,8 +7,8 @@ from pathlib import Path
 
 import torch
 
-from gvgai_pcg.bench_targets import Section, target_lines
-from gvgai_pcg.benchmark import BATCH_SIZES, LEVEL_SETS, OBSERVATIONS, run_benchmarks, write_section
+from gvgai_pcg.bench.targets import Section, target_lines
+from gvgai_pcg.bench.throughput import BATCH_SIZES, LEVEL_SETS, OBSERVATIONS, run_benchmarks, write_section
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -27,12 +27,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seconds", type=float, default=2.0, help="minimum timed seconds per configuration")
     parser.add_argument("--threads", type=int, default=None, help="torch CPU threads (default: torch's)")
     parser.add_argument(
-        "--no-peers", action="store_true", help="leave out the peers (bench_peers, bench_vgdlx)"
+        "--no-peers", action="store_true", help="leave out the peers (gvgai_pcg.bench.peers, .vgdlx)"
     )
     parser.add_argument(
         "--no-jobs",
         action="store_true",
-        help="leave out the whole jobs (bench_jobs: the evaluation protocol, a 20k-frame training)",
+        help="leave out the whole jobs (gvgai_pcg.bench.jobs: the evaluation protocol, a 20k-frame training)",
     )
 
 
@@ -87,8 +87,8 @@ def _peers(args: argparse.Namespace, device: str) -> Section:
     VGDLx beside each game it plays."""
     if args.no_peers or torch.device(device).type != "cpu" or "tiles" not in args.obs.split(","):
         return Section()
-    from gvgai_pcg.bench_peers import peers_report
-    from gvgai_pcg.bench_vgdlx import GAMES, vgdlx_section
+    from gvgai_pcg.bench.peers import peers_report
+    from gvgai_pcg.bench.vgdlx import GAMES, vgdlx_section
 
     games = tuple(args.games.split(",")) if args.games else GAMES
     sizes = tuple(int(b) for b in args.batch_sizes.split(","))
@@ -100,6 +100,6 @@ def _jobs(args: argparse.Namespace, device: str) -> Section:
     """The evaluation protocol and the short training job, on the CPU."""
     if args.no_jobs or torch.device(device).type != "cpu":
         return Section()
-    from gvgai_pcg.bench_jobs import jobs_section
+    from gvgai_pcg.bench.jobs import jobs_section
 
     return jobs_section()

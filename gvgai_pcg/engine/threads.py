@@ -11,11 +11,12 @@ cores that two training runs and other jobs kept busy (load average 10-11), 2026
     1,024   45,716      5,575       0.12
     4,096   89,711      6,411       0.07
 
-(``nice -n 10 python -m gvgai_pcg.bench_threads zelda 64 1024 4096``.) A second thread pays only
+(``nice -n 10 python -m gvgai_pcg.bench.threads zelda 64 1024 4096``.) A second thread pays only
 on a core nobody else uses, and only where the tick has work to split: the compiled tick's loops
 over the envs run in parallel from ``LARGE_BATCH_PER_THREAD`` (512) envs a thread (inductor's
 minimum chunk; below it they are serial whatever the threads), and on a quiet machine two threads
-stepped Zelda's engine at 4,096 envs at 1.98M steps/s against 1.25M on one (docs/benchmarks.md, "CPU").
+stepped Zelda's engine at 4,096 envs at 1.98M steps/s against 1.25M on one
+(docs/history/benchmarks-notebook.md, "CPU").
 So: one thread below that many envs a thread, and never more threads than cores left idle by
 other work.
 """

@@ -5,10 +5,10 @@ an env that finishes keeps being stepped with the others but is no longer record
 results are those of the first episode of each env. The policy is asked only for the envs still
 playing, so its cost follows the episodes left, not the batch.
 
-What an evaluation costs was mostly not playing (docs/benchmarks.md, "Evaluation"): on a shared
-CPU, torch's two intra-op threads wait on each other (the protocol on one Zelda run took about
-175 s of CPU with two threads and compiling, 13-14 s on one thread eagerly, at a load of 8-10 on 2
-cores), and compiling the tick costs more than it saves in a job of 2,000 batched steps. So an
+What an evaluation costs was mostly not playing (docs/history/benchmarks-notebook.md, "Evaluation"):
+on a shared CPU, torch's two intra-op threads wait on each other (the protocol on one Zelda run took
+about 175 s of CPU with two threads and compiling, 13-14 s on one thread eagerly, at a load of 8-10
+on 2 cores), and compiling the tick costs more than it saves in a job of 2,000 batched steps. So an
 evaluation runs on one torch thread and ticks eagerly unless it can make
 ``COMPILE_PAYS_BACK_STEPS`` batched steps or more.
 

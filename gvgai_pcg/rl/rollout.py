@@ -19,7 +19,8 @@ Keeping the graph pays only from about 24 envs (``KEEP_GRAPH_FROM_ENVS``): the b
 runs once per acting pass, and at small batches ``n_steps`` small backward passes cost more than
 one batched forward and backward over the whole rollout (one thread, CPU: 12 envs, compact net
 8.4 against 7.5 ms a batch, Nature CNN 98.5 against 91.6 ms; 64 envs 20.7 against 28.5 ms;
-docs/benchmarks.md). Below it the acting passes run without a graph and the loss recomputes them.
+docs/history/benchmarks-notebook.md). Below it the acting passes run without a graph and the loss
+recomputes them.
 """
 
 from __future__ import annotations

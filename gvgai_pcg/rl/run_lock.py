@@ -1,22 +1,26 @@
 """One writer per folder: an OS lock that a second process is refused, by name of the holder.
 
 A training run directory, a run's evaluation results, the random agent's cache and a report
-folder are each written by one process at a time. ``FolderLock`` takes an exclusive ``flock`` on
-``<folder>/.lock`` before anything is written there and keeps it until it is released or its
-process dies: the kernel drops the lock with the process (also after SIGKILL), so a killed run
-never leaves a stale lock behind. The file names its holder (PID, host, start time), so that a
-process that is refused can say who has the folder. Two processes on different machines are
-kept apart too where the shared filesystem supports ``flock`` (NFSv4, Lustre with ``flock``).
+folder are each written by one process at a time. ``FolderLock`` takes ``filelock.FileLock`` on
+``<folder>/.lock`` (an exclusive ``flock``) before anything is written there and keeps it until it
+is released or its process dies: the kernel drops the lock with the process (also after SIGKILL),
+so a killed run never leaves a stale lock behind. The file names its holder (PID, host, start
+time), so that a process that is refused can say who has the folder; a refused process leaves the
+file as it was. Two processes on different machines are kept apart too where the shared
+filesystem supports ``flock`` (NFSv4, Lustre with ``flock``); where it does not, the lock is
+refused rather than emulated (filelock's soft fallback, a marker file that a killed process leaves
+behind, is turned off).
 """
 
 from __future__ import annotations
 
-import fcntl
 import os
 import socket
 import sys
 import time
 from pathlib import Path
+
+from filelock import FileLock, Timeout
 
 LOCK_NAME = ".lock"
 
@@ -38,7 +42,8 @@ class FolderLock:
     def __init__(self, folder: Path, purpose: str, hint: str = "", lock_name: str | None = None) -> None:
         self.folder, self.purpose, self.hint = Path(folder), purpose, hint
         self.path = self.folder / (lock_name or LOCK_NAME)
-        self._fd: int | None = None
+        self._lock = FileLock(self.path, timeout=0, mode=0o644, thread_local=False, fallback_to_soft=False)
+        self._fd: int | None = None  # the lock file, opened apart for the holder's note
         self._previous_note = b""
 
     def acquire(self) -> FolderLock:
@@ -51,8 +56,8 @@ class FolderLock:
                 "writable; fix its permissions, or write somewhere else"
             ) from error
         try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
+            self._lock.acquire()
+        except Timeout:
             holder = describe_holder(_read(fd))
             os.close(fd)
             hint = f", or {self.hint}" if self.hint else ""
@@ -78,9 +83,9 @@ class FolderLock:
 
     def release(self) -> None:
         if self._fd is not None:
-            fcntl.flock(self._fd, fcntl.LOCK_UN)
             os.close(self._fd)
             self._fd = None
+            self._lock.release()
 
     def __enter__(self) -> FolderLock:
         return self.acquire()

@@ -10,7 +10,6 @@ beside it.
 
 from __future__ import annotations
 
-import fcntl
 import os
 import re
 import statistics
@@ -49,7 +48,13 @@ class RunStatus:
 
 
 def training_holder(run: Path) -> str | None:
-    """The holder note of ``run``'s lock while a process trains it (``None``: no one does)."""
+    """The holder note of ``run``'s lock while a process trains it (``None``: no one does).
+
+    The probe tries the lock the way ``FolderLock`` takes it (filelock's ``flock``, without
+    waiting) on a read-only descriptor, so a run folder that is not writable can be read, and
+    lets it go at once."""
+    from filelock import lock_descriptor, unlock_descriptor
+
     from gvgai_pcg.rl.run_lock import LOCK_NAME, describe_holder
 
     path = run / LOCK_NAME
@@ -57,11 +62,9 @@ def training_holder(run: Path) -> str | None:
         return None
     fd = os.open(path, os.O_RDONLY)
     try:
-        fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
-    except BlockingIOError:
-        return describe_holder(path.read_bytes())
-    else:
-        fcntl.flock(fd, fcntl.LOCK_UN)
+        if not lock_descriptor(fd, blocking=False):
+            return describe_holder(path.read_bytes())
+        unlock_descriptor(fd)
         return None
     finally:
         os.close(fd)

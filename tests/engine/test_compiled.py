@@ -135,7 +135,7 @@ def test_a_tick_and_draw_that_does_not_compile_leaves_the_state_to_the_separate_
 
 
 def test_the_speedup_script_times_both_ticks():
-    from gvgai_pcg.bench_compiled import measure_speedup
+    from gvgai_pcg.bench.compiled import measure_speedup
 
     result = measure_speedup("zelda", batch=3, rounds=1, steps_per_round=30)
     assert result.compiled > 0 and result.eager > 0 and result.ratio == result.compiled / result.eager

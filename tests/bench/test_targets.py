@@ -1,7 +1,7 @@
 """Issue 38's targets beside a run's figures: met, missed or not measured (no measuring here)."""
 
-from gvgai_pcg import bench_targets
-from gvgai_pcg.bench_targets import Check, Section
+from gvgai_pcg.bench import targets as bench_targets
+from gvgai_pcg.bench.targets import Check, Section
 
 
 def test_a_check_is_met_at_its_bound_either_way_and_unmeasured_without_a_figure():

@@ -3,7 +3,8 @@
 import pytest
 import torch
 
-from gvgai_pcg import benchmark
+from gvgai_pcg.bench import throughput as benchmark
+from gvgai_pcg.bench import timing
 from gvgai_pcg.envs import GVGAIEnv
 
 
@@ -29,7 +30,7 @@ def test_the_engine_and_target_tables_have_a_row_per_game(monkeypatch):
 
 def test_a_burst_of_load_in_one_window_moves_the_spread_but_not_the_median(monkeypatch):
     clock = iter(range(10_000))  # fake seconds: every perf_counter() call is one second later
-    monkeypatch.setattr(benchmark.time, "perf_counter", lambda: float(next(clock)))
+    monkeypatch.setattr(timing.time, "perf_counter", lambda: float(next(clock)))
     calls = []
 
     def step() -> int:
@@ -67,69 +68,6 @@ def test_the_env_measure_takes_generated_levels_and_refuses_unknown_sets(monkeyp
         benchmark.level_source("frogs", "random")
 
 
-def test_the_training_benchmark_times_the_network_both_ways_and_splits_a_batch(make_small_config):
-    from gvgai_pcg.rl import benchmark as training
-
-    cfg = make_small_config
-    costs = training.network_costs(cfg, seconds=0.2)
-    assert set(costs) == {"acting_and_update", "reused_graph"}
-    assert all(cost.wall > 0 and cost.cpu > 0 for cost in costs.values())
-    parts = training.batch_breakdown(cfg, batches=3)
-    assert {"acting", "env", "update", "rest", "total"} <= set(parts)
-    named = parts["acting"].cpu + parts["env"].cpu + parts["update"].cpu
-    assert 0 < named <= parts["total"].cpu + 1e-9
-    assert abs(named + parts["rest"].cpu - parts["total"].cpu) < 1e-9
-    layouts = training.layout_costs(cfg, seconds=0.2)
-    assert set(layouts) == {"own", "contiguous"} and all(c.cpu > 0 for c in layouts.values())
-    text = training.describe("run", {**dict.fromkeys(NUMBERS, 1.0), "layout_cpu_speedup": 1.25})
-    assert "updates 1.25x as fast as contiguous" in text
-    assert "keeps the acting passes' graph" in text
-    text = training.describe("run", {**dict.fromkeys(NUMBERS, 1.0), "keeps_acting_graph": 0.0})
-    assert "recomputes the acting passes" in text
-
-
-@pytest.mark.slow  # a few PPO updates and a batch of the loop (~5 s on a quiet machine)
-def test_the_training_benchmark_measures_ppo_against_its_epochs_of_minibatches(monkeypatch):
-    monkeypatch.setenv("GVGAI_PCG_COMPILE", "0")  # a compiled tick would take minutes to build here
-    from hydra import compose, initialize_config_dir
-
-    from gvgai_pcg.config import config_dir
-    from gvgai_pcg.rl import benchmark as training
-
-    small = ["env.num_envs=4", "regimen=lv", "model.hidden=16", "algo=ppo", "algo.n_steps=4"]
-    with initialize_config_dir(config_dir=str(config_dir()), version_base="1.3"):
-        cfg = compose("config", overrides=[*small, "algo.epochs=2", "algo.minibatches=2"])
-    assert training.update_shape(cfg.algo) == (2, 2)
-    steps = []
-    original = torch.optim.Adam.step
-    monkeypatch.setattr(torch.optim.Adam, "step", lambda self, *a, **k: steps.append(1) or original(self))
-    once = lambda work, seconds: work() or training.Cost(1.0, 1.0)  # noqa: E731 (one call, no timing)
-    monkeypatch.setattr(training, "time_calls", once)
-    costs = training.network_costs(cfg)
-    assert set(costs) == {"acting_and_update"}  # PPO has no reused-graph shape
-    assert len(steps) == 2 * 2 * 2  # two timed rounds, each epochs x minibatches Adam steps
-    parts = training.batch_breakdown(cfg, batches=1)
-    assert parts["update"].cpu > 0 and parts["acting"].cpu > 0
-    numbers = {**dict.fromkeys(NUMBERS[:8], 1.0), "keeps_acting_graph": 0.0}
-    text = training.describe("ppo-run", numbers)
-    assert "network's whole work" in text and "reused-graph" not in text
-
-
-NUMBERS = ("frames_per_batch", "load", "end_to_end_fps", "end_to_end_cpu_fps", "limit_fps", "limit_cpu_fps")
-NUMBERS += ("ratio", "cpu_ratio", "reused_limit_fps", "reused_limit_cpu_fps", "reused_ratio")
-NUMBERS += ("reused_cpu_ratio", "keeps_acting_graph")
-
-
-@pytest.fixture
-def make_small_config():
-    from hydra import compose, initialize_config_dir
-
-    from gvgai_pcg.config import config_dir
-
-    with initialize_config_dir(config_dir=str(config_dir()), version_base="1.3"):
-        return compose("config", overrides=["env.num_envs=4", "regimen=lv", "model.hidden=16"])
-
-
 def test_the_gpu_memory_table_takes_each_games_largest_batch():
     results = [
         benchmark.StepResult("zelda", "tiles", 64, 0.1, benchmark.Rate(1, 1, 1), 0, 64 * 2_000),
@@ -141,3 +79,19 @@ def test_the_gpu_memory_table_takes_each_games_largest_batch():
         "| zelda | tiles | 4,096 | 4 | 1,000 | 1,073,742 |",
         "| frogs | tiles | 1,024 | 4 | 4,000 | 268,435 |",
     ]
+
+
+def test_the_benchmarks_page_holds_one_section_per_device_for_make_bench_to_rewrite():
+    """``make bench`` rewrites the text between a device's markers in place; a page without them
+    would get a second section appended, and its history page must hold none to be rewritten."""
+    from pathlib import Path
+
+    docs = Path(__file__).resolve().parents[2] / "docs"
+    page, notebook = (
+        (docs / "benchmarks.md").read_text(),
+        (docs / "history/benchmarks-notebook.md").read_text(),
+    )
+    for kind in ("cpu", "cuda"):
+        start, end = f"<!-- bench:{kind}:start -->", f"<!-- bench:{kind}:end -->"
+        assert page.count(start) == page.count(end) == 1 and page.index(start) < page.index(end)
+        assert start not in notebook and end not in notebook

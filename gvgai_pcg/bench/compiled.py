@@ -1,6 +1,6 @@
 """What compiling a game's tick buys: env steps/s with the compiled and the eager tick.
 
-``python -m gvgai_pcg.bench_compiled [GAME] [B ...]`` steps one ``GVGAIEnv`` (tiles, human levels,
+``python -m gvgai_pcg.bench.compiled [GAME] [B ...]`` steps one ``GVGAIEnv`` (tiles, human levels,
 random actions, resets included) and swaps its tick between rounds, so both ticks see the same
 machine load; a ratio from one run is what counts on a shared machine. Defaults: Zelda at
 B = 1, 12, 64, 1024 and 4096.
@@ -10,11 +10,11 @@ from __future__ import annotations
 
 import statistics
 import sys
-import time
 from dataclasses import dataclass
 
 import torch
 
+from gvgai_pcg.bench.timing import Stopwatch, time_windows
 from gvgai_pcg.engine.step_plan import eager_plan
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.stepping import PlanRunner
@@ -47,26 +47,24 @@ def measure_speedup(
     generator = torch.Generator().manual_seed(0)
     td = env.reset()
 
-    def run(steps: int) -> None:
+    def run(steps: int) -> int:
         nonlocal td
         for _ in range(steps):
             td.set("action", torch.randint(0, env.game.num_actions, (batch,), generator=generator))
             _, td = env.step_and_maybe_reset(td)
+        return batch * steps
 
-    begin = time.perf_counter()
-    run(5)
-    first = time.perf_counter() - begin
+    with Stopwatch() as first:
+        run(5)
     calls = max(20, steps_per_round // batch)
     rates: dict[str, list[float]] = {name: [] for name in ticks}
     for _ in range(rounds):
         for name, runner in ticks.items():
             env._runner = runner
             run(3)
-            begin = time.perf_counter()
-            run(calls)
-            rates[name].append(batch * calls / (time.perf_counter() - begin))
+            rates[name].append(time_windows(lambda: run(1), 0.0, min_calls=calls)[0].rate)
     compiled, eager = (statistics.median(rates[name]) for name in ticks)
-    return Speedup(game, batch, compiled, eager, first)
+    return Speedup(game, batch, compiled, eager, first.wall)
 
 
 def main(argv: list[str]) -> int:

@@ -19,17 +19,17 @@ import os
 import subprocess
 import sys
 import tempfile
-import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from gvgai_pcg.bench_targets import PROTOCOL_SECONDS, TRAINING_OVER_EAGER, Check, Section, ratio
+from gvgai_pcg.bench.targets import PROTOCOL_SECONDS, TRAINING_OVER_EAGER, Check, Section, ratio
+from gvgai_pcg.bench.timing import Stopwatch
 
 if TYPE_CHECKING:
     from gvgai_pcg.evaluation.protocol import Protocol
 
-EVALUATED_RUN = Path(__file__).resolve().parents[1] / "results/pilot/runs/p-e64-lr2e-3-pcg1-s0"
+EVALUATED_RUN = Path(__file__).resolve().parents[2] / "results/pilot/runs/p-e64-lr2e-3-pcg1-s0"
 TRAINING_GAME = "frogs"
 TRAINING_FRAMES = 20_000
 TRAINING_MODES = ("cold", "warm", "eager")
@@ -61,15 +61,14 @@ def time_protocol(run_dir: Path = EVALUATED_RUN, protocol: Protocol | None = Non
     from gvgai_pcg.evaluation.policy import load_policy
     from gvgai_pcg.evaluation.protocol import Protocol
 
-    wall, cpu = time.perf_counter(), time.process_time()
-    info = run_info(run_dir)
-    protocol = protocol or Protocol()
-    policy = load_policy(info, greedy=protocol.greedy, seed=protocol.seed)
-    records = evaluate_policy(info.game, policy, protocol, "bench", info.obs, progress=False)
-    wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+    with Stopwatch() as watch:
+        info = run_info(run_dir)
+        protocol = protocol or Protocol()
+        policy = load_policy(info, greedy=protocol.greedy, seed=protocol.seed)
+        records = evaluate_policy(info.game, policy, protocol, "bench", info.obs, progress=False)
     episodes = sum(record.episodes for record in records)
     steps = sum(sum(record.lengths) for record in records)
-    return ProtocolTime(run_dir.name, info.game, episodes, steps, wall, cpu)
+    return ProtocolTime(run_dir.name, info.game, episodes, steps, watch.wall, watch.cpu)
 
 
 def training_command(out_dir: Path, game: str = TRAINING_GAME, frames: int = TRAINING_FRAMES) -> list[str]:
@@ -104,17 +103,17 @@ def time_training(
     with tempfile.TemporaryDirectory(prefix="gvgai-pcg-bench-") as folder:
         for mode in modes:
             out_dir = Path(folder) / mode
-            begin = time.perf_counter()
-            try:
-                returncode = subprocess.run(
-                    training_command(out_dir, frames=frames),
-                    env=training_environment(mode, Path(folder) / "inductor"),
-                    capture_output=True,
-                    timeout=TRAINING_TIMEOUT_S,
-                ).returncode
-            except subprocess.TimeoutExpired:  # the child is killed
-                returncode = TIMED_OUT
-            times.append(TrainingTime(mode, time.perf_counter() - begin, returncode))
+            with Stopwatch() as watch:
+                try:
+                    returncode = subprocess.run(
+                        training_command(out_dir, frames=frames),
+                        env=training_environment(mode, Path(folder) / "inductor"),
+                        capture_output=True,
+                        timeout=TRAINING_TIMEOUT_S,
+                    ).returncode
+                except subprocess.TimeoutExpired:  # the child is killed
+                    returncode = TIMED_OUT
+            times.append(TrainingTime(mode, watch.wall, returncode))
     return times
 
 

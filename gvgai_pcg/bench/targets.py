@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 # Tiles steps/s at B = 64 of main @ 29e65d2, the `make bench` of 2026-11-26 (sixth session, quiet
-# machine, 2 torch threads) whose table docs/benchmarks.md kept: the target is 1.5x each.
+# machine, 2 torch threads) whose table docs/history/benchmarks-notebook.md keeps: the target is 1.5x each.
 FIGURES_2026_11_26 = {"zelda": 114_667, "solarfox": 80_291, "boulderdash": 90_635, "frogs": 39_077}
 SPEEDUP_OVER_2026_11_26 = 1.5
 DOORKEY_BARE_AT_64 = 1.0  # Zelda tiles at 64 envs against XLand-MiniGrid's DoorKey-8x8 bare step

@@ -8,9 +8,11 @@ import sys
 
 import pytest
 
-from gvgai_pcg import bench_jobs, bench_peers, bench_vgdlx
-from gvgai_pcg.bench_targets import Check, Section
-from gvgai_pcg.benchmark import Rate
+from gvgai_pcg.bench import jobs as bench_jobs
+from gvgai_pcg.bench import peers as bench_peers
+from gvgai_pcg.bench import vgdlx as bench_vgdlx
+from gvgai_pcg.bench.targets import Check, Section
+from gvgai_pcg.bench.throughput import Rate
 from gvgai_pcg.commands import bench
 
 
@@ -107,7 +109,7 @@ def test_doorkey_is_measured_when_the_extra_is_installed(auto_reset):
     # In a child process: JAX's absl logging keeps a handler on this process's captured stderr,
     # and the Hydra app of a later test (tests/test_cli_errors.py) failed on it once it was closed.
     code = (
-        "from gvgai_pcg import bench_peers\n"
+        "from gvgai_pcg.bench import peers as bench_peers\n"
         f"t = bench_peers.measure_doorkey(batch=4, min_seconds=0.0, auto_reset={auto_reset})\n"
         "print(t.rate.low, t.rate.median, t.rate.high, t.setup_s)"
     )

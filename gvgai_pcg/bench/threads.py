@@ -1,4 +1,4 @@
-"""One torch thread against two, in one env per batch: ``python -m gvgai_pcg.bench_threads [GAME] [B ...]``.
+"""One torch thread against two, in one env per batch: ``python -m gvgai_pcg.bench.threads [GAME] [B ...]``.
 
 Steps one ``GVGAIEnv`` (tiles, human levels, random actions, resets included) and alternates the
 thread count between windows, so both see the same machine load (what ``threads_for_batch`` is
@@ -11,10 +11,10 @@ from __future__ import annotations
 import os
 import statistics
 import sys
-import time
 
 import torch
 
+from gvgai_pcg.bench.timing import time_windows
 from gvgai_pcg.envs import GVGAIEnv
 
 WINDOWS = 4
@@ -36,11 +36,12 @@ def measure_threads(
         generator = torch.Generator().manual_seed(0)
         td = env.reset()
 
-        def run(calls: int) -> None:
+        def run(calls: int) -> int:
             nonlocal td
             for _ in range(calls):
                 td.set("action", torch.randint(0, env.game.num_actions, (batch,), generator=generator))
                 _, td = env.step_and_maybe_reset(td)
+            return batch * calls
 
         rates: dict[int, list[float]] = {count: [] for count in counts}
         for count in counts:  # compiles, once per thread count
@@ -50,11 +51,7 @@ def measure_threads(
             for count in counts:
                 torch.set_num_threads(count)
                 run(2)
-                calls, begin = 0, time.perf_counter()
-                while calls < 5 or time.perf_counter() - begin < window_s:
-                    run(1)
-                    calls += 1
-                rates[count].append(batch * calls / (time.perf_counter() - begin))
+                rates[count].append(time_windows(lambda: run(1), window_s, min_calls=5)[0].rate)
         return rates
     finally:
         torch.set_num_threads(before)

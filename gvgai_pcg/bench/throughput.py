@@ -5,7 +5,8 @@ Warm-up (first reset and the first steps, where allocators and caches settle) is
 from the steady state. Resets happen at their natural rate: finished envs are reset through the
 ``"_reset"`` mask as a collector would. The steady state is timed in consecutive windows and the
 median window is reported with the slowest and fastest: on a shared machine a burst of load from
-elsewhere spoils a window or two, which drags a mean over the whole run down but not the median.
+elsewhere spoils a window or two, which drags a mean over the whole run down but not the median
+(the windows are :mod:`gvgai_pcg.bench.timing`'s, shared by every measurement of the bench).
 Numbers go into ``docs/benchmarks.md`` between markers, one section per device kind, so a GPU run
 does not erase the CPU figures.
 """
@@ -24,7 +25,8 @@ from pathlib import Path
 import torch
 from tensordict import TensorDict
 
-from gvgai_pcg.bench_targets import Check, Section, env_checks
+from gvgai_pcg.bench.targets import Check, Section, env_checks
+from gvgai_pcg.bench.timing import Stopwatch, time_windows
 from gvgai_pcg.engine.compiled import engine_tick
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.shards import ShardedStepper
@@ -58,13 +60,7 @@ def windowed_rate(
     ``MIN_CALLS`` calls) of ``step``, which returns how many env steps it made; ``max_steps`` caps
     the calls."""
     per_window = max(MIN_CALLS, max_steps // windows) if max_steps else None
-    rates = []
-    for _ in range(windows):
-        calls, steps, begin = 0, 0, time.perf_counter()
-        while calls < MIN_CALLS or (time.perf_counter() - begin < seconds / windows and calls != per_window):
-            steps += step()
-            calls += 1
-        rates.append(steps / (time.perf_counter() - begin))
+    rates = [w.rate for w in time_windows(step, seconds, windows, MIN_CALLS, per_window)]
     return Rate(statistics.median(rates), min(rates), max(rates))
 
 
@@ -99,15 +95,17 @@ def measure_env(
     if cuda:
         torch.cuda.empty_cache()
         torch.cuda.reset_peak_memory_stats()
-    begin = time.perf_counter()
-    env = GVGAIEnv(game, num_envs=batch, levels=level_source(game, levels), obs=obs, device=device, seed=0)
-    generator = torch.Generator(device=device).manual_seed(0)
-    td = env.reset()
-    for _ in range(3):
-        td.set("action", torch.randint(0, env.game.num_actions, (batch,), generator=generator, device=device))
-        _, td = env.step_and_maybe_reset(td)
-    _sync(device)
-    warmup = time.perf_counter() - begin
+    with Stopwatch(sync=cuda) as warmup:
+        env = GVGAIEnv(
+            game, num_envs=batch, levels=level_source(game, levels), obs=obs, device=device, seed=0
+        )
+        generator = torch.Generator(device=device).manual_seed(0)
+        td = env.reset()
+        for _ in range(3):
+            td.set(
+                "action", torch.randint(0, env.game.num_actions, (batch,), generator=generator, device=device)
+            )
+            _, td = env.step_and_maybe_reset(td)
     resets = 0
 
     def step() -> int:
@@ -119,7 +117,7 @@ def measure_env(
 
     rate = windowed_rate(step, min_seconds, max_steps=max_steps)
     peak = torch.cuda.max_memory_allocated() if cuda else None
-    return StepResult(game, obs, batch, warmup, rate, resets, peak)
+    return StepResult(game, obs, batch, warmup.wall, rate, resets, peak)
 
 
 def level_source(game: str, levels: str) -> object:
@@ -172,15 +170,12 @@ def measure_generating_resets(game: str, batch: int = 64, rounds: int = 5) -> fl
 
     env = GVGAIEnv(game, num_envs=batch, levels=GeneratedLevels(game), difficulty=1.0)
     env.reset()
-    begin = time.perf_counter()
-    for _ in range(rounds):
+
+    def reset() -> int:
         env.reset()
-    return rounds * batch / (time.perf_counter() - begin)
+        return batch
 
-
-def _sync(device: str) -> None:
-    if torch.device(device).type == "cuda":
-        torch.cuda.synchronize()
+    return time_windows(reset, 0.0, min_calls=rounds)[0].rate
 
 
 def machine_description(device: str) -> str:

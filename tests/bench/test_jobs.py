@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from gvgai_pcg import bench_jobs
-from gvgai_pcg.bench_jobs import ProtocolTime, TrainingTime
+from gvgai_pcg.bench import jobs as bench_jobs
+from gvgai_pcg.bench.jobs import ProtocolTime, TrainingTime
 from gvgai_pcg.evaluation.protocol import Protocol
 
 

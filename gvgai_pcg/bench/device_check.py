@@ -1,4 +1,4 @@
-"""Does a device compute what the CPU computes? ``python -m gvgai_pcg.device_check --device cuda``.
+"""Does a device compute what the CPU computes? ``python -m gvgai_pcg.bench.device_check --device cuda``.
 
 The golden traces hold the CPU engine to GVGAI's own, tick by tick; this check carries that to
 another device by holding it to the CPU, exactly, on two levels:

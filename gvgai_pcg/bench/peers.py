@@ -19,10 +19,10 @@ size our Zelda tiles env and then, right after it, the peer:
   3.11 only, so the extra installs it only there.
 
 VGDLx, a VGDL interpreter in JAX that plays Zelda, Frogs and Boulderdash from GVGAI's own game
-descriptions, is measured beside each of those games by :mod:`gvgai_pcg.bench_vgdlx`, on these
+descriptions, is measured beside each of those games by :mod:`gvgai_pcg.bench.vgdlx`, on these
 helpers.
 
-Both sides are timed by :func:`gvgai_pcg.benchmark.windowed_rate` (median of consecutive windows,
+Both sides are timed by :func:`gvgai_pcg.bench.throughput.windowed_rate` (median of consecutive windows,
 the same cap on calls). Nothing here imports JAX or Griddly until a measurement runs, so the
 tables can be built (and tested) without the extra.
 """
@@ -38,8 +38,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from importlib.metadata import PackageNotFoundError, version
 
-from gvgai_pcg.bench_targets import DOORKEY_BARE_AT_64, GRIDDLY_AT_4096, Check, Section, ratio
-from gvgai_pcg.benchmark import Rate, measure_env, windowed_rate
+from gvgai_pcg.bench.targets import DOORKEY_BARE_AT_64, GRIDDLY_AT_4096, Check, Section, ratio
+from gvgai_pcg.bench.throughput import Rate, measure_env, windowed_rate
+from gvgai_pcg.bench.timing import Stopwatch
 from gvgai_pcg.progress import track
 
 DOORKEY = "MiniGrid-DoorKey-8x8"
@@ -83,17 +84,16 @@ def version_of(package: str) -> str:
 
 
 def timed_rate(step: Callable[[], int], seconds: float, max_steps: int | None) -> tuple[Rate, float]:
-    cpu, wall = time.process_time(), time.perf_counter()
-    rate = windowed_rate(step, seconds, max_steps=max_steps)
-    return rate, (time.process_time() - cpu) / (time.perf_counter() - wall)
+    with Stopwatch() as watch:
+        rate = windowed_rate(step, seconds, max_steps=max_steps)
+    return rate, watch.cores
 
 
 def measure_ours(batch: int, min_seconds: float = 2.0, game: str = GAME) -> Timed:
     """Our tiles env as the env table measures it (``measure_env``), with its cores."""
-    cpu, wall = time.process_time(), time.perf_counter()
-    result = measure_env(game, batch, OBS, "cpu", min_seconds, max_steps=MAX_CALLS)
-    cores = (time.process_time() - cpu) / (time.perf_counter() - wall)
-    return Timed(result.rate, result.warmup_s, cores, result.resets)
+    with Stopwatch() as watch:
+        result = measure_env(game, batch, OBS, "cpu", min_seconds, max_steps=MAX_CALLS)
+    return Timed(result.rate, result.warmup_s, watch.cores, result.resets)
 
 
 def measure_doorkey(batch: int, min_seconds: float = 2.0, seed: int = 0, auto_reset: bool = True) -> Timed:

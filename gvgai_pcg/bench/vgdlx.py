@@ -32,8 +32,8 @@ from pathlib import Path
 
 import torch
 
-from gvgai_pcg.bench_peers import MAX_CALLS, Timed, measure_ours, slowest, timed_rate, version_of
-from gvgai_pcg.bench_targets import VGDLX_AT, Check, Section, ratio
+from gvgai_pcg.bench.peers import MAX_CALLS, Timed, measure_ours, slowest, timed_rate, version_of
+from gvgai_pcg.bench.targets import VGDLX_AT, Check, Section, ratio
 from gvgai_pcg.progress import track
 
 GAMES = ("zelda", "frogs", "boulderdash")  # ours that VGDLx plays (it has no Solarfox)
@@ -129,7 +129,7 @@ def measure_vgdlx(game: str, batch: int, min_seconds: float = 2.0, seed: int = 0
 
 
 def measure_ours_best(game: str, batch: int, min_seconds: float = 2.0) -> tuple[Timed, int]:
-    """Ours (``bench_peers.measure_ours``) at each of ``THREADS`` torch threads: the faster one."""
+    """Ours (``peers.measure_ours``) at each of ``THREADS`` torch threads: the faster one."""
     threads = torch.get_num_threads()
     timed = {}
     for count in sorted({min(n, os.cpu_count() or 1) for n in THREADS}):

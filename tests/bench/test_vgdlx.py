@@ -11,9 +11,11 @@ from pathlib import Path
 import pytest
 import torch
 
-from gvgai_pcg import bench_jobs, bench_peers, bench_vgdlx
-from gvgai_pcg.bench_peers import Timed
-from gvgai_pcg.benchmark import Rate
+from gvgai_pcg.bench import jobs as bench_jobs
+from gvgai_pcg.bench import peers as bench_peers
+from gvgai_pcg.bench import vgdlx as bench_vgdlx
+from gvgai_pcg.bench.peers import Timed
+from gvgai_pcg.bench.throughput import Rate
 
 
 def _timed(median: float, setup_s: float = 0.0) -> Timed:
@@ -135,7 +137,7 @@ def test_ours_is_the_faster_of_one_and_two_threads_and_the_threads_are_restored(
 def test_vgdlx_measures_each_game():
     # A child process, as for DoorKey (JAX's absl logging and pytest's captured stderr).
     code = (
-        "from gvgai_pcg import bench_vgdlx\n"
+        "from gvgai_pcg.bench import vgdlx as bench_vgdlx\n"
         "for game in bench_vgdlx.GAMES:\n"
         "    t = bench_vgdlx.measure_vgdlx(game, batch=4, min_seconds=0.0)\n"
         "    print(t.rate.low, t.rate.median, t.rate.high, t.setup_s)"

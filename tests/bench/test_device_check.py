@@ -2,7 +2,7 @@
 
 import torch
 
-from gvgai_pcg import device_check
+from gvgai_pcg.bench import device_check
 from gvgai_pcg.games import get_game
 
 CPU = torch.device("cpu")

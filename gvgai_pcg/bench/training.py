@@ -1,6 +1,6 @@
 """Training throughput: end-to-end frames/s against the network's own limit.
 
-``python -m gvgai_pcg.rl.benchmark [hydra overrides]`` trains a short run of the given config
+``python -m gvgai_pcg.bench.training [hydra overrides]`` trains a short run of the given config
 (default: the fast default, PPCG on Zelda), then times the network alone on real observations
 (``num_envs`` per acting pass, ``num_envs x n_steps`` per update) in two shapes:
 
@@ -32,7 +32,6 @@ import os
 import statistics
 import sys
 import tempfile
-import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -40,13 +39,14 @@ from pathlib import Path
 import torch
 from omegaconf import DictConfig
 
+from gvgai_pcg.bench.timing import Stopwatch, time_windows
 from gvgai_pcg.engine.threads import threads_for_batch
-from gvgai_pcg.rl.a2c import train
 from gvgai_pcg.rl.environment import EnvFactory, make_difficulty
 from gvgai_pcg.rl.learners import learner_class
 from gvgai_pcg.rl.learners.base import Learner
 from gvgai_pcg.rl.models import CHANNELS_LAST_TORSOS, actor_critic_for, as_tensordict_module
 from gvgai_pcg.rl.rollout import ActingRollouts, keeps_acting_graph, sample_actions
+from gvgai_pcg.rl.training import train
 
 WINDOWS = 5
 MODELLED = ("a2c", "ppo")  # the learners whose update shape the limit models
@@ -60,27 +60,18 @@ class Cost:
     cpu: float
 
 
-def synchronize() -> None:
-    """Wait for the GPU's queued work, so that a clock read after it counts that work (CUDA runs
-    asynchronously; nothing to wait for on the CPU)."""
-    if torch.cuda.is_available() and torch.cuda.is_initialized():
-        torch.cuda.synchronize()
-
-
 def time_calls(work: Callable[[], None], seconds: float, windows: int = WINDOWS) -> Cost:
     """Median wall and CPU seconds per call of ``work`` over ``windows`` windows."""
     work()  # warm-up
-    walls, cpus = [], []
-    for _ in range(windows):
-        synchronize()
-        calls, start, cpu = 0, time.perf_counter(), time.process_time()
-        while calls < 2 or time.perf_counter() - start < seconds / windows:
-            work()
-            calls += 1
-        synchronize()
-        walls.append((time.perf_counter() - start) / calls)
-        cpus.append((time.process_time() - cpu) / calls)
-    return Cost(statistics.median(walls), statistics.median(cpus))
+
+    def call() -> int:
+        work()
+        return 1
+
+    timed = time_windows(call, seconds, windows, min_calls=2, sync=True)
+    return Cost(
+        statistics.median(w.wall / w.calls for w in timed), statistics.median(w.cpu / w.calls for w in timed)
+    )
 
 
 def _env_and_net(cfg: DictConfig):
@@ -203,28 +194,12 @@ def network_costs(cfg: DictConfig, seconds: float = 6.0) -> dict[str, Cost]:
     }
 
 
-class _Stopwatch:
-    """Adds up the wall and CPU time spent inside ``with`` blocks; on a GPU each block waits for
-    its queued work at its end, which keeps the parts apart but keeps them from overlapping."""
-
-    def __init__(self) -> None:
-        self.wall = self.cpu = 0.0
-
-    def __enter__(self) -> None:
-        self._start, self._cpu = time.perf_counter(), time.process_time()
-
-    def __exit__(self, *exc) -> None:
-        synchronize()
-        self.wall += time.perf_counter() - self._start
-        self.cpu += time.process_time() - self._cpu
-
-
 def batch_breakdown(cfg: DictConfig, batches: int = 60) -> dict[str, Cost]:
     """Seconds per batch of the training loop's parts: the acting passes, the env's steps and
     resets, the learner's update (its loss, backward passes, clipping and steps) and the rest
     (rollout bookkeeping)."""
     env, net, learner = _env_and_net(cfg)
-    parts = {name: _Stopwatch() for name in ("acting", "env", "update")}
+    parts = {name: Stopwatch(sync=True) for name in ("acting", "env", "update")}
     timed_net = _Timed(net, parts["acting"])
     rollouts = ActingRollouts(
         env, timed_net, cfg.env.obs, learner.n_steps, keep_graph=learner.keep_acting_graph
@@ -236,11 +211,11 @@ def batch_breakdown(cfg: DictConfig, batches: int = 60) -> dict[str, Cost]:
             return step_and_maybe_reset(td)
 
     env.step_and_maybe_reset = timed_step
-    total = _Stopwatch()
+    total = Stopwatch(sync=True)
     for batch in range(batches + 1):
         if batch == 1:  # the first batch is warm-up
             for watch in (*parts.values(), total):
-                watch.wall = watch.cpu = 0.0
+                watch.reset()
         with total:
             rollout = rollouts.collect()
             with parts["update"]:
@@ -258,7 +233,7 @@ def batch_breakdown(cfg: DictConfig, batches: int = 60) -> dict[str, Cost]:
 class _Timed(torch.nn.Module):
     """``module`` whose calls are timed by ``watch`` (the acting passes of a rollout)."""
 
-    def __init__(self, module: torch.nn.Module, watch: _Stopwatch) -> None:
+    def __init__(self, module: torch.nn.Module, watch: Stopwatch) -> None:
         super().__init__()
         self.module, self.watch = module, watch
 
@@ -336,7 +311,7 @@ def describe(name: str, numbers: dict[str, float]) -> str:
     return "\n".join(lines)
 
 
-PROG = "python -m gvgai_pcg.rl.benchmark"
+PROG = "python -m gvgai_pcg.bench.training"
 
 
 def main(argv: list[str]) -> int:

@@ -242,7 +242,7 @@ def _check_section(
 def _check_together(config: dict) -> None:
     """Rules across keys: the regimen's own (``Curriculum.check``: a generated set's seeds, a level
     set's files), the learner's (``LearnerSpec.check``: PPO's minibatches), the memory the envs
-    need (``memory_estimate``), model and observation."""
+    need (``config.memory``), model and observation."""
     regimen = config["regimen"]
     _regimens()[regimen["name"]].check(regimen, config)
     from gvgai_pcg.rl.learners import get_learner_spec
@@ -250,7 +250,7 @@ def _check_together(config: dict) -> None:
     learner_check = get_learner_spec(config["algo"]["name"]).check
     if learner_check is not None:
         learner_check(config["algo"], config)
-    from gvgai_pcg.memory_estimate import check_memory
+    from gvgai_pcg.config.memory import check_memory
 
     try:
         check_memory(config)  # env.num_envs=1000000: refused now, not by an allocation minutes in
