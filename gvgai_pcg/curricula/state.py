@@ -12,12 +12,12 @@ move the very same values; ``locked()`` serialises the moves of all processes; a
 from __future__ import annotations
 
 import contextlib
-import fcntl
 import math
 from collections.abc import Iterator
 from pathlib import Path
 
 import torch
+from filelock import FileLock
 from torch import nn
 
 
@@ -40,12 +40,11 @@ def exclusive(path: Path | None) -> Iterator[None]:
     if path is None:
         yield
         return
-    with open(path, "a") as handle:
-        fcntl.flock(handle, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            fcntl.flock(handle, fcntl.LOCK_UN)
+    # Kept on release: a process already waiting holds the file open, and a new file at the same
+    # path would let a third process in beside it. Forked workers each open their own lock.
+    lock = FileLock(path, thread_local=False, fallback_to_soft=False, preserve_lock_file=True)
+    with lock:
+        yield
 
 
 class SharedState(nn.Module):
