@@ -30,10 +30,10 @@ SPEC = GameSpec(
     study_index=2,
     bench_target=150_000,
     frame_cost=1.8,
-    # Miscompile opt-out: compiled for CUDA (torch 2.11, H200, 2026-11-26) the tick matched the
+    # Miscompile opt-out: compiled for CUDA (torch 2.11, H200) the tick matched the
     # CPU's for 80 ticks of a mixed batch, but in an env of generated levels, whose resets
     # recompile it for new table widths, the tiles differed from the CPU's at step 29; the eager
     # CUDA tick matched for all 80. Reproduce on a GPU with "cuda" added here:
-    # `python -m gvgai_pcg.device_check`.
+    # `python -m gvgai_pcg.bench.device_check`.
     step_facts=StepFacts(compiles=True, compiled_devices=("cpu",)),
 )

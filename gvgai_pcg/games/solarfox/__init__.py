@@ -31,7 +31,7 @@ SPEC = GameSpec(
     bench_target=250_000,
     frame_cost=0.85,
     # Above 2,048 envs its compiled tick stops paying: the env stepped 1.08x as fast at B = 2,048
-    # and 1.02x at 4,096 on 2 threads, 0.98x and 0.84x on one (docs/benchmarks.md, 2026-11-26;
-    # `python -m gvgai_pcg.bench_compiled solarfox 2048 4096`).
+    # and 1.02x at 4,096 on 2 threads, 0.98x and 0.84x on one (docs/history/benchmarks-notebook.md;
+    # `python -m gvgai_pcg.bench.compiled solarfox 2048 4096`).
     step_facts=StepFacts(compiles=True, max_compiled_batch=2048),
 )
