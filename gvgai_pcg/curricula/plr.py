@@ -30,6 +30,7 @@ from tensordict import TensorDictBase
 from gvgai_pcg.config_rules import DIFFICULTY, WIN_RULES, ConfigError, Flag, Integer, Number, OneOf, Text
 from gvgai_pcg.curricula.base import Curriculum
 from gvgai_pcg.curricula.level_buffer import LevelBuffer
+from gvgai_pcg.envs.level_sources import LevelSource
 from gvgai_pcg.levels import Level
 from gvgai_pcg.levels.seeds import TRAINING_SEED_SPACE
 
@@ -83,7 +84,7 @@ class Episode:
         return self.positive_advantage / self.steps
 
 
-class PrioritizedLevels:
+class PrioritizedLevels(LevelSource):
     """PLR⊥'s level source: a replayed level of the buffer or a new generated one per resetting
     env (``next_levels``), and the scores of finished episodes into the buffer (``observe``).
 

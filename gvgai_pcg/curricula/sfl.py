@@ -34,6 +34,7 @@ import torch
 from gvgai_pcg.config_rules import WIN_RULES, Integer, Number, OneOf, Text
 from gvgai_pcg.curricula.base import ActingPolicy, Curriculum
 from gvgai_pcg.curricula.state import SharedState
+from gvgai_pcg.envs.level_sources import LevelSource
 from gvgai_pcg.levels.seeds import TRAINING_SEED_SPACE
 
 _REPLAY_STREAM = 0x53464C72  # "SFLr": whether an episode replays a buffer level
@@ -123,7 +124,7 @@ def play_wins(
     return wins.reshape(len(levels), episodes)
 
 
-class LearnabilityLevels:
+class LearnabilityLevels(LevelSource):
     """SFL's level source: a buffer level with probability ``replay_probability``, else a DR level,
     each chosen from the episode seed (so reproducible per env and episode, given the buffer)."""
 

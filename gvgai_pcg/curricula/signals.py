@@ -38,8 +38,13 @@ carries each env's running return and length from one batch to the next.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import torch
 from tensordict import TensorDict, TensorDictBase
+
+if TYPE_CHECKING:
+    from gvgai_pcg.envs.level_sources import LevelSource
 
 LEVEL_KEYS = ("level_seed", "level_difficulty")
 LEARNING_KEYS = ("advantage", "advantage_abs", "advantage_positive", "state_value", "value_loss")
@@ -177,9 +182,9 @@ class Feedback:
     ``mark_trained_steps(rollout)`` before the update writes the source's ``trains_on`` (where it
     has one and it names steps) as the rollout's ``train_mask``, which every learner honours."""
 
-    def __init__(self, source: object) -> None:
+    def __init__(self, source: LevelSource) -> None:
         self.source, self.signals = source, LevelSignals()
-        self._trains_on = getattr(source, "trains_on", None)
+        self._trains_on = source.trains_on
 
     def mark_trained_steps(self, rollout: TensorDictBase) -> None:
         mask = self._trains_on(rollout) if self._trains_on is not None else None
@@ -192,15 +197,15 @@ class Feedback:
         return signals
 
 
-def feedback_for(source: object) -> Feedback | None:
+def feedback_for(source: LevelSource) -> Feedback | None:
     """A ``Feedback`` to ``source`` where it has ``observe`` (a curriculum that learns), else
     ``None``: the loop then skips the signals altogether."""
-    return Feedback(source) if callable(getattr(source, "observe", None)) else None
+    return Feedback(source) if source.observe is not None else None
 
 
-def observe(source: object, signals: TensorDict) -> bool:
+def observe(source: LevelSource, signals: TensorDict) -> bool:
     """Give ``signals`` to ``source.observe`` where it has one; whether it had."""
-    hook = getattr(source, "observe", None)
+    hook = source.observe
     if hook is None:
         return False
     hook(signals)

@@ -228,7 +228,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         """The d at which episodes ``episodes`` of envs ``index`` made their levels: the env's
         difficulty, unless the source draws its own (``level_difficulties``, as DR does)."""
         difficulties = self._difficulty[index.to(self.device)].cpu()
-        drawn = getattr(self.level_source, "level_difficulties", None)
+        drawn = self.level_source.level_difficulties
         if drawn is None:
             return difficulties
         return drawn(index, mix64(self._env_seeds[index] ^ mix64(episodes)), difficulties)
@@ -243,8 +243,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         episode_seeds = mix64(self._env_seeds[index] ^ mix64(episodes))
         difficulties = self._difficulty[index.to(self.device)].cpu()
         levels = self.level_source.next_levels(index, episode_seeds, difficulties)
-        recurring = getattr(self.level_source, "levels_recur", True)
-        initial = self._bank.fresh_states(levels, episode_seeds, recurring)
+        initial = self._bank.fresh_states(levels, episode_seeds, self.level_source.levels_recur)
         fresh, observed = self._runner.reset_tick(initial, observe, self._state)
         return fresh, levels, observed
 

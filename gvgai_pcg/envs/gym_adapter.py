@@ -97,7 +97,7 @@ def _level_set(game: str, spec: LevelSetSpec) -> list[Level]:
     ]
 
 
-class LevelOverrides:
+class LevelOverrides(LevelSource):
     """A level source that plays a requested level once, then defers to the regimen's source.
 
     ``reset(options={"level": ...})`` needs this: the env asks its source for the next level of
@@ -107,9 +107,8 @@ class LevelOverrides:
     def __init__(self, source: LevelSource, num_envs: int) -> None:
         self.source, self.game = source, source.game
         self._pending: list[Level | None] = [None] * num_envs
-        drawn = getattr(source, "level_difficulties", None)
-        if drawn is not None:  # DR draws each level's difficulty: the env reports it as its own
-            self.level_difficulties = drawn
+        # DR draws each level's difficulty: the env reports it as its own
+        self.level_difficulties = source.level_difficulties
 
     def request(self, env_indices: Sequence[int], level: Level) -> None:
         for i in env_indices:
@@ -184,8 +183,8 @@ class Regimen:
             given = human_levels(game)
         source = regimen_source(game, regimen, given, difficulty, num_levels, start_seed, state)
         self.source = LevelOverrides(source, num_envs)
-        self._observe = getattr(source, "observe", None)
-        self.outcomes = EpisodeOutcomes(num_envs) if callable(self._observe) else None
+        self._observe = source.observe
+        self.outcomes = EpisodeOutcomes(num_envs) if self._observe is not None else None
 
     @property
     def difficulty(self) -> float:

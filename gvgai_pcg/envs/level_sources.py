@@ -3,25 +3,20 @@
 The env asks its source for one level per resetting env, passing each env's episode seed and
 difficulty, so a source can be deterministic per (env, episode) whatever the batch does.
 
-A source whose levels depend on nothing but the env index and the episode seed (nor on any
-state of its own) says so with ``prepare_ahead = True``: the env then prepares the next episodes
-of many envs at once, ahead of their resets (``gvgai_pcg.envs.ready_episodes``). One whose levels
-also depend on the difficulty adds ``depends_on_difficulty = True``: its episodes are prepared at
-each env's difficulty and used only at that difficulty. One that draws the difficulty of its
-levels itself (DR) reports it with ``level_difficulties(env_indices, episode_seeds, difficulties)``,
-which the env writes as each env's ``level_difficulty``.
-
-A source that learns from training also has ``observe(signals)`` (``gvgai_pcg.curricula.signals``):
-the training loop calls it after each batch with what happened on each level.
+``LevelSource`` is the one contract: a source subclasses it, defines ``next_levels`` and
+overrides only those of its other facts that differ from the defaults there (a source that keeps
+no state of its own, draws no difficulty and learns nothing). The env, the training loop and the
+Gymnasium API read those facts from the source, never by probing for them.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from abc import ABC, abstractmethod
+from collections.abc import Callable, Sequence
 from functools import lru_cache
 from os import PathLike
 from pathlib import Path
-from typing import Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Any
 
 import torch
 
@@ -29,19 +24,60 @@ from gvgai_pcg.levels import Level, human_levels, resolve_level
 from gvgai_pcg.levels.seeds import TRAINING_SEED_SPACE
 from gvgai_pcg.levels.sets import load_level_set
 
+if TYPE_CHECKING:
+    from tensordict import TensorDictBase
 
-@runtime_checkable
-class LevelSource(Protocol):
-    """Gives the next level of each resetting env."""
+# (env_indices, episode_seeds, difficulties) -> [N] float64, as ``next_levels`` is called
+DrawnDifficulties = Callable[[torch.Tensor, torch.Tensor, torch.Tensor], torch.Tensor]
+
+
+class LevelSource(ABC):
+    """Gives the next level of each resetting env. Subclass it and define ``next_levels``; every
+    other fact below is declared here with the default of a source that keeps no state, draws no
+    difficulty and learns nothing, and a subclass overrides only what is true of it."""
 
     game: str
+    """The game every level of the source is of: the env refuses a source of another game."""
 
+    prepare_ahead: bool = False
+    """True where the levels depend on nothing but the env index and the episode seed (nor on any
+    state of the source): the env then prepares the next episodes of many envs at once, ahead of
+    their resets (``gvgai_pcg.envs.ready_episodes``)."""
+
+    depends_on_difficulty: bool = False
+    """True where the levels also depend on the difficulty (generated ones): episodes prepared
+    ahead are prepared at each env's difficulty and used only at that difficulty."""
+
+    levels_recur: bool = True
+    """False where a level hardly ever comes back (a new generated level each episode): the env
+    then compiles each level directly instead of keeping it for reuse."""
+
+    level_difficulties: DrawnDifficulties | None = None
+    """``level_difficulties(env_indices, episode_seeds, difficulties)``, for a source that draws
+    the difficulty of its levels itself (DR): ``[N]`` float64, which the env reports as each env's
+    ``level_difficulty``. None: the env reports its own difficulty."""
+
+    observe: Callable[[TensorDictBase], None] | None = None
+    """``observe(signals)``, for a source that learns from training: the training loop gives it
+    what happened on each level after each batch (``gvgai_pcg.curricula.signals``). None: the
+    loop computes no signals at all."""
+
+    trains_on: Callable[[TensorDictBase], torch.Tensor | None] | None = None
+    """``trains_on(rollout)``, for a source with ``observe`` that keeps steps out of the gradient
+    (PLR's robust variant): a ``[B, T]`` bool of the steps the learner learns from, or None for
+    all of them. None: the learner learns from every step."""
+
+    between_updates: Callable[[Any, int], bool] | None = None
+    """``between_updates(policy, frames)``, for a source that plays the learner's policy itself
+    (SFL): the training loop calls it after each update with the acting policy
+    (``gvgai_pcg.curricula.base.ActingPolicy``). None: no acting policy is built for it."""
+
+    @abstractmethod
     def next_levels(
         self, env_indices: torch.Tensor, episode_seeds: torch.Tensor, difficulties: torch.Tensor
     ) -> list[Level]:
         """One level per resetting env: ``env_indices``, ``episode_seeds`` (int64) and
         ``difficulties`` (float64, in [0, 1]) are ``[N]``, on the CPU."""
-        ...
 
 
 def single_game(levels: Sequence[Level]) -> str:
@@ -58,7 +94,7 @@ def single_game(levels: Sequence[Level]) -> str:
     return games.pop()
 
 
-class FixedLevel:
+class FixedLevel(LevelSource):
     """The same level every episode (the study's Lv X)."""
 
     prepare_ahead = True  # a function of the env index and episode seed only
@@ -75,7 +111,7 @@ class FixedLevel:
         return f"FixedLevel({self.level.name or self.level.game})"
 
 
-class UniformLevels:
+class UniformLevels(LevelSource):
     """A uniform choice among ``levels`` each episode (the study's Lv 0-3), drawn from the
     episode seed so that the choice is reproducible per env."""
 
@@ -94,7 +130,7 @@ class UniformLevels:
         return f"UniformLevels({[level.name for level in self.levels]})"
 
 
-class LevelPerEnv:
+class LevelPerEnv(LevelSource):
     """Env i always plays ``levels[i]`` (evaluation: every env of the batch has its own level)."""
 
     prepare_ahead = True  # a function of the env index and episode seed only
@@ -110,7 +146,8 @@ class LevelPerEnv:
 
 LEVELS_ACCEPTED = (
     '"human" (the five human levels), a human level\'s name such as zelda_lvl3, a level file, a folder '
-    "of level files, a Level, a list of these, or a LevelSource"
+    "of level files, a Level, a list of these, or a LevelSource (an instance of a subclass of "
+    "gvgai_pcg.envs.LevelSource)"
 )
 
 
@@ -158,7 +195,7 @@ def _levels_named(game: str, item: Level | str | PathLike) -> list[Level]:
         ) from None
 
 
-class GeneratedLevels:
+class GeneratedLevels(LevelSource):
     """A new generated level every episode, at the difficulty given for that env (PCG X, PPCG).
 
     The level seed comes from the episode seed (in ``[0, TRAINING_SEED_SPACE)``), so every level
@@ -217,7 +254,7 @@ def _generated(game: str, generator: str, difficulty: float, seed: int) -> Level
     return _generated_of(game, generator, difficulty, seed)
 
 
-class GeneratedLevelSet:
+class GeneratedLevelSet(LevelSource):
     """A fixed, finite set of generated levels: the ``num_levels`` seeds ``start_seed``,
     ``start_seed + 1``, ... at one ``difficulty``, one drawn uniformly each episode from the
     episode seed (PCG X with ``num_levels``; Procgen's ``num_levels`` and ``start_level``).
@@ -278,7 +315,7 @@ def uniform_difficulties(episode_seeds: torch.Tensor) -> torch.Tensor:
     return ((bits >> 11) & ((1 << 53) - 1)).to(torch.float64) * 2.0**-53
 
 
-class RandomDifficultyLevels:
+class RandomDifficultyLevels(LevelSource):
     """Domain randomisation: a new generated level every episode at a difficulty drawn uniformly
     from [0, 1] for that env and episode (``uniform_difficulties`` of the episode seed), whatever
     difficulty the env is at. The level is (generator, d, seed) with the seed as in

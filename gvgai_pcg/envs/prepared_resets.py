@@ -53,10 +53,9 @@ class PreparedResets:
     ) -> PreparedResets | None:
         """Prepared resets for ``source``, or None where its next levels are not known in advance
         (``prepare_ahead``)."""
-        if not getattr(source, "prepare_ahead", False):
+        if not source.prepare_ahead:
             return None
-        by_difficulty = bool(getattr(source, "depends_on_difficulty", False))
-        return cls(num_envs, observation_bytes, by_difficulty, round_up)
+        return cls(num_envs, observation_bytes, source.depends_on_difficulty, round_up)
 
     def take(
         self,

@@ -210,7 +210,7 @@ def _train(
     # one with between_updates() gets the acting policy after each update (SFL plays it)
     source = make_env.level_source()
     feedback = feedback_for(source)
-    between_updates = getattr(source, "between_updates", None)
+    between_updates = source.between_updates
     every = int(cfg.checkpoint.every_frames)
     next_checkpoint = (frames // every + 1) * every
     snapshots = Snapshots(run_dir, int(cfg.checkpoint.get("keep_every_frames", 0)), frames)

@@ -42,9 +42,7 @@ def test_regimen_dr_trains_on_it_with_no_shared_state():
 
 
 def source_flags(source) -> tuple[bool, bool]:
-    return bool(getattr(source, "prepare_ahead", False)), bool(
-        getattr(source, "depends_on_difficulty", False)
-    )
+    return source.prepare_ahead, source.depends_on_difficulty
 
 
 @pytest.fixture

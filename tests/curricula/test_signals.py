@@ -6,6 +6,7 @@ import torch
 from tensordict import TensorDict
 
 from gvgai_pcg.curricula.signals import LevelSignals, feedback_for, observe
+from gvgai_pcg.envs import LevelSource
 
 
 def rollout(done: list[list[int]], seeds: list[list[int]], won: list[list[int]] | None = None) -> TensorDict:
@@ -51,26 +52,35 @@ def test_an_episode_carries_its_return_and_length_into_the_next_batch():
     assert third["length"].tolist() == [2, 2] and third["finished"].tolist() == [True, False]
 
 
+class Plays(LevelSource):
+    """A source that learns nothing (``LevelSource``'s defaults)."""
+
+    game = "zelda"
+
+    def next_levels(self, env_indices, episode_seeds, difficulties):
+        return []
+
+
 def test_observe_calls_the_hook_only_where_there_is_one():
     seen = []
 
-    class Learns:
+    class Learns(Plays):
         def observe(self, signals):
             seen.append(len(signals))
 
     signals = LevelSignals()(rollout([[1]], [[2]]))
     assert observe(Learns(), signals) and seen == [1]
-    assert not observe(object(), signals)
+    assert not observe(Plays(), signals)
 
 
 def test_feedback_collects_and_observes_for_a_source_that_learns():
     seen = []
 
-    class Learns:
+    class Learns(Plays):
         def observe(self, signals):
             seen.append(signals["level_seed"].tolist())
 
     feedback = feedback_for(Learns())
     signals = feedback(rollout([[0, 1]], [[3, 3]]), advantage=torch.ones(1, 2))
     assert seen == [[3]] and signals["advantage"].tolist() == [1.0]
-    assert feedback_for(object()) is None
+    assert feedback_for(Plays()) is None

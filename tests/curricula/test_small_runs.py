@@ -47,8 +47,8 @@ def test_the_regimen_builds_what_it_built_before(path):
     trained = training_levels(game, regimen)
     assert repr(source) == today["source"]
     assert hashlib.sha256(text.encode()).hexdigest() == today["levels_sha256"]
-    assert bool(getattr(source, "prepare_ahead", False)) == today["prepare_ahead"]
-    assert bool(getattr(source, "depends_on_difficulty", False)) == today["depends_on_difficulty"]
+    assert source.prepare_ahead == today["prepare_ahead"]
+    assert source.depends_on_difficulty == today["depends_on_difficulty"]
     assert repr(make_difficulty(regimen, game)) == today["state"]
     assert (None if trained is None else [lv.name for lv in trained]) == today["training_levels"]
     # bookkeeping keys added since the small runs were trained (they may change on resume)

@@ -13,6 +13,7 @@ import torch
 from gvgai_pcg.config import DIFFICULTY, Integer, Text
 from gvgai_pcg.curricula import Curriculum
 from gvgai_pcg.curricula.state import SharedState
+from gvgai_pcg.envs import LevelSource
 from gvgai_pcg.generators import generate_level
 
 
@@ -25,7 +26,7 @@ class ReplayCounts(SharedState):
         self.register_shared("finished", torch.zeros(pool, dtype=torch.int64))
 
 
-class LeastPlayed:
+class LeastPlayed(LevelSource):
     """The level source: the least played pool levels first."""
 
     prepare_ahead = False  # it depends on what it has observed

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import torch
 
-from gvgai_pcg.envs import GVGAIEnv
+from gvgai_pcg.envs import GVGAIEnv, LevelSource
 from gvgai_pcg.games import get_game
 from gvgai_pcg.games.base import Game
 from gvgai_pcg.games.render import render_tiles
@@ -200,7 +200,7 @@ class EngineRuns:
         return self._runs[key][step]
 
 
-class ScheduledLevels:
+class ScheduledLevels(LevelSource):
     """A level source that plays, in each episode, the level scheduled for its episode seed (known
     ahead: ``GVGAIEnv``'s episode seeds depend only on the env seed and the episode number), and
     env i's ``default[i]`` in an episode without one. A function of the episode seed only, so the

@@ -10,7 +10,7 @@ import pytest
 import torch
 from tensordict import TensorDict
 
-from gvgai_pcg.envs import GVGAIEnv
+from gvgai_pcg.envs import GVGAIEnv, LevelSource
 from gvgai_pcg.envs.inputs import ActionCheck
 from gvgai_pcg.levels import human_level
 
@@ -133,3 +133,40 @@ def test_levels_names_what_it_takes_and_takes_a_folder(tmp_path: Path):
 def test_good_arguments_of_other_types_are_taken():
     env = GVGAIEnv("zelda", num_envs=np.int64(1), difficulty=1, device=torch.device("cpu"))
     assert env.num_envs == 1 and env.reset().get("difficulty").tolist() == [[1.0]]
+
+
+class OneLevel:
+    """A level source of the old one-method contract: ``game`` and ``next_levels``, no base class."""
+
+    game = "zelda"
+
+    def next_levels(self, env_indices, episode_seeds, difficulties):
+        return [human_level("zelda", 0)] * len(env_indices)
+
+
+def test_a_source_that_does_not_subclass_level_source_is_refused_in_one_line():
+    with pytest.raises(
+        ValueError, match="is not a choice of levels; .* a subclass of gvgai_pcg.envs.LevelSource"
+    ):
+        GVGAIEnv("zelda", levels=OneLevel())
+
+
+def test_a_source_that_defines_only_next_levels_plays_with_the_declared_defaults():
+    class Declared(OneLevel, LevelSource):  # the old source, now subclassing the base
+        pass
+
+    source = Declared()
+    assert (source.prepare_ahead, source.depends_on_difficulty, source.levels_recur) == (False, False, True)
+    assert source.level_difficulties is source.observe is source.trains_on is source.between_updates is None
+    env = GVGAIEnv("zelda", num_envs=2, levels=source, difficulty=0.25)
+    out = env.reset()
+    assert env._prepared_resets is None and [lv.name for lv in env.current_levels] == ["zelda_lvl0"] * 2
+    assert out["level_difficulty"].flatten().tolist() == [0.25, 0.25]
+
+
+def test_a_source_without_next_levels_cannot_be_made():
+    class Empty(LevelSource):
+        game = "zelda"
+
+    with pytest.raises(TypeError, match="Empty"):
+        Empty()

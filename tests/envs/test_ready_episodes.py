@@ -5,7 +5,7 @@ import pytest
 import torch
 
 from gvgai_pcg.envs import GVGAIEnv, prepared_resets
-from gvgai_pcg.envs.level_sources import GeneratedLevels
+from gvgai_pcg.envs.level_sources import GeneratedLevels, LevelSource
 from gvgai_pcg.levels import human_levels
 
 
@@ -140,7 +140,7 @@ def test_a_new_seed_drops_the_prepared_episodes():
 
 
 def test_sources_that_keep_state_of_their_own_are_not_prepared_ahead():
-    class Counting:  # the levels of a source with state depend on when it is asked
+    class Counting(LevelSource):  # the levels of a source with state depend on when it is asked
         game = "zelda"
 
         def next_levels(self, env_indices, episode_seeds, difficulties):

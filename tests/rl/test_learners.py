@@ -16,6 +16,7 @@ from tensordict import TensorDict
 import gvgai_pcg.plugins as plugins_module
 from gvgai_pcg.config import ConfigError, checked_config, compose_config, config_dir
 from gvgai_pcg.curricula.signals import TRAIN_MASK
+from gvgai_pcg.envs import LevelSource
 from gvgai_pcg.rl import train
 from gvgai_pcg.rl.environment import EnvFactory
 from gvgai_pcg.rl.learners import get_learner_spec, learner_class, register_learner, registered_learners
@@ -206,14 +207,17 @@ def test_published_runs_keep_their_names():
         assert OmegaConf.create(saved).run_name == path.parent.name
 
 
-class LearningSource:
-    """A level source with an ``observe`` hook, standing in for a curriculum's."""
+class LearningSource(LevelSource):
+    """A level source with an ``observe`` hook, standing in for a curriculum's: ``source``'s levels."""
 
-    def __init__(self, source) -> None:
-        self.source, self.seen = source, []
+    def __init__(self, source: LevelSource) -> None:
+        self.source, self.seen, self.game = source, [], source.game
+        # its levels are ``source``'s, and so are the facts about them
+        self.prepare_ahead, self.depends_on_difficulty = source.prepare_ahead, source.depends_on_difficulty
+        self.levels_recur, self.level_difficulties = source.levels_recur, source.level_difficulties
 
-    def __getattr__(self, name):
-        return getattr(self.source, name)
+    def next_levels(self, env_indices, episode_seeds, difficulties):
+        return self.source.next_levels(env_indices, episode_seeds, difficulties)
 
     def observe(self, signals) -> None:
         self.seen.append(signals)

@@ -12,6 +12,7 @@ from tensordict.nn import TensorDictModule
 
 from gvgai_pcg.config import compose_config
 from gvgai_pcg.curricula.signals import TRAIN_MASK, Feedback
+from gvgai_pcg.envs import LevelSource
 from gvgai_pcg.rl.a2c_loss import A2CLoss
 from gvgai_pcg.rl.learners.a2c import A2C
 from gvgai_pcg.rl.learners.ppo import PPO
@@ -114,11 +115,20 @@ def test_a_mask_with_steps_trains_on_them(name):
     assert checks and any(not torch.equal(a, b) for a, b in zip(before, net.parameters(), strict=True))
 
 
-def test_the_feedback_writes_the_sources_mask_and_nothing_without_one():
-    class Marks:
-        def observe(self, signals):
-            pass
+class Plain(LevelSource):
+    """A source that learns and marks no steps (``trains_on`` left at ``LevelSource``'s None)."""
 
+    game = "zelda"
+
+    def next_levels(self, env_indices, episode_seeds, difficulties):
+        return []
+
+    def observe(self, signals):
+        pass
+
+
+def test_the_feedback_writes_the_sources_mask_and_nothing_without_one():
+    class Marks(Plain):
         def trains_on(self, rollout):
             return torch.tensor([[True, False, True]])
 
@@ -126,5 +136,5 @@ def test_the_feedback_writes_the_sources_mask_and_nothing_without_one():
     Feedback(Marks()).mark_trained_steps(rollout)
     assert rollout[TRAIN_MASK].tolist() == [[True, False, True]]
     plain = TensorDict({}, batch_size=[1, 3])
-    Feedback(type("Plain", (), {"observe": lambda self, s: None})()).mark_trained_steps(plain)
+    Feedback(Plain()).mark_trained_steps(plain)
     assert TRAIN_MASK not in plain.keys()

@@ -30,8 +30,8 @@ for run in sorted((root / "results/small/runs").iterdir()):
     train = training_levels(game, regimen)
     out[run.name] = {
         "source": repr(source),
-        "prepare_ahead": bool(getattr(source, "prepare_ahead", False)),
-        "depends_on_difficulty": bool(getattr(source, "depends_on_difficulty", False)),
+        "prepare_ahead": source.prepare_ahead,
+        "depends_on_difficulty": source.depends_on_difficulty,
         "levels_sha256": digest,
         "state": repr(state),
         "training_levels": None if train is None else [l.name for l in train],
