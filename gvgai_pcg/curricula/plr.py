@@ -30,7 +30,7 @@ from tensordict import TensorDictBase
 from gvgai_pcg.config_rules import DIFFICULTY, WIN_RULES, ConfigError, Flag, Integer, Number, OneOf, Text
 from gvgai_pcg.curricula.base import Curriculum
 from gvgai_pcg.curricula.level_buffer import LevelBuffer
-from gvgai_pcg.envs.level_sources import LevelSource
+from gvgai_pcg.envs.level_sources import LevelSource, checked_generator, generated_level, uniform_difficulties
 from gvgai_pcg.levels import Level
 from gvgai_pcg.levels.seeds import TRAINING_SEED_SPACE
 
@@ -96,10 +96,8 @@ class PrioritizedLevels(LevelSource):
     def __init__(
         self, game: str, buffer: LevelBuffer, settings: ReplaySettings, generator: str | None = None
     ) -> None:
-        from gvgai_pcg.envs.level_sources import _checked_generator
-
         self.game, self.buffer, self.settings = game, buffer, settings
-        self.generator = _checked_generator(game, generator)
+        self.generator = checked_generator(game, generator)
         self._handed_d: dict[int, float] = {}  # env index -> the d of the level it was last handed
         self._running: dict[int, Episode] = {}  # env row -> its episode still running at the batch's end
 
@@ -107,8 +105,6 @@ class PrioritizedLevels(LevelSource):
     def next_levels(
         self, env_indices: torch.Tensor, episode_seeds: torch.Tensor, difficulties: torch.Tensor
     ) -> list[Level]:
-        from gvgai_pcg.envs.level_sources import uniform_difficulties
-
         s = self.settings
         replay_draws = seed_uniforms(episode_seeds, _REPLAY_STREAM).tolist()
         pick_draws = seed_uniforms(episode_seeds, _PICK_STREAM).tolist()
@@ -146,9 +142,7 @@ class PrioritizedLevels(LevelSource):
         return torch.tensor([self._handed_d[i] for i in env_indices.tolist()], dtype=torch.float64)
 
     def generated_level(self, difficulty: float, seed: int) -> Level:
-        from gvgai_pcg.envs.level_sources import _generated
-
-        return _generated(self.game, self.generator, difficulty, seed)
+        return generated_level(self.game, self.generator, difficulty, seed)
 
     def replayed_level(self, index: int) -> Level:
         """The buffer's level ``index`` (regenerated from its d and seed; kept in a cache)."""

@@ -209,7 +209,7 @@ class GeneratedLevels(LevelSource):
     depends_on_difficulty = True  # ...and the difficulty
 
     def __init__(self, game: str, generator: str | None = None) -> None:
-        self.game, self.generator = game, _checked_generator(game, generator)
+        self.game, self.generator = game, checked_generator(game, generator)
 
     def next_levels(
         self, env_indices: torch.Tensor, episode_seeds: torch.Tensor, difficulties: torch.Tensor
@@ -225,9 +225,9 @@ class GeneratedLevels(LevelSource):
         return f"GeneratedLevels({self.game!r}{own})"
 
 
-def _checked_generator(game: str, generator: str | None) -> str:
-    """The generator's name (default: the game's own); an unknown one is refused with the
-    registered names."""
+def checked_generator(game: str, generator: str | None) -> str:
+    """The name of the generator a source of ``game`` makes its levels with (default: the game's
+    own), checked when the source is built: an unknown one is refused with the registered names."""
     from gvgai_pcg.generators import get_generator
 
     name = generator or game
@@ -250,7 +250,10 @@ GENERATED_CACHE = 4096
 
 
 @lru_cache(maxsize=GENERATED_CACHE)
-def _generated(game: str, generator: str, difficulty: float, seed: int) -> Level:
+def generated_level(game: str, generator: str, difficulty: float, seed: int) -> Level:
+    """The level (``generator``, ``difficulty``, ``seed``) of ``game``, made once and kept (the
+    last ``GENERATED_CACHE``), for sources that draw from a finite set of generated levels again
+    and again (a fixed set, a replay buffer)."""
     return _generated_of(game, generator, difficulty, seed)
 
 
@@ -268,7 +271,7 @@ class GeneratedLevelSet(LevelSource):
     def __init__(
         self, game: str, difficulty: float, num_levels: int, start_seed: int = 0, generator: str | None = None
     ) -> None:
-        self.generator = _checked_generator(game, generator)
+        self.generator = checked_generator(game, generator)
         if not 0.0 <= difficulty <= 1.0:
             raise ValueError(f"difficulty must be in [0, 1], got {difficulty}")
         if num_levels < 1:
@@ -285,7 +288,7 @@ class GeneratedLevelSet(LevelSource):
         """The set's level ``index`` (0 .. num_levels - 1): seed ``start_seed + index``."""
         if not 0 <= index < self.num_levels:
             raise IndexError(f"level {index} of a set of {self.num_levels}")
-        return _generated(self.game, self.generator, self.difficulty, self.start_seed + index)
+        return generated_level(self.game, self.generator, self.difficulty, self.start_seed + index)
 
     def first(self, count: int) -> list[Level]:
         """The set's first ``count`` levels (all of them when it has fewer)."""
@@ -325,7 +328,7 @@ class RandomDifficultyLevels(LevelSource):
     prepare_ahead = True  # a function of the env index and episode seed only
 
     def __init__(self, game: str, generator: str | None = None) -> None:
-        self.game, self.generator = game, _checked_generator(game, generator)
+        self.game, self.generator = game, checked_generator(game, generator)
 
     def level_difficulties(
         self, env_indices: torch.Tensor, episode_seeds: torch.Tensor, difficulties: torch.Tensor
