@@ -23,13 +23,17 @@ The layers, lowest first. A module may import its own layer and the layers below
 5. ``game``: the game folders ``games/<name>/`` (rules, generator, checks, spec). A game folder
    never imports another game folder (checked apart).
 6. ``readers``: ``generators`` and ``analysis``: the registry's readers.
-7. ``envs``: the TorchRL env, level sources, transforms, Gymnasium, and the curricula that hand
-   the env its levels (``gvgai_pcg.curricula``).
-8. ``rl``: models, A2C, the training loop, checkpoints, and ``config``, the training config's
+7. ``envs``: the TorchRL env, level sources (``LevelSource``), transforms, the buffers its
+   processes share, and the Gymnasium ids' registration (which names the entry points in
+   ``gym`` as strings and imports only the registry).
+8. ``curricula``: the curricula that hand the env its levels, built on the env's level sources.
+   The env never imports a curriculum: it reads what it needs from the ``LevelSource`` contract.
+9. ``gym``: the Gymnasium API, which trains on the curricula by name.
+10. ``rl``: models, A2C, the training loop, checkpoints, and ``config``, the training config's
    checks and its memory estimate (they ask the models for their names).
-9. ``evaluation``.
-10. ``apps``: ``report``, ``study``, ``bench`` (every benchmark and the device check), ``play``.
-11. ``commands``: ``commands``, ``cli`` and the package root (which registers the Gymnasium ids).
+11. ``evaluation``.
+12. ``apps``: ``report``, ``study``, ``bench`` (every benchmark and the device check), ``play``.
+13. ``commands``: ``commands``, ``cli`` and the package root (which registers the Gymnasium ids).
 
 Importing ``a.b.c`` also runs ``a/b/__init__.py``, which has a layer of its own: it may sit
 above some of its modules (``generators`` above the kit ``generators._common``) as long as it
@@ -72,7 +76,9 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ),
     ("game", ("gvgai_pcg.games",)),
     ("readers", ("gvgai_pcg.generators", "gvgai_pcg.analysis")),
-    ("envs", ("gvgai_pcg.envs", "gvgai_pcg.curricula")),
+    ("envs", ("gvgai_pcg.envs",)),
+    ("curricula", ("gvgai_pcg.curricula",)),
+    ("gym", ("gvgai_pcg.gym",)),
     ("rl", ("gvgai_pcg.rl", "gvgai_pcg.config")),
     ("evaluation", ("gvgai_pcg.evaluation",)),
     (
@@ -245,3 +251,17 @@ def test_the_graph_sees_lazy_and_relative_imports():
     """The reader finds an import inside a function (render asks the registry for a game)."""
     assert "gvgai_pcg.games.registry" in imports()["gvgai_pcg.games.render"]
     assert "gvgai_pcg.games.zelda.checks" in imports()["gvgai_pcg.games.zelda"]
+
+
+def test_the_env_imports_no_curriculum():
+    """Curricula build on the env's level sources, never the reverse: ``envs`` imports nothing of
+    ``curricula`` nor of the Gymnasium API above it (the layers say so too; this names the rule)."""
+    found = sorted(
+        (source, target)
+        for source, targets in imports().items()
+        if source.startswith("gvgai_pcg.envs")
+        for target in targets
+        if target.startswith(("gvgai_pcg.curricula", "gvgai_pcg.gym"))
+    )
+    assert not found, f"envs importing curricula or gym: {found}"
+    assert "gvgai_pcg.envs.level_sources" in imports()["gvgai_pcg.curricula.plr"]

@@ -271,7 +271,7 @@ def test_analyze_names_a_missing_or_wrong_levels_path_in_one_line(levels, messag
 def test_the_gymnasium_entry_points_leave_the_start_method_unset():
     code = (
         "import multiprocessing, gymnasium, gvgai_pcg\n"
-        "gymnasium.make('gvgai_pcg/Zelda-v0'); import gvgai_pcg.envs.gym_vector\n"
+        "gymnasium.make('gvgai_pcg/Zelda-v0'); import gvgai_pcg.gym.vector\n"
         "import torchrl  # (already imported: its own setting was undone)\n"
         "print(multiprocessing.get_start_method(allow_none=True))\n"
     )
@@ -283,7 +283,7 @@ def test_the_gymnasium_entry_points_leave_the_start_method_unset():
 def test_a_start_method_set_by_the_user_is_kept():
     code = (
         "import multiprocessing; multiprocessing.set_start_method('forkserver')\n"
-        "import gvgai_pcg.envs.gym_adapter\n"
+        "import gvgai_pcg.gym.adapter\n"
         "print(multiprocessing.get_start_method(allow_none=True))\n"
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=PATIENCE_S)

@@ -9,11 +9,11 @@ config checks and the Gymnasium API ask the object instead of testing names:
 * ``schema``: the keys of its config section and their rules (``gvgai_pcg.config``'s rules);
   ``check`` adds the rules across keys;
 * ``make_state``: the state every collector worker shares (PPCG's difficulty), or ``None``;
-* ``make_source``: the ``LevelSource`` the env calls at reset (``next_levels`` and the
-  ``prepare_ahead`` / ``depends_on_difficulty`` flags of ``gvgai_pcg.envs.level_sources``); a
-  source that learns from training also has ``observe(signals)``, which the training loop calls
-  with a ``gvgai_pcg.curricula.signals`` TensorDict after each batch;
-* ``between_updates(policy, frames)``, on a source that has it: the training loop calls it
+* ``make_source``: the ``LevelSource`` the env calls at reset (a subclass of
+  ``gvgai_pcg.envs.LevelSource``: ``next_levels``, and the facts it declares with their defaults,
+  such as ``prepare_ahead``); a source that learns from training defines ``observe(signals)``,
+  which the training loop calls with a ``gvgai_pcg.curricula.signals`` TensorDict after each batch;
+* ``between_updates(policy, frames)``, on a source that defines it: the training loop calls it
   after each update with the acting policy (``ActingPolicy``), for a curriculum that plays the
   learner's policy itself (SFL scores its pool so);
 * ``wrap``: the env the learner trains on (PCG X and PPCG add their ``DifficultyTransform``);

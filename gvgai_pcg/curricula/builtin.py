@@ -28,6 +28,8 @@ from gvgai_pcg.levels.seeds import TRAINING_SEED_SPACE
 def given_level_source(name: str, game: str, given: list):
     """The source of a given-level regimen: one level every episode, or one of several drawn
     uniformly; a level that cannot be won is named in a warning."""
+    # torch on first use only (here and below): a refused command line lists the registered
+    # curricula, which loads this module, without importing torch
     from gvgai_pcg.envs.level_sources import as_level_source
     from gvgai_pcg.levels.winnable import warn_unwinnable
 

@@ -34,7 +34,7 @@ import torch
 from gvgai_pcg.config_rules import WIN_RULES, Integer, Number, OneOf, Text
 from gvgai_pcg.curricula.base import ActingPolicy, Curriculum
 from gvgai_pcg.curricula.state import SharedState
-from gvgai_pcg.envs.level_sources import LevelSource
+from gvgai_pcg.envs.level_sources import LevelSource, RandomDifficultyLevels
 from gvgai_pcg.levels.seeds import TRAINING_SEED_SPACE
 
 _REPLAY_STREAM = 0x53464C72  # "SFLr": whether an episode replays a buffer level
@@ -92,7 +92,7 @@ def play_wins(
 ) -> torch.Tensor:
     """``[L, episodes]`` whether each of ``episodes`` episodes of each level was won (one batched
     env, one episode per env; an episode still running at ``max_steps`` counts as lost)."""
-    from gvgai_pcg.envs import GVGAIEnv, LevelPerEnv
+    from gvgai_pcg.envs import GVGAIEnv, LevelPerEnv  # torchrl only when SFL plays its pool
     from gvgai_pcg.games.rng import derive_seeds
 
     batch = [level for level in levels for _ in range(episodes)]
@@ -132,8 +132,6 @@ class LearnabilityLevels(LevelSource):
     prepare_ahead = False  # its levels depend on the buffer
 
     def __init__(self, game: str, section, state: LearnabilityBuffer) -> None:
-        from gvgai_pcg.envs.level_sources import RandomDifficultyLevels
-
         self.game, self.state = game, state
         self.fresh = RandomDifficultyLevels(game)
         self.replay_probability = float(section["replay_probability"])

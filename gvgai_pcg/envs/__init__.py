@@ -1,4 +1,5 @@
-"""Environments: the batched TorchRL env, its level sources, and the Gymnasium adapter.
+"""Environments: the batched TorchRL env, its level sources and the Gymnasium ids' registration
+(the Gymnasium envs themselves live in ``gvgai_pcg.gym``, above the curricula they train on).
 
 Names are loaded on first use (PEP 562), so that ``import gvgai_pcg`` can register the
 Gymnasium ids without importing torch.

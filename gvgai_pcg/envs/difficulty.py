@@ -19,7 +19,7 @@ import torch
 from tensordict import TensorDictBase
 from torchrl.envs.transforms import Transform
 
-from gvgai_pcg.curricula.state import exclusive, share_buffers_through
+from gvgai_pcg.envs.shared_buffers import exclusive, share_buffers_through
 from gvgai_pcg.games.registry import get_game_spec
 
 MODES = ("fixed", "progressive")

@@ -34,8 +34,8 @@ def register_envs() -> list[str]:
             continue
         gym.register(
             id=env_id(name),
-            entry_point="gvgai_pcg.envs.gym_adapter:GVGAIGymEnv",
-            vector_entry_point="gvgai_pcg.envs.gym_vector:GVGAIVectorEnv",
+            entry_point="gvgai_pcg.gym.adapter:GVGAIGymEnv",
+            vector_entry_point="gvgai_pcg.gym.vector:GVGAIVectorEnv",
             kwargs={"game": game},
         )
     return ids

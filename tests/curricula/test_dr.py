@@ -107,8 +107,8 @@ def test_the_gymnasium_envs_report_the_difficulty_dr_drew_for_each_level(eager):
 
 @pytest.mark.parametrize(("argument", "takers"), [("difficulty", "pcg, ppcg"), ("alpha", "ppcg")])
 def test_the_gymnasium_envs_refuse_the_arguments_dr_would_ignore(argument, takers):
-    from gvgai_pcg.envs.gym_adapter import GVGAIGymEnv
-    from gvgai_pcg.envs.gym_vector import GVGAIVectorEnv
+    from gvgai_pcg.gym.adapter import GVGAIGymEnv
+    from gvgai_pcg.gym.vector import GVGAIVectorEnv
 
     for make in (GVGAIGymEnv, lambda **kw: GVGAIVectorEnv(2, **kw)):
         with pytest.raises(ValueError, match=f"regimen 'dr' takes no {argument}=.*take it: {takers}$"):

@@ -1,4 +1,4 @@
-"""The lock around a curriculum's shared state excludes other processes (``curricula.state.exclusive``)."""
+"""The lock around a curriculum's shared state excludes other processes (``shared_buffers.exclusive``)."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import multiprocessing
 import time
 from pathlib import Path
 
-from gvgai_pcg.curricula.state import exclusive
+from gvgai_pcg.envs.shared_buffers import exclusive
 
 
 def _add_one_many_times(counter: Path, lock: Path, times: int) -> None:

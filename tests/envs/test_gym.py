@@ -12,7 +12,7 @@ from gymnasium.utils.env_checker import check_env
 
 import gvgai_pcg.envs.gym_registration  # noqa: F401  (registers the ids)
 from gvgai_pcg.envs import GVGAIEnv
-from gvgai_pcg.envs.gym_adapter import GVGAIGymEnv
+from gvgai_pcg.gym.adapter import GVGAIGymEnv
 from gvgai_pcg.levels import Level, human_level
 
 GAMES = {"Zelda": "zelda", "Solarfox": "solarfox", "Frogs": "frogs", "Boulderdash": "boulderdash"}
@@ -338,7 +338,7 @@ def test_a_short_gymnasium_job_ticks_eagerly_and_a_long_one_compiled(monkeypatch
 
 def test_a_job_that_did_not_give_its_length_is_told_once_when_it_is_long(monkeypatch) -> None:
     monkeypatch.delenv("GVGAI_PCG_COMPILE", raising=False)
-    monkeypatch.setattr("gvgai_pcg.envs.gym_vector.COMPILE_PAYS_BACK_STEPS", 3)
+    monkeypatch.setattr("gvgai_pcg.gym.vector.COMPILE_PAYS_BACK_STEPS", 3)
     vec = gym.make_vec("gvgai_pcg/Zelda-v0", num_envs=2)
     vec.reset(seed=0)
     with warnings.catch_warnings(record=True) as caught:

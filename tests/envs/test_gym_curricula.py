@@ -12,8 +12,8 @@ from tensordict import TensorDict
 
 from gvgai_pcg.curricula import register_curriculum, registry
 from gvgai_pcg.curricula.signals import EpisodeOutcomes
-from gvgai_pcg.envs.gym_adapter import GVGAIGymEnv
-from gvgai_pcg.envs.gym_vector import GVGAIVectorEnv
+from gvgai_pcg.gym.adapter import GVGAIGymEnv
+from gvgai_pcg.gym.vector import GVGAIVectorEnv
 from tests.curricula import toy_curriculum
 
 

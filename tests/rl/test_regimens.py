@@ -9,7 +9,6 @@ import yaml
 from gvgai_pcg.config import REGIMENS as CONFIG_REGIMENS
 from gvgai_pcg.config import config_dir
 from gvgai_pcg.curricula import registered_curricula
-from gvgai_pcg.envs.gym_adapter import GVGAIGymEnv
 from gvgai_pcg.envs.level_sources import (
     FixedLevel,
     GeneratedLevels,
@@ -17,7 +16,8 @@ from gvgai_pcg.envs.level_sources import (
     RandomDifficultyLevels,
     UniformLevels,
 )
-from gvgai_pcg.envs.regimens import regimen_kind, regimen_names
+from gvgai_pcg.gym.adapter import GVGAIGymEnv
+from gvgai_pcg.gym.regimens import regimen_kind, regimen_names
 from gvgai_pcg.rl.environment import make_difficulty, training_source
 
 

@@ -36,15 +36,15 @@ from gvgai_pcg.envs.difficulty import DifficultyTransform
 from gvgai_pcg.envs.gvgai_env import GVGAIEnv
 from gvgai_pcg.envs.inputs import checked_observation_kind
 from gvgai_pcg.envs.level_sources import LevelSource
-from gvgai_pcg.envs.regimens import (
+from gvgai_pcg.games import get_game
+from gvgai_pcg.games.geometry import CELL
+from gvgai_pcg.gym.regimens import (
     regimen_curriculum,
     regimen_kind,
     regimen_source,
     regimens_taking,
     unused_arguments,
 )
-from gvgai_pcg.games import get_game
-from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.levels import Level, human_level, human_levels, resolve_level
 from gvgai_pcg.levels.sets import load_level_set
 

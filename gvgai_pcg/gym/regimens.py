@@ -1,5 +1,5 @@
 """The training regimens by name, for training (``gvgai_pcg.rl.environment``) and the
-Gymnasium API (``gvgai_pcg.envs.gym_adapter``): both ask the registered curriculum
+Gymnasium API (``gvgai_pcg.gym.adapter``): both ask the registered curriculum
 (``gvgai_pcg.curricula``), so both accept the same names and build the same level source and
 shared state from them.
 

@@ -23,7 +23,7 @@ from tensordict import TensorDict, TensorDictBase
 import gvgai_pcg.envs.quiet_torchrl  # noqa: F401 (first: torchrl without its global side effect)
 from gvgai_pcg.engine.step_plan import COMPILE_PAYS_BACK_STEPS, choose_step_plan, compile_pays_back
 from gvgai_pcg.envs.gvgai_env import GVGAIEnv
-from gvgai_pcg.envs.gym_adapter import LevelSetSpec, LevelSpec, Regimen, observation_space
+from gvgai_pcg.gym.adapter import LevelSetSpec, LevelSpec, Regimen, observation_space
 
 INFO_KEYS = ("won", "score", "difficulty", "level_seed")
 TENSORDICT_KEYS = {"difficulty": "level_difficulty"}  # the d a level was made at (DR draws it per level)
