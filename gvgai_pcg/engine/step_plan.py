@@ -29,11 +29,11 @@ from gvgai_pcg.engine.compiled import (
 from gvgai_pcg.games.base import Game
 
 # Compiling the tick pays back only past this many batched steps of a job (an evaluation, a
-# training run). The protocol on one Zelda run (210 envs, 2,000 steps, one thread, 2026-11-28):
+# training run). The protocol on one Zelda run (210 envs, 2,000 steps, one thread):
 # compiling cost about 7.7 s of CPU with a warm inductor cache (about 30 s cold) and saved 0.85 ms
 # a batched step, so it breaks even near 9,000 steps warm. A 20k-frame Frogs training job (64
 # envs, 312 batched steps) took 24.0 s compiled with a warm cache against 7.6 s eagerly
-# (docs/history/benchmarks-notebook.md, 2026-11-28).
+# (docs/history/benchmarks-notebook.md, "Evaluation: the protocol on one run"; docs/training.md).
 COMPILE_PAYS_BACK_STEPS = 10_000
 
 

@@ -4,7 +4,8 @@ torch's intra-op threads (OpenMP) wait for each other at the end of every op. Wh
 holds a core, the second thread is preempted and every op of the step waits for it, so two threads
 make a small fraction of one thread's steps/s at every batch. Zelda, tiles, human levels, one env
 per batch alternating one and two threads (four windows of 2.5 s each, ``nice -n 10``), on 2
-cores that two training runs and other jobs kept busy (load average 10-11), 2026-11-28:
+cores that two training runs and other jobs kept busy (load average 10-11; docs/history/
+benchmarks-notebook.md, "One step plan per env, threads by batch"):
 
     envs    1 thread    2 threads   2/1
     64      8,692       556         0.06

@@ -65,7 +65,8 @@ class CompiledLevelBank:
         ``keep`` beyond the capacity. The bank changes by one gather of the rows it keeps (where
         levels go) and one concatenation with the new rows: rebuilding it from every level's
         state took about 46 ms an added level at 64 levels, most of a PLR⊥ or ACCEL run's time,
-        where most resets bring a level the bank has not seen (one-env resets, 2026-11-29)."""
+        where most resets bring a level the bank has not seen (one-env resets; docs/history/
+        benchmarks-notebook.md, "The level bank adds a level without rebuilding itself")."""
         zero = torch.zeros(1, dtype=torch.int64)
         new = [
             self.game.compile([pad_level(lv, self.height, self.width)], zero, self.device) for lv in levels

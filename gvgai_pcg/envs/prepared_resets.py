@@ -24,7 +24,8 @@ PREPARED_RESETS_MAX = 256
 # Episodes are prepared this many envs' worth at a time (up to READY_DEPTH_MAX ahead per env, at
 # least one). 64 Frogs envs under random play end about 10 episodes a step; over 800 steps they
 # prepared episodes 654 times one episode ahead, 92 times four ahead and 35 times eight ahead,
-# and a step went from 3.6 to 1.9 ms (human levels, 2026-11-26).
+# and a step went from 3.6 to 1.9 ms (human levels; docs/history/benchmarks-notebook.md, "The
+# small-batch step").
 READY_ROWS = 512
 READY_DEPTH_MAX = 8
 READY_OBSERVATIONS_MAX_BYTES = 32 << 20

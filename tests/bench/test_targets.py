@@ -1,4 +1,4 @@
-"""Issue 38's targets beside a run's figures: met, missed or not measured (no measuring here)."""
+"""The speed targets beside a run's figures: met, missed or not measured (no measuring here)."""
 
 from gvgai_pcg.bench import targets as bench_targets
 from gvgai_pcg.bench.targets import Check, Section
@@ -37,7 +37,7 @@ def test_sections_add_their_text_and_their_checks_in_order():
     assert total.text == "one\ntwo\n" and [c.what for c in total.checks] == ["a", "b"]
 
 
-def test_every_game_at_64_is_set_against_its_2026_11_26_figure():
+def test_every_game_at_64_is_set_against_its_baseline_figure():
     checks = bench_targets.env_checks({"zelda": 172_001, "frogs": 39_077, "unknown": 1.0})
     assert [(c.what.split()[0], c.met) for c in checks] == [("zelda", True), ("frogs", False)]
     assert round(checks[1].measured, 2) == 1.0
