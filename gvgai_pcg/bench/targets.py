@@ -3,8 +3,9 @@
 Figures on these shared 2-core machines move by a quarter between runs, so a target is a ratio of
 two figures taken in the same run (ours against a peer, a job against its eager twin), or a wall
 time, never a figure against one remembered from another day, except the one target set that
-way (every game at 64 envs against its baseline figure, kept because it is the speed-up asked for). Each measuring section hands
-back its :class:`Check` values with its text; the command gathers them into one table at the end.
+way (every game at 64 envs against its baseline figure: the speed-up asked for is over that
+commit). Each measuring section hands back its :class:`Check` values with its text; the command
+gathers them into one table at the end.
 """
 
 from __future__ import annotations

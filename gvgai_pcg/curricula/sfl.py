@@ -16,8 +16,8 @@ rolls each out for 2,000 steps, keeps the top 1,000 and refreshes every 100 upda
 ``refresh_every_frames`` 1M frames (and at the first update, so the buffer is never empty for
 long). One refresh of these defaults with the pilot's trained Zelda model (10M frames) costs about
 22 s of CPU on one thread, about 30 % on top of the ~70 s that 1M frames of A2C take on a quiet
-2-core machine (docs/concepts/regimens.md, ``sfl``; docs/benchmarks.md). A level is (generator, d, seed), so the buffer keeps
-three numbers a level.
+2-core machine (docs/concepts/regimens.md, ``sfl``; docs/benchmarks.md). A level is (generator,
+d, seed), so the buffer keeps three numbers a level.
 
 The refresh needs the policy: the training loop calls ``between_updates(policy, frames)`` of a
 level source that has one, after each update (``gvgai_pcg.rl.training``). The buffer lives in the

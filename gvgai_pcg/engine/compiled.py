@@ -58,9 +58,10 @@ LARGE_BATCH_OPTIONS = {**INDUCTOR_OPTIONS, "cpp.min_chunk_size": LARGE_BATCH_PER
 # (``CompiledTick.tick_and_draw``); a larger batch ticks compiled and draws eagerly. Eager, a
 # render costs its ~50 small ops (about 0.22-0.33 ms a batch whatever the game); compiled, its
 # scalar loops cost more per byte than the eager copies. On one thread (tick and tiles in one call
-# / compiled tick then eager render; docs/history/benchmarks-notebook.md, "The small-batch step"): Frogs 0.85x at 217k bytes and 1.04x at 434k;
-# Boulderdash 0.83x at 389k and 0.99x at 779k; Solarfox 0.89x at 282k and 1.07x at 563k; Zelda
-# 0.61x at 270k and 0.72x at 539k. The CPU only: not checked on CUDA.
+# / compiled tick then eager render; docs/history/benchmarks-notebook.md, "The small-batch step"):
+# Frogs 0.85x at 217k bytes and 1.04x at 434k; Boulderdash 0.83x at 389k and 0.99x at 779k;
+# Solarfox 0.89x at 282k and 1.07x at 563k; Zelda 0.61x at 270k and 0.72x at 539k. The CPU
+# only: not checked on CUDA.
 FUSED_MAX_BYTES = 400_000
 
 # What compiling raises (an error inside a compiled tick is not among them and propagates).

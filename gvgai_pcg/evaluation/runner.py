@@ -41,7 +41,8 @@ SAMPLE_KEY = "action_uniform"  # [B] float64 U[0, 1): the env's own random numbe
 STREAM_ACTIONS = 1
 # Torch intra-op threads while playing: with two on a 2-core machine where other work holds a
 # core, a step of 210 Zelda envs took 133-193 ms and the policy 155-248 ms, against 5-7 ms and
-# 16-21 ms on one thread (load 9-11; docs/history/benchmarks-notebook.md, "Evaluation: the protocol on one run").
+# 16-21 ms on one thread (load 9-11; docs/history/benchmarks-notebook.md, "Evaluation: the
+# protocol on one run").
 EVALUATION_THREADS = 1
 
 
