@@ -10,12 +10,12 @@ size our Zelda tiles env and then, right after it, the peer:
   every step as our measurement reads its ``done`` count. Twice: behind xminigrid's own
   ``GymAutoResetWrapper`` (a finished env is reset inside the step, as ours are; under ``vmap``
   its ``lax.cond`` becomes a select, so every env computes a reset every step), and the bare
-  step with no resets (the issue's figure; random play rarely ends DoorKey's 640-step episodes).
-  Tracing and XLA compilation (reset and step, with their first calls) are timed apart from the
-  steady state.
+  step with no resets (the figure the target is set against; random play rarely ends DoorKey's
+  640-step episodes). Tracing and XLA compilation (reset and step, with their first calls) are
+  timed apart from the steady state.
 - Griddly's GVGAI Zelda (Griddly's own port of the game, fed our five human levels in turn),
   one env through its gym wrapper with vector observations and random actions: the single-env
-  engine the issue's B = 4,096 target is set against. Griddly ships wheels for Python 3.10 and
+  engine the B = 4,096 target is set against. Griddly ships wheels for Python 3.10 and
   3.11 only, so the extra installs it only there.
 
 VGDLx, a VGDL interpreter in JAX that plays Zelda, Frogs and Boulderdash from GVGAI's own game

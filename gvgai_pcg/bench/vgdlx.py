@@ -13,7 +13,7 @@ cache (``$GVGAI_PCG_CACHE``, default ``~/.cache/gvgai-pcg``) under ``vgdl/``. Th
 human level 0 (a byte copy of GVGAI's ``<game>_lvl0.txt``), as VGDLx's own throughput script
 plays level 0.
 
-Measured the issue's way: ``jax.jit(jax.vmap(env.step))``, uniformly random actions drawn inside
+Measured as the target asks: ``jax.jit(jax.vmap(env.step))``, uniformly random actions drawn inside
 the jitted call, the observation returned (so XLA cannot drop its rendering) and the count of
 finished envs read back every step, as ours reads its ``done`` count; no auto-reset (a finished
 env keeps stepping). Ours is the env table's measure (tiles, human levels, resets at their
