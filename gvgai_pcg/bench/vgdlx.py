@@ -199,7 +199,7 @@ def vgdlx_checks(rows: list[VgdlxRow] | None, games: tuple[str, ...] = GAMES) ->
 def vgdlx_section(
     games: tuple[str, ...], batch_sizes: tuple[int, ...], min_seconds: float = 2.0, progress: bool = True
 ) -> Section:
-    """VGDLx beside each of ``games`` it plays, at the issue's batch sizes among ``batch_sizes``
+    """VGDLx beside each of ``games`` it plays, at the target batch sizes (``VGDLX_AT``) among ``batch_sizes``
     (all of ``batch_sizes`` when none is); one line instead when VGDLx is not installed."""
     games = tuple(game for game in GAMES if game in games)
     if not games:
