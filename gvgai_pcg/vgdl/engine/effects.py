@@ -48,33 +48,24 @@ def apply_rule(frame: Frame, rule: Rule) -> None:
     KERNELS[rule.plan.name](frame, rule)
 
 
-def _set_xy(frame: Frame, side: Side, x: torch.Tensor, y: torch.Tensor) -> None:
-    if side.representation == RECORD:
-        x, y = x.squeeze(-1), y.squeeze(-1)
-    frame.entry(side.key).update({"x": x, "y": y})
-
-
-def _last_xy(frame: Frame, side: Side) -> tuple[torch.Tensor, torch.Tensor]:
-    entry = frame.entry(side.key)
-    lastx, lasty = entry.get("lastx"), entry.get("lasty")
-    return (lastx.unsqueeze(-1), lasty.unsqueeze(-1)) if side.representation == RECORD else (lastx, lasty)
-
-
 def step_back(frame: Frame, rule: Rule) -> None:
     """stepBack: a first that overlaps a second goes back to where it started the tick. A still
     (grid) first started there already."""
     for first in rule.firsts:
         if first.representation == GRID:
             continue
-        x, y = frame.xy(first)
-        lastx, lasty = _last_xy(frame, first)
+        entry = frame.entry(first.key)
+        x, y, lastx, lasty = (entry.get(key) for key in ("x", "y", "lastx", "lasty"))
         eligible = frame.eligible(first)
         if rule.plan.kind == "F":
             x, y = step_back_in_order(x, y, lastx, lasty, eligible, frame.present(rule.seconds[0]), first.aligned)
         else:
-            back = eligible & (frame.overlap_count(x, y, first.aligned, first, list(rule.seconds)) > 0)
+            fx, fy = frame.xy(first)
+            back = eligible & (frame.overlap_count(fx, fy, first.aligned, first, list(rule.seconds)) > 0)
+            # A record's mask is [B, 1]: its positions are written back [B], never as views.
+            back = back.squeeze(-1) if first.representation == RECORD else back
             x, y = torch.where(back, lastx, x), torch.where(back, lasty, y)
-        _set_xy(frame, first, x, y)
+        entry.update({"x": x, "y": y})
 
 
 def kill_sprite(frame: Frame, rule: Rule) -> None:

@@ -36,13 +36,14 @@ from gvgai_pcg.vgdl.engine.terminations import check_terminations
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.layout import GRID, RECORD
 from gvgai_pcg.vgdl.model import GameDescription
-from gvgai_pcg.vgdl.parser import parse_file, parse_vgdl
+from gvgai_pcg.vgdl.parser import parse_vgdl
 from gvgai_pcg.vgdl.plan import compile_plan
 
 # Each avatar class's Gym action set.
 ACTION_SETS = {"ShootAvatar": SHOOT_ACTIONS}
 # Effects that remove their first sprite, and those that also remove their second.
 KILLS_FIRST = frozenset({"killSprite", "transformTo"})
+_GAMES: dict[tuple[str, str, str | None], VGDLGame] = {}
 
 
 class VGDLGame(Game):
@@ -57,11 +58,20 @@ class VGDLGame(Game):
 
     @classmethod
     def from_text(cls, text: str, path: str = "<vgdl>", name: str | None = None) -> VGDLGame:
-        return cls.from_description(parse_vgdl(text, path), name)
+        """The game of a description's text; the same text, path and name give the same game
+        (its compiled tick is compiled once)."""
+        key = (text, path, name)
+        if key not in _GAMES:
+            _GAMES[key] = cls.from_description(parse_vgdl(text, path), name)
+        return _GAMES[key]
 
     @classmethod
     def from_file(cls, path: str | Path, name: str | None = None) -> VGDLGame:
-        return cls.from_description(parse_file(path), name)
+        try:
+            text = Path(path).read_text(encoding="utf-8")
+        except UnicodeDecodeError as error:
+            raise VGDLError(str(path), 0, f"not UTF-8 text ({error.reason})") from None
+        return cls.from_text(text, str(path), name)
 
     @classmethod
     def from_description(cls, description: GameDescription, name: str | None = None) -> VGDLGame:

@@ -131,6 +131,13 @@ def compile_state(
     return on_device(device, state, [batch])
 
 
+def table_slots(largest: int) -> int:
+    """A table's slots for a batch whose largest level places ``largest`` sprites in it: at least
+    two, in powers of two (as a running env grows its tables), so that batches of nearby sizes
+    share one compiled tick (a same-table stepBack unrolls over the slots)."""
+    return max(2, 1 << max(0, largest - 1).bit_length())
+
+
 def _check_characters(codes: np.ndarray, mapping: Mapping[str, tuple[str, ...]], levels: Sequence[Level]) -> None:
     known = np.zeros(256, dtype=bool)
     known[[ord(char) for char in mapping if ord(char) < 256]] = True
@@ -194,7 +201,10 @@ def _table(
             )
         if placed:
             kinds[char] = group.kinds.index(placed[0])
-    table = char_entities(levels, kinds, device)
+    placing = np.zeros(256, dtype=np.int64)
+    placing[[ord(char) for char in kinds]] = 1
+    largest = int(placing[char_codes(levels)].reshape(len(levels), -1).sum(1).max(initial=0))
+    table = char_entities(levels, kinds, device, capacity=table_slots(largest))
     batch, slots = table.batch_size
     zeros = torch.zeros(batch, slots, dtype=torch.int64, device=device)
     table.update({"lastx": table.get("x").clone(), "lasty": table.get("y").clone()})
