@@ -109,20 +109,20 @@ def test_generic_zelda_equals_the_hand_written_batched_eager():
 def test_generic_zelda_equals_the_hand_written_batched_compiled():
     calm = [without_monsters(level) for level in human_levels("zelda")]
     levels = human_levels("zelda") + generated(1) + small_levels() + calm
-    seen = assert_same_play(own_zelda(), levels, ticks=200, compiled=True, seed=1)
+    seen = assert_same_play(own_zelda(), levels, ticks=120, compiled=True, seed=1)
     assert seen["lose"] > 0
 
 
 def test_generic_zelda_takes_keys_and_opens_doors_as_the_hand_written():
     # calm levels: a long random walk that takes the key (transformTo) and opens the door (kill, win)
     levels = [without_monsters(level) for level in human_levels("zelda") + generated(4) + small_levels()]
-    seen = assert_same_play(own_zelda(), levels, ticks=300, compiled=False, seed=2)
+    seen = assert_same_play(own_zelda(), levels, ticks=200, compiled=False, seed=2)
     assert seen["withkey"] + seen["win"] > 0
 
 
-@pytest.mark.parametrize("index", range(7))
+@pytest.mark.parametrize("index", [3, 6])  # a human level, a small one without a border
 def test_generic_zelda_alone(index):
-    level = (human_levels("zelda") + small_levels()[:2])[index]
+    level = (human_levels("zelda") + small_levels())[index]
     assert_same_play(own_zelda(), [level], ticks=150, compiled=False, seed=index)
 
 
@@ -132,7 +132,9 @@ def test_generic_zelda_replays_gvgai_traces(path, batched):
     assert_replays(path, batched, own_zelda())
 
 
-@pytest.mark.skipif(not (GAMES / "zelda.txt").is_file(), reason=f"GVGAI's zelda.txt is not in {GAMES}; set GVGAI_VGDL_DIR")
+@pytest.mark.skipif(
+    not (GAMES / "zelda.txt").is_file(), reason=f"GVGAI's zelda.txt is not in {GAMES}; set GVGAI_VGDL_DIR"
+)
 def test_gvgai_zelda_description_equals_the_hand_written():
     game = VGDLGame.from_file(GAMES / "zelda.txt")
     levels = human_levels("zelda") + generated(1) + [without_monsters(human_levels("zelda")[1])]

@@ -39,5 +39,7 @@ def update_avatars(frame: Frame, action: torch.Tensor) -> None:
         if layout.plan.types[made].java_class in ORIENTED_CREATIONS:
             values["ori"] = torch.where(place, moved.ori, shot.get("ori"))
         else:
-            values["ori"] = torch.where(place, torch.full_like(shot.get("ori"), layout.orientation[made]), shot.get("ori"))
+            values["ori"] = torch.where(
+                place, torch.full_like(shot.get("ori"), layout.orientation[made]), shot.get("ori")
+            )
         shot.update(values)

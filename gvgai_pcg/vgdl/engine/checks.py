@@ -46,15 +46,27 @@ def check_engine(game: GameDescription, plan: Plan) -> None:
             continue
         kernel = SPRITE_KERNELS.get(sprite.java_class)
         if kernel is None:
-            raise VGDLError(path, sprite.line, f"sprite class {sprite.java_class} ({name}) has no kernel in the generic step yet")
+            raise VGDLError(
+                path,
+                sprite.line,
+                f"sprite class {sprite.java_class} ({name}) has no kernel in the generic step yet",
+            )
         representation, settable = kernel
         if sprite.representation != representation:
             raise VGDLError(
-                path, sprite.line, f"{name}: a {sprite.java_class} held as a {sprite.representation} ({sprite.why}) has no kernel yet"
+                path,
+                sprite.line,
+                f"{name}: a {sprite.java_class} held as a {sprite.representation} ({sprite.why}) "
+                "has no kernel yet",
             )
-        for parameter in game.types[name].parameters:
+        own = game.types[name].parameters if sprite.line else {}  # Java's pre-defined wall/avatar: its own
+        for parameter in own:
             if parameter not in settable and parameter not in COSMETIC:
-                raise VGDLError(path, sprite.line, f"{name}: parameter {parameter} of {sprite.java_class} is not implemented")
+                raise VGDLError(
+                    path,
+                    sprite.line,
+                    f"{name}: parameter {parameter} of {sprite.java_class} is not implemented",
+                )
         if sprite.java_class == "ShootAvatar":
             _check_shooter(plan, name)
     for rule in plan.eos:
@@ -66,10 +78,22 @@ def check_engine(game: GameDescription, plan: Plan) -> None:
     for termination in plan.terminations:
         settable = TERMINATION_KERNELS.get(termination.java_class)
         if settable is None:
-            raise VGDLError(path, termination.line, f"termination {termination.java_class} is not implemented by the generic step yet")
-        extra = [key for key in termination.values if key not in settable and key not in ("itype", "count_score", "canEnd")]
+            raise VGDLError(
+                path,
+                termination.line,
+                f"termination {termination.java_class} is not implemented by the generic step yet",
+            )
+        extra = [
+            key
+            for key in termination.values
+            if key not in settable and key not in ("itype", "count_score", "canEnd")
+        ]
         if extra or termination.values.get("count_score") or termination.values.get("canEnd") is False:
-            raise VGDLError(path, termination.line, f"{termination.java_class}: parameters other than stype, limit and win are not implemented")
+            raise VGDLError(
+                path,
+                termination.line,
+                f"{termination.java_class}: parameters other than stype, limit and win are not implemented",
+            )
 
 
 def _used(game: GameDescription, plan: Plan, name: str) -> bool:
@@ -84,9 +108,15 @@ def _check_shooter(plan: Plan, name: str) -> None:
     stype = sprite.values.get("stype")
     made = plan.types.get(stype) if isinstance(stype, str) else None
     if sprite.step_px != plan.cell:
-        raise VGDLError(plan.path, sprite.line, f"{name}: a ShootAvatar moving {sprite.step_px} px is not implemented")
+        raise VGDLError(
+            plan.path, sprite.line, f"{name}: a ShootAvatar moving {sprite.step_px} px is not implemented"
+        )
     if made is None or made.representation != RECORD or made.java_class not in ("Flicker", "OrientedFlicker"):
-        raise VGDLError(plan.path, sprite.line, f"{name}: ShootAvatar's stype must be a singleton Flicker in the generic step")
+        raise VGDLError(
+            plan.path,
+            sprite.line,
+            f"{name}: ShootAvatar's stype must be a singleton Flicker in the generic step",
+        )
 
 
 def _check_rule(plan: Plan, rule: RulePlan) -> None:
@@ -110,14 +140,25 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
     if rule.name == "transformTo":
         stype = rule.values.get("stype")
         target = plan.types.get(stype) if isinstance(stype, str) else None
-        if target is None or target.representation != RECORD or representations - {RECORD} or stype in rule.firsts:
-            raise VGDLError(path, line, "transformTo is implemented from one record type (the avatar) into another")
+        if (
+            target is None
+            or target.representation != RECORD
+            or representations - {RECORD}
+            or stype in rule.firsts
+        ):
+            raise VGDLError(
+                path, line, "transformTo is implemented from one record type (the avatar) into another"
+            )
     if rule.kind == "F":
         same = set(rule.firsts) == set(rule.seconds)
         if rule.name != "stepBack" or not same or representations != {TABLE}:
-            raise VGDLError(path, line, f"{rule.name} among sprites of one group is implemented for one table only")
+            raise VGDLError(
+                path, line, f"{rule.name} among sprites of one group is implemented for one table only"
+            )
     elif rule.kind not in ("P", "A"):
-        raise VGDLError(path, line, f"{rule.name}: a rule of kind {rule.kind} ({rule.why}) is not implemented")
+        raise VGDLError(
+            path, line, f"{rule.name}: a rule of kind {rule.kind} ({rule.why}) is not implemented"
+        )
 
 
 def score_of(plan: Plan, rule: RulePlan) -> int:

@@ -37,9 +37,16 @@ class Rule:
 def make_rules(layout: Layout) -> tuple[Rule, ...]:
     rules = []
     for rule in layout.plan.pairs:
-        made = Rule(rule, tuple(sides(layout, rule.firsts)), tuple(sides(layout, rule.seconds)), score_of(layout.plan, rule))
+        made = Rule(
+            rule,
+            tuple(sides(layout, rule.firsts)),
+            tuple(sides(layout, rule.seconds)),
+            score_of(layout.plan, rule),
+        )
         if rule.kind == "F" and (len(made.firsts) != 1 or made.seconds != made.firsts):
-            raise VGDLError(layout.plan.path, rule.line, f"{rule.name} among sprites of several tables is not implemented")
+            raise VGDLError(
+                layout.plan.path, rule.line, f"{rule.name} among sprites of several tables is not implemented"
+            )
         rules.append(made)
     return tuple(rules)
 
@@ -58,7 +65,9 @@ def step_back(frame: Frame, rule: Rule) -> None:
         x, y, lastx, lasty = (entry.get(key) for key in ("x", "y", "lastx", "lasty"))
         eligible = frame.eligible(first)
         if rule.plan.kind == "F":
-            x, y = step_back_in_order(x, y, lastx, lasty, eligible, frame.present(rule.seconds[0]), first.aligned)
+            x, y = step_back_in_order(
+                x, y, lastx, lasty, eligible, frame.present(rule.seconds[0]), first.aligned
+            )
         else:
             fx, fy = frame.xy(first)
             back = eligible & (frame.overlap_count(fx, fy, first.aligned, first, list(rule.seconds)) > 0)
@@ -133,7 +142,10 @@ def transform_to(frame: Frame, rule: Rule) -> None:
         fire = (hits > 0) & ~disabled
         frame.add_score(rule.score * torch.where(disabled, hits, fire.long()))
         if not torch.compiler.is_compiling() and bool((fire & target.get("alive")).any()):
-            raise RuntimeError(f"{layout.plan.path}:{rule.plan.line}: transformTo into {made!r}, which already holds its one sprite")
+            raise RuntimeError(
+                f"{layout.plan.path}:{rule.plan.line}: transformTo into {made!r}, "
+                "which already holds its one sprite"
+            )
         _create(frame, made, fire, record)
         frame.mark_killed(first.key, fire)
         if rule.plan.values.get("killSecond"):

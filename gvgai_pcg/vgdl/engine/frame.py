@@ -35,6 +35,8 @@ def sides(layout: Layout, leaves: tuple[str, ...]) -> list[Side]:
     """``leaves`` grouped by the entry that holds them, in order of first appearance."""
     found: dict[str, list[str]] = {}
     for name in leaves:
+        if name not in layout.places:  # a type that never has sprites
+            continue
         found.setdefault(layout.places[name].key, []).append(name)
     result = []
     for key, names in found.items():
@@ -145,7 +147,9 @@ class Frame:
             meets = meets & ~torch.eye(size, dtype=torch.bool, device=meets.device)
         return meets
 
-    def overlap_count(self, x: torch.Tensor, y: torch.Tensor, aligned: bool, first: Side, seconds: list[Side]) -> torch.Tensor:
+    def overlap_count(
+        self, x: torch.Tensor, y: torch.Tensor, aligned: bool, first: Side, seconds: list[Side]
+    ) -> torch.Tensor:
         """``[B, N]`` int64: how many present seconds each first sprite at ``x, y`` overlaps."""
         total = torch.zeros_like(x)
         for second in seconds:

@@ -81,14 +81,16 @@ class VGDLGame(Game):
         layout = make_layout(description, plan)
         avatar_classes = {plan.types[avatar].java_class for avatar in layout.avatars}
         if len(avatar_classes) != 1:
-            raise VGDLError(plan.path, 0, f"the generic step needs one avatar class, not {sorted(avatar_classes)}")
+            raise VGDLError(
+                plan.path, 0, f"the generic step needs one avatar class, not {sorted(avatar_classes)}"
+            )
         title = name or f"vgdl:{Path(plan.path).stem}"
         digest = hashlib.sha1(title.encode()).hexdigest()[:8]
         attributes = {
             "name": title,
             "actions": ACTION_SETS[avatar_classes.pop()],
-            "tile_types": tuple(name for name in plan.types if _drawn(layout, name)),
-            "art": {name: SpriteArt(_colour(name)) for name in plan.types},
+            "tile_types": tuple(name for name in layout.types if _drawn(layout, name)),
+            "art": {name: SpriteArt(_colour(name)) for name in layout.types},
             "layout": layout,
             "description": description,
         }
@@ -118,7 +120,7 @@ class VGDLGame(Game):
 
     def layers(self, state: TensorDict) -> list:
         layout, layers = self.layout, []
-        for name in layout.plan.types:
+        for name in layout.types:
             place = layout.places[name]
             if place.representation == GRID:
                 layers.append(GridLayer(name, state.get(name) > 0))
@@ -147,7 +149,7 @@ class VGDLGame(Game):
                     "resources": {},
                 }
         sprites = []
-        for name in layout.plan.types:
+        for name in layout.types:
             place = layout.places[name]
             if place.representation == GRID:
                 if name in self.changing:
@@ -177,7 +179,7 @@ def _changing_types(layout: Layout) -> frozenset[str]:
             changing.update(rule.firsts)
         if rule.values.get("killSecond"):
             changing.update(rule.seconds)
-    return frozenset(name for name in changing if layout.places[name].representation == GRID)
+    return frozenset(name for name in changing & set(layout.grids))
 
 
 def _drawn(layout: Layout, name: str) -> bool:

@@ -63,6 +63,7 @@ class Place:
 @dataclass(frozen=True)
 class Layout:
     plan: Plan
+    types: tuple[str, ...]  # the types whose sprites can exist, drawing order
     grids: tuple[str, ...]  # drawing order
     records: tuple[str, ...]
     tables: tuple[TableGroup, ...]
@@ -80,12 +81,14 @@ class Layout:
 
 def make_layout(game: GameDescription, plan: Plan) -> Layout:
     """The state layout of ``plan`` (``game`` gives the parents that group the tables)."""
-    grids = tuple(name for name, sprite in plan.types.items() if sprite.representation == GRID)
-    records = tuple(name for name, sprite in plan.types.items() if sprite.representation == RECORD)
+    types = existing_types(plan)
+    grids = tuple(name for name in types if plan.types[name].representation == GRID)
+    records = tuple(name for name in types if plan.types[name].representation == RECORD)
     places: dict[str, Place] = {name: Place(GRID, name) for name in grids}
     places.update({name: Place(RECORD, name) for name in records})
     grouped: dict[tuple[str, str], list[str]] = {}
-    for name, sprite in plan.types.items():
+    for name in types:
+        sprite = plan.types[name]
         if sprite.representation == TABLE:
             parent = game.types[name].parent or name
             grouped.setdefault((parent, sprite.java_class), []).append(name)
@@ -106,7 +109,28 @@ def make_layout(game: GameDescription, plan: Plan) -> Layout:
         name: DIRECTION_CODES[getattr(sprite.values.get("orientation"), "name", "DNONE")]
         for name, sprite in plan.types.items()
     }
-    return Layout(plan, grids, records, tuple(tables), places, avatars, orientation)
+    return Layout(plan, types, grids, records, tuple(tables), places, avatars, orientation)
+
+
+def existing_types(plan: Plan) -> tuple[str, ...]:
+    """The types whose sprites can exist: those a level character places, and, as a fixed point,
+    the ``stype`` of a ShootAvatar or a ``transformTo`` whose source can exist. The rest (Zelda's
+    ``avatar``, a parent type with a class that nothing places) get no state and no work."""
+    found = {name for types in plan.level_mapping.values() for name in types if name in plan.types}
+    while True:
+        made = {
+            str(plan.types[name].values["stype"])
+            for name in found
+            if plan.types[name].java_class == "ShootAvatar"
+        }
+        made |= {
+            str(rule.values["stype"])
+            for rule in plan.pairs
+            if rule.name == "transformTo" and found & set(rule.firsts)
+        }
+        if made <= found:
+            return tuple(name for name in plan.types if name in found)
+        found |= made
 
 
 def compile_state(
@@ -138,7 +162,9 @@ def table_slots(largest: int) -> int:
     return max(2, 1 << max(0, largest - 1).bit_length())
 
 
-def _check_characters(codes: np.ndarray, mapping: Mapping[str, tuple[str, ...]], levels: Sequence[Level]) -> None:
+def _check_characters(
+    codes: np.ndarray, mapping: Mapping[str, tuple[str, ...]], levels: Sequence[Level]
+) -> None:
     known = np.zeros(256, dtype=bool)
     known[[ord(char) for char in mapping if ord(char) < 256]] = True
     known[ord(" ")] = True  # padding beyond a smaller level's screen

@@ -23,7 +23,7 @@ def update_npcs(frame: Frame) -> None:
     layout = frame.layout
     done: set[str] = set()
     for name in layout.plan.update_order:
-        if name in layout.avatars:
+        if name in layout.avatars or name not in layout.places:
             continue
         place = layout.places[name]
         if place.representation == TABLE and place.key not in done:
@@ -74,5 +74,3 @@ def flicker(frame: Frame, name: str) -> None:
     limit = int(frame.layout.plan.types[name].values["limit"])
     frame.mark_killed(name, alive & (age > limit))
     record.set("age", age + alive)
-
-
