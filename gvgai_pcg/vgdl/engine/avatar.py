@@ -17,11 +17,11 @@ ORIENTED_CREATIONS = frozenset({"OrientedFlicker"})
 def update_avatars(frame: Frame, action: torch.Tensor) -> None:
     """ShootAvatar (RULES.md §2): turn, move, or put its ``stype`` (a singleton Flicker, held as a
     record) in the faced cell, which gets the avatar's facing if its class is oriented."""
-    layout, state = frame.layout, frame.state
+    layout = frame.layout
     for name in layout.avatars:
-        avatar = state.get(name)
+        avatar = frame.entry(name)
         made = str(layout.plan.types[name].values["stype"])
-        shot = state.get(made)
+        shot = frame.entry(made)
         x, y = avatar.get("x"), avatar.get("y")
         moved = shoot_avatar(action, avatar.get("alive"), avatar.get("ori"), x, y, ~shot.get("alive"))
         avatar.update({"lastx": x, "lasty": y, "x": moved.x, "y": moved.y, "ori": moved.ori})

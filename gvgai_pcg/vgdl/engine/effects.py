@@ -14,12 +14,11 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import torch
-from tensordict import TensorDict
 
 from gvgai_pcg.games.geometry import NONE, aligned_cell, covered_cells
 from gvgai_pcg.games.rules import step_back_in_order
 from gvgai_pcg.vgdl.engine.checks import score_of
-from gvgai_pcg.vgdl.engine.frame import Frame, Side, sides
+from gvgai_pcg.vgdl.engine.frame import Entry, Frame, Side, sides
 from gvgai_pcg.vgdl.engine.layout import FLICKERS, Layout
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.layout import GRID, RECORD
@@ -115,11 +114,11 @@ def transform_to(frame: Frame, rule: Rule) -> None:
     only if ``stype``'s default is NONE), is killed, and kills the first second it overlaps in
     list order with ``killSecond``; once, since it is then killed. A disabled first is not
     transformed but scores for every second it overlaps (Java adds the score anyway)."""
-    layout, state = frame.layout, frame.state
+    layout = frame.layout
     made = str(rule.plan.values["stype"])
-    target = state.get(made)
+    target = frame.entry(made)
     for first in rule.firsts:
-        record = state.get(first.key)
+        record = frame.entry(first.key)
         x, y = record.get("x").unsqueeze(-1), record.get("y").unsqueeze(-1)
         eligible = frame.eligible(first).squeeze(-1)
         hits = torch.zeros_like(record.get("x"))
@@ -157,10 +156,10 @@ def transform_to(frame: Frame, rule: Rule) -> None:
                     frame.kill(second, chosen)
 
 
-def _create(frame: Frame, name: str, where: torch.Tensor, source: TensorDict) -> None:
+def _create(frame: Frame, name: str, where: torch.Tensor, source: Entry) -> None:
     """Put an ``name`` sprite (a record) where ``source`` (a record) is, where ``where``."""
     layout = frame.layout
-    target = frame.state.get(name)
+    target = frame.entry(name)
     default = layout.orientation[name]
     ori = source.get("ori") if default == NONE else torch.full_like(source.get("ori"), default)
     values = {

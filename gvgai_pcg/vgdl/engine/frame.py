@@ -15,9 +15,13 @@ from dataclasses import dataclass
 import torch
 from tensordict import TensorDict
 
+from gvgai_pcg._private_apis import entries
 from gvgai_pcg.games.geometry import aligned_cell, covered_cells, overlaps, overlaps_aligned
 from gvgai_pcg.vgdl.engine.layout import Layout
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
+
+# The entries every state has that a tick reads or writes.
+COMMON = ("seed", "tick", "score", "won", "lost")
 
 
 @dataclass(frozen=True)
@@ -47,18 +51,56 @@ def sides(layout: Layout, leaves: tuple[str, ...]) -> list[Side]:
     return result
 
 
+class Entry:
+    """A record's or a table's fields for one tick, as plain tensors: a ``TensorDict``'s ``get``
+    and ``set`` cost more than most of the tick's ops, so the frame reads each field once and
+    writes back only what changed (``Frame.write``)."""
+
+    def __init__(self, values: dict[str, torch.Tensor]) -> None:
+        self.values = dict(values)
+        self.changed: dict[str, torch.Tensor] = {}
+
+    def get(self, field: str) -> torch.Tensor:
+        return self.values[field]
+
+    def set(self, field: str, value: torch.Tensor) -> None:
+        self.values[field] = self.changed[field] = value
+
+    def update(self, values: dict[str, torch.Tensor]) -> None:
+        for field, value in values.items():
+            self.set(field, value)
+
+
 class Frame:
     """The state of one tick and its kill marks (see the module docstring)."""
 
     def __init__(self, layout: Layout, state: TensorDict) -> None:
         self.layout, self.state = layout, state
-        self.score = state.get("score")
+        top = entries(state)
+        keys = (*layout.records, *(group.key for group in layout.tables))
+        self.entries = {key: Entry(entries(top[key])) for key in keys}
+        self.values = {key: top[key] for key in (*COMMON, *layout.grids)}
+        self.changed: dict[str, torch.Tensor] = {}
         self.killed: dict[str, torch.Tensor] = {}  # per entry: [B] / [B, K] bool, grids [B, H, W] uint8
         self.disabled: dict[str, torch.Tensor] = {}  # per avatar record, [B] bool
 
+    def value(self, key: str) -> torch.Tensor:
+        """A top-level entry: a common one (``tick``, ``score``...) or a grid."""
+        return self.values[key]
+
+    def put(self, key: str, value: torch.Tensor) -> None:
+        self.values[key] = self.changed[key] = value
+
+    def write(self) -> None:
+        """Write what changed back into the state."""
+        self.state.update(self.changed)
+        for key, entry in self.entries.items():
+            if entry.changed:
+                self.state.get(key).update(entry.changed)
+
     # --- positions and presence, records seen as tables of one slot ([B, 1]) ---
-    def entry(self, key: str) -> TensorDict:
-        return self.state.get(key)
+    def entry(self, key: str) -> Entry:
+        return self.entries[key]
 
     def xy(self, side: Side) -> tuple[torch.Tensor, torch.Tensor]:
         entry = self.entry(side.key)
@@ -89,6 +131,8 @@ class Frame:
 
     def eligible(self, side: Side) -> torch.Tensor:
         """Sprites that may still be a rule's first: present and not killed (a disabled avatar is)."""
+        if side.key not in self.killed:
+            return self.present(side)
         return self.present(side) & ~self.killed_mask(side)
 
     def kill(self, side: Side, mask: torch.Tensor) -> None:
@@ -110,11 +154,11 @@ class Frame:
         return self.disabled.get(key)
 
     def add_score(self, delta: torch.Tensor) -> None:
-        self.score = self.score + delta
+        self.put("score", self.value("score") + delta)
 
     # --- grids ---
     def grid(self, key: str) -> torch.Tensor:
-        return self.state.get(key)
+        return self.values[key]
 
     def grid_killed(self, key: str) -> torch.Tensor:
         killed = self.killed.get(key)
@@ -161,17 +205,16 @@ class Frame:
 
     # --- cleanup ---
     def cleanup(self) -> None:
-        """Remove the killed sprites and the disabled avatars; write the score."""
+        """Remove the killed sprites and the disabled avatars."""
         for key, mask in self.killed.items():
             if self.layout.representation(key) == GRID:
-                self.state.set(key, self.grid(key) - mask)
+                self.put(key, self.grid(key) - mask)
             else:
                 entry = self.entry(key)
                 entry.set("alive", entry.get("alive") & ~mask)
         for key, mask in self.disabled.items():
             entry = self.entry(key)
             entry.set("alive", entry.get("alive") & ~mask)
-        self.state.set("score", self.score)
 
 
 __all__ = ["GRID", "RECORD", "TABLE", "Frame", "Side", "sides"]

@@ -109,14 +109,15 @@ class VGDLGame(Game):
         return compile_state(self.layout, levels, seeds, torch.device(device))
 
     def tick(self, state: TensorDict, action: torch.Tensor) -> None:
-        state.set("tick", state.get("tick") + 1)
         frame = Frame(self.layout, state)
+        frame.put("tick", frame.value("tick") + 1)
         update_avatars(frame, action)
         update_npcs(frame)
         for rule in self.rules:
             apply_rule(frame, rule)
         frame.cleanup()
         check_terminations(frame)
+        frame.write()
 
     def layers(self, state: TensorDict) -> list:
         layout, layers = self.layout, []

@@ -38,15 +38,15 @@ def update_npcs(frame: Frame) -> None:
 def random_npc(frame: Frame, group: TableGroup) -> None:
     """RandomNPC (RULES.md §2): hold ``prev`` for ``cons`` updates, then draw a direction; move
     ``step`` px through the cooldown gate (a move undone later still resets it)."""
-    state, types = frame.state, frame.layout.plan.types
-    table = state.get(group.key)
+    types = frame.layout.plan.types
+    table = frame.entry(group.key)
     kind, alive = table.get("kind"), table.get("alive")
     cons = lookup(tuple(int(types[name].values["cons"]) for name in group.kinds), kind)
     cooldown = lookup(tuple(max(1, int(types[name].values["cooldown"])) for name in group.kinds), kind)
     step = lookup(tuple(types[name].step_px for name in group.kinds), kind)
     counter, prev = table.get("counter"), table.get("prev")
     slots = torch.arange(counter.shape[1], device=counter.device)
-    drawn = rng.randint(state.get("seed"), state.get("tick"), slots, group.stream, DIRECTIONS)
+    drawn = rng.randint(frame.value("seed"), frame.value("tick"), slots, group.stream, DIRECTIONS)
     draw = counter >= cons
     direction = torch.where(draw, drawn, prev)
     counter = torch.where(draw, torch.zeros_like(counter), counter + 1)
@@ -69,7 +69,7 @@ def random_npc(frame: Frame, group: TableGroup) -> None:
 
 def flicker(frame: Frame, name: str) -> None:
     """Flicker (RULES.md §2): killed once its age exceeds ``limit``, then one older."""
-    record = frame.state.get(name)
+    record = frame.entry(name)
     alive, age = record.get("alive"), record.get("age")
     limit = int(frame.layout.plan.types[name].values["limit"])
     frame.mark_killed(name, alive & (age > limit))

@@ -11,11 +11,10 @@ from gvgai_pcg.vgdl.layout import GRID
 def check_terminations(frame: Frame) -> None:
     """SpriteCounter: the sprites of its type (and subtypes) still there, disabled avatars not
     counted (cleanup removed them), are at most ``limit``."""
-    state = frame.state
-    won, lost = state.get("won"), state.get("lost")
+    won, lost = frame.value("won"), frame.value("lost")
     decided = torch.zeros_like(won)
     for termination in frame.layout.plan.terminations:
-        count = torch.zeros_like(state.get("score"))
+        count = torch.zeros_like(frame.value("score"))
         for leaves in termination.counted:
             for side in sides(frame.layout, leaves):
                 if side.representation == GRID:
@@ -28,5 +27,5 @@ def check_terminations(frame: Frame) -> None:
         else:
             lost = lost | ends
         decided = decided | ends
-    state.set("won", won)
-    state.set("lost", lost)
+    frame.put("won", won)
+    frame.put("lost", lost)
