@@ -103,3 +103,29 @@ def test_random_npcs_of_one_parent_share_a_table_and_each_table_its_stream():
         (20, 10),
     ]
     assert bats.batch_size[1] == 4 and state.get("rat").batch_size[1] == 2  # powers of two, at least 2
+
+
+def test_a_creation_into_a_record_that_holds_its_sprite_stops_the_tick():
+    game = VGDLGame.from_text(
+        """BasicGame
+    SpriteSet
+        key > Immovable
+        avatar > ShootAvatar stype=slash
+            nokey >
+            withkey >
+        slash > Flicker singleton=True
+    LevelMapping
+        + > key
+        A > nokey
+        K > withkey
+    InteractionSet
+        nokey key > transformTo stype=withkey killSecond=True
+    TerminationSet
+        SpriteCounter stype=avatar limit=0 win=False
+""",
+        "two.txt",
+    )
+    state = game.compile([Level("two", ("A+K",))], torch.zeros(1), "cpu")  # two avatars
+    game.tick(state, torch.tensor([game.actions.index("NIL")]))
+    with pytest.raises(RuntimeError, match=r"two.txt:13: transformTo into 'withkey', which already holds"):
+        game.tick(state, torch.tensor([game.actions.index("RIGHT")]))  # nokey steps onto the key

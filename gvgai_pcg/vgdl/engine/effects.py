@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import torch
 
+from gvgai_pcg._private_apis import assert_async
 from gvgai_pcg.games.geometry import NONE, aligned_cell, covered_cells
 from gvgai_pcg.games.rules import step_back_in_order
 from gvgai_pcg.vgdl.engine.checks import score_of
@@ -140,11 +141,11 @@ def transform_to(frame: Frame, rule: Rule) -> None:
         disabled = torch.zeros_like(eligible) if disabled is None else disabled
         fire = (hits > 0) & ~disabled
         frame.add_score(rule.score * torch.where(disabled, hits, fire.long()))
-        if not torch.compiler.is_compiling() and bool((fire & target.get("alive")).any()):
-            raise RuntimeError(
-                f"{layout.plan.path}:{rule.plan.line}: transformTo into {made!r}, "
-                "which already holds its one sprite"
-            )
+        assert_async(  # no host sync: the tick stays one graph
+            ~(fire & target.get("alive")).any(),
+            f"{layout.plan.path}:{rule.plan.line}: transformTo into {made!r}, "
+            "which already holds its one sprite",
+        )
         _create(frame, made, fire, record)
         frame.mark_killed(first.key, fire)
         if rule.plan.values.get("killSecond"):
