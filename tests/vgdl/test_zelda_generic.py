@@ -117,6 +117,23 @@ def test_generic_zelda_equals_the_hand_written_batched_compiled():
     assert isinstance(tick, CompiledTick) and tick.failed is None  # it ran compiled
 
 
+def crowded(level: Level, every: int) -> Level:
+    """``level`` with a monster on every ``every``-th floor cell (kinds in turn)."""
+    cells = [(r, c) for r, row in enumerate(level.rows) for c, ch in enumerate(row) if ch == "."]
+    rows = [list(row) for row in level.rows]
+    for index, (r, c) in enumerate(cells[::every]):
+        rows[r][c] = "123"[index % 3]
+    return Level(level.game, tuple("".join(row) for row in rows), name=f"{level.name}-crowded")
+
+
+def test_crowded_generic_zelda_ticks_eagerly_and_equals_the_hand_written():
+    levels = [crowded(level, 3) for level in human_levels("zelda")[:2]]
+    game = own_zelda()
+    state = game.compile(levels, torch.arange(2), "cpu")
+    assert state.get("enemy").batch_size[1] > 16 and game.host_arguments(state) == {"crowded": True}
+    assert_same_play(game, levels, ticks=60, compiled=True, seed=4)
+
+
 def test_generic_zelda_takes_keys_and_opens_doors_as_the_hand_written():
     # calm levels: a long random walk that takes the key (transformTo) and opens the door (kill, win)
     levels = [without_monsters(level) for level in human_levels("zelda") + generated(4) + small_levels()]

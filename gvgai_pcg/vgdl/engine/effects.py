@@ -32,6 +32,7 @@ class Rule:
     firsts: tuple[Side, ...]
     seconds: tuple[Side, ...]
     score: int
+    overflow: str  # the error of a creation that finds its record taken (made here: no f-string in a graph)
 
 
 def make_rules(layout: Layout) -> tuple[Rule, ...]:
@@ -42,6 +43,8 @@ def make_rules(layout: Layout) -> tuple[Rule, ...]:
             tuple(sides(layout, rule.firsts)),
             tuple(sides(layout, rule.seconds)),
             score_of(layout.plan, rule),
+            f"{layout.plan.path}:{rule.line}: {rule.name} into {rule.values.get('stype')!r}, "
+            "which already holds its one sprite",
         )
         if rule.kind == "F" and (len(made.firsts) != 1 or made.seconds != made.firsts):
             raise VGDLError(
@@ -115,7 +118,6 @@ def transform_to(frame: Frame, rule: Rule) -> None:
     only if ``stype``'s default is NONE), is killed, and kills the first second it overlaps in
     list order with ``killSecond``; once, since it is then killed. A disabled first is not
     transformed but scores for every second it overlaps (Java adds the score anyway)."""
-    layout = frame.layout
     made = str(rule.plan.values["stype"])
     target = frame.entry(made)
     for first in rule.firsts:
@@ -143,8 +145,7 @@ def transform_to(frame: Frame, rule: Rule) -> None:
         frame.add_score(rule.score * torch.where(disabled, hits, fire.long()))
         assert_async(  # no host sync: the tick stays one graph
             ~(fire & target.get("alive")).any(),
-            f"{layout.plan.path}:{rule.plan.line}: transformTo into {made!r}, "
-            "which already holds its one sprite",
+            rule.overflow,
         )
         _create(frame, made, fire, record)
         frame.mark_killed(first.key, fire)

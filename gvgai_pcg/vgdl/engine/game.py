@@ -44,6 +44,11 @@ ACTION_SETS = {"ShootAvatar": SHOOT_ACTIONS}
 # Effects that remove their first sprite, and those that also remove their second.
 KILLS_FIRST = frozenset({"killSprite", "transformTo"})
 _GAMES: dict[tuple[str, str, str | None], VGDLGame] = {}
+# The widest table whose same-table stepBack ticks compiled: compiled, ``step_back_in_order`` runs
+# one round per slot (no early exit in a graph), so its cost grows as slots cubed, while eagerly it
+# stops when nothing changes; the hand-written Zelda draws the line at the same width
+# (``zelda.rules.COMPILED_MONSTER_SLOTS``, measured there).
+COMPILED_ORDERED_SLOTS = 16
 
 
 class VGDLGame(Game):
@@ -100,15 +105,26 @@ class VGDLGame(Game):
     def __init__(self) -> None:
         self.rules = make_rules(self.layout)
         self.changing = _changing_types(self.layout)
+        # the tables a stepBack among their own sprites resolves in slot order
+        self.ordered = tuple(
+            dict.fromkeys(rule.firsts[0].key for rule in self.rules if rule.plan.kind == "F")
+        )
 
     @property
     def step_facts(self) -> StepFacts:
-        return StepFacts(compiles=True)
+        # compiled on the CPU only: its compiled tick has not been held to the eager one on CUDA yet
+        return StepFacts(compiles=True, eager_when=("crowded",), compiled_devices=("cpu",))
+
+    def host_arguments(self, state: TensorDict) -> dict[str, object]:
+        """Whether a table with an ordered stepBack is wider than ``COMPILED_ORDERED_SLOTS`` (its
+        shape: no sync); such a tick runs eagerly."""
+        return {"crowded": any(state.get(key).batch_size[1] > COMPILED_ORDERED_SLOTS for key in self.ordered)}
 
     def compile(self, levels: Sequence[Level], seeds: torch.Tensor, device: torch.device) -> TensorDict:
         return compile_state(self.layout, levels, seeds, torch.device(device))
 
-    def tick(self, state: TensorDict, action: torch.Tensor) -> None:
+    def tick(self, state: TensorDict, action: torch.Tensor, crowded: bool | None = None) -> None:
+        """Java's tick (see the module docstring); ``crowded`` only chooses how the engine runs it."""
         frame = Frame(self.layout, state)
         frame.put("tick", frame.value("tick") + 1)
         update_avatars(frame, action)
