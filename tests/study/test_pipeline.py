@@ -366,5 +366,7 @@ def test_the_curricula_smoke_budget_shrinks_only_sfl_s_pool():
     assert full.overrides_of("zelda-sfl") == full.overrides
     assert full.overrides_of("frogs-accel")[-1] == "regimen.buffer_size=300"
     assert {c for c in full.condition_overrides} == {
-        f"{game}-{name}" for game in ("zelda", "solarfox", "frogs", "boulderdash") for name in ("plr", "accel")
+        f"{game}-{name}"
+        for game in ("zelda", "solarfox", "frogs", "boulderdash")
+        for name in ("plr", "accel")
     }

@@ -82,6 +82,9 @@ def assert_same_play(game: VGDLGame, levels: list[Level], ticks: int, compiled: 
         for index in range(len(levels)):
             expected, actual = zelda.snapshot(theirs, index), game.snapshot(mine, index)
             assert actual == expected, f"{levels[index].name} at tick {step}:\n{expected}\n{actual}"
+    fresh = game.compile(levels, seeds, "cpu")  # the tick writes its fields back unchecked
+    for key in fresh.keys(True, True):
+        assert (mine.get(key).dtype, mine.get(key).shape) == (fresh.get(key).dtype, fresh.get(key).shape), key
     for index in range(len(levels)):
         record = game.snapshot(mine, index)
         seen["withkey"] += record["avatar"] is not None and record["avatar"]["type"] == "withkey"

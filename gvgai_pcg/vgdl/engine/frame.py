@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import torch
 from tensordict import TensorDict
 
-from gvgai_pcg._private_apis import entries
+from gvgai_pcg._private_apis import entries, write_entries
 from gvgai_pcg.games.geometry import aligned_cell, covered_cells, overlaps, overlaps_aligned
 from gvgai_pcg.vgdl.engine.layout import Layout
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
@@ -92,11 +92,13 @@ class Frame:
         self.values[key] = self.changed[key] = value
 
     def write(self) -> None:
-        """Write what changed back into the state."""
-        self.state.update(self.changed)
+        """Write what changed back into the state, unchecked: every kernel keeps a field's shape
+        and dtype."""
+        write_entries(self.state, self.changed)
+        top = entries(self.state)
         for key, entry in self.entries.items():
             if entry.changed:
-                self.state.get(key).update(entry.changed)
+                write_entries(top[key], entry.changed)
 
     # --- positions and presence, records seen as tables of one slot ([B, 1]) ---
     def entry(self, key: str) -> Entry:
