@@ -18,7 +18,7 @@ from tensordict import TensorDict
 from gvgai_pcg._private_apis import entries, write_entries
 from gvgai_pcg.games.geometry import aligned_cell, covered_cells, overlaps, overlaps_aligned
 from gvgai_pcg.vgdl.engine.layout import Layout
-from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
+from gvgai_pcg.vgdl.layout import GRID, RECORD
 
 # The entries every state has that a tick reads or writes.
 COMMON = ("seed", "tick", "score", "won", "lost")
@@ -217,6 +217,3 @@ class Frame:
         for key, mask in self.disabled.items():
             entry = self.entry(key)
             entry.set("alive", entry.get("alive") & ~mask)
-
-
-__all__ = ["GRID", "RECORD", "TABLE", "Frame", "Side", "sides"]
