@@ -53,7 +53,9 @@ def hash_bits(seed: torch.Tensor, tick: torch.Tensor, slot: torch.Tensor | int, 
         # arange are index arithmetic, which Triton did in int32, and ``slot * _KEY_SLOT`` failed
         # to compile (torch 2.11: "Scalar ... is out of range for type int32").
         slot = slot + (seed & 0)
-    key = mix64(seed) + tick * _KEY_TICK + slot * _KEY_SLOT + stream * _KEY_STREAM
+    # Python ints' terms wrap as int64 arithmetic does (past 2^63 they would not convert).
+    slot_term = _signed(slot * _KEY_SLOT) if isinstance(slot, int) else slot * _KEY_SLOT
+    key = mix64(seed) + tick * _KEY_TICK + slot_term + _signed(stream * _KEY_STREAM)
     return mix64(mix64(key))
 
 

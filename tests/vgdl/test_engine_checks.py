@@ -6,6 +6,8 @@ from __future__ import annotations
 import pytest
 import torch
 
+from gvgai_pcg.games import rng
+from gvgai_pcg.games.geometry import direction_dx, direction_dy
 from gvgai_pcg.levels import Level
 from gvgai_pcg.vgdl import VGDLError
 from gvgai_pcg.vgdl.engine import VGDLGame
@@ -129,3 +131,16 @@ def test_a_creation_into_a_record_that_holds_its_sprite_stops_the_tick():
     game.tick(state, torch.tensor([game.actions.index("NIL")]))
     with pytest.raises(RuntimeError, match=r"two.txt:13: transformTo into 'withkey', which already holds"):
         game.tick(state, torch.tensor([game.actions.index("RIGHT")]))  # nokey steps onto the key
+
+
+def test_a_random_npc_draws_its_direction_by_slot_on_its_tables_stream():
+    game = VGDLGame.from_text(description(), "mine.txt")
+    seeds = torch.arange(8) * 977
+    state = game.compile([Level("mine", ("A.r..", "....."))] * 8, seeds, "cpu")
+    game.tick(state, torch.zeros(8, dtype=torch.int64))  # rat: cons 0, so it draws and moves at tick 0
+    drawn = rng.randint(seeds, torch.zeros(8, dtype=torch.int64), 0, 2, 4)  # slot 0, stream 2
+    rat = state.get("rat")
+    moved = (rat.get("x")[:, 0] - 20, rat.get("y")[:, 0])
+    assert moved[0].tolist() == (10 * direction_dx(drawn)).tolist()
+    assert moved[1].tolist() == (10 * direction_dy(drawn)).tolist()
+    assert len(set(drawn.tolist())) > 1  # the seeds draw different directions
