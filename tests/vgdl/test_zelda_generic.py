@@ -20,6 +20,7 @@ import torch
 from gvgai_pcg.engine.compiled import CompiledTick, engine_tick
 from gvgai_pcg.games import get_game
 from gvgai_pcg.games.registry import generate_level
+from gvgai_pcg.games.render import render_tiles
 from gvgai_pcg.levels import Level, human_levels
 from gvgai_pcg.vgdl import parse_file
 from gvgai_pcg.vgdl.engine import VGDLGame
@@ -91,6 +92,9 @@ def assert_same_play(game: VGDLGame, levels: list[Level], ticks: int, compiled: 
         seen["win"] += record["status"] == "win"
         seen["lose"] += record["status"] == "lose"
     seen["kills"] = int((mine.get("score") >= 2).sum())
+    # the observation too: the same tiles, channel for channel (the orders of the types differ)
+    channels = [game.tile_types.index(name) for name in zelda.tile_types]
+    assert torch.equal(render_tiles(game, mine)[:, channels], render_tiles(zelda, theirs))
     return seen
 
 
