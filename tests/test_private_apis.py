@@ -143,6 +143,9 @@ def test_entries_are_the_tensordicts_own_dict_of_its_entries():
         assert entries["table"] is td.get("table")
         td.set("z", torch.ones(3))  # the dict the TensorDict keeps, not a copy
         assert entries["z"] is td.get("z")
+        new_x = torch.ones(3, 2, dtype=x.dtype)
+        private.write_entries(td, {"x": new_x})
+        assert td.get("x") is new_x and td.batch_size == torch.Size([3])
 
 
 class FlatRewardEnv(TinyEnv):

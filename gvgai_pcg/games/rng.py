@@ -53,8 +53,18 @@ def hash_bits(seed: torch.Tensor, tick: torch.Tensor, slot: torch.Tensor | int, 
         # arange are index arithmetic, which Triton did in int32, and ``slot * _KEY_SLOT`` failed
         # to compile (torch 2.11: "Scalar ... is out of range for type int32").
         slot = slot + (seed & 0)
-    key = mix64(seed) + tick * _KEY_TICK + slot * _KEY_SLOT + stream * _KEY_STREAM
+    key = mix64(seed) + tick * _KEY_TICK + _int_term(slot, _KEY_SLOT) + _int_term(stream, _KEY_STREAM)
     return mix64(mix64(key))
+
+
+def _int_term(value: torch.Tensor | int, key: int) -> torch.Tensor | int:
+    """``value * key`` wrapped as int64 arithmetic wraps it: a Python int's product past 2^63
+    would not convert to a tensor (streams and int slots from 2 on). In a compiled graph the
+    product is the graph's own int64 arithmetic, which wraps by itself; ``_signed`` on a symbolic
+    int would not trace."""
+    if isinstance(value, int) and not torch.compiler.is_compiling():
+        return _signed(value * key)
+    return value * key
 
 
 def uniform(seed: torch.Tensor, tick: torch.Tensor, slot: torch.Tensor | int, stream: int) -> torch.Tensor:

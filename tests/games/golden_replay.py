@@ -13,7 +13,7 @@ from pathlib import Path
 import torch
 
 from gvgai_pcg.engine.compiled import engine_tick
-from gvgai_pcg.games import get_game
+from gvgai_pcg.games import Game, get_game
 from gvgai_pcg.levels import Level, human_level
 
 GOLDEN_DIR = Path(__file__).parent / "golden"
@@ -23,16 +23,17 @@ def golden_files(game: str) -> list[Path]:
     return sorted(GOLDEN_DIR.glob(f"{game}_*.json"))
 
 
-def replay(path: Path, batched: bool = False) -> list[tuple[dict, dict]]:
+def replay(path: Path, batched: bool = False, game: Game | None = None) -> list[tuple[dict, dict]]:
     """(expected, actual) snapshot pairs for every recorded tick of the trace at ``path``; with
     ``batched`` the trace's env is the middle one of three, beside human levels 0 and 1 (which get
-    the same actions)."""
+    the same actions). ``game`` replaces the trace's registered game (another engine of it)."""
     trace = json.loads(path.read_text())
-    game = get_game(trace["game"])
+    game = game or get_game(trace["game"])
     level = Level(trace["game"], tuple(trace["level"]))  # may exceed the full size on purpose
     levels, seeds, index = [level], [12345], 0
     if batched:
-        levels, seeds, index = [human_level(game.name, 0), level, human_level(game.name, 1)], [1, 12345, 2], 1
+        levels = [human_level(trace["game"], 0), level, human_level(trace["game"], 1)]
+        seeds, index = [1, 12345, 2], 1
     state = game.compile(levels, torch.tensor(seeds), torch.device("cpu"))
     actions = ["NIL", *trace["actions"]]
     tick = engine_tick(game)  # compiled where the engine compiles the game
@@ -46,9 +47,9 @@ def replay(path: Path, batched: bool = False) -> list[tuple[dict, dict]]:
     return pairs
 
 
-def assert_replays(path: Path, batched: bool = False) -> None:
+def assert_replays(path: Path, batched: bool = False, game: Game | None = None) -> None:
     where = "batched" if batched else "alone"
-    for expected, actual in replay(path, batched):
+    for expected, actual in replay(path, batched, game):
         assert actual == expected, (
             f"{path.name} ({where}), tick {expected['tick']}:\nexpected {expected}\nactual   {actual}"
         )

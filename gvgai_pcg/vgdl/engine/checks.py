@@ -1,0 +1,170 @@
+"""What the generic step's kernels implement, narrower than ``support.IMPLEMENTED``: the rest is
+refused in one line naming the file, the line and the feature, never run as something else.
+
+``support`` lists the features some hand-written engine implements; the generic step has kernels
+for the classes, effects, terminations and parameters below (what Zelda uses), and for the
+representations the plan gives them there. A description that passes ``check_supported`` but
+needs anything else (an EOS rule, a Missile, a parameter off its Java default, a creation into a
+table) stops here.
+"""
+
+from __future__ import annotations
+
+from gvgai_pcg.vgdl.errors import VGDLError
+from gvgai_pcg.vgdl.java_classes import defaults_of
+from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
+from gvgai_pcg.vgdl.model import GameDescription
+from gvgai_pcg.vgdl.plan import Plan, RulePlan
+
+# Per class, its representation and the behaviour parameters a file may set.
+SPRITE_KERNELS: dict[str, tuple[str, frozenset[str]]] = {
+    "Immovable": (GRID, frozenset()),
+    "Door": (GRID, frozenset()),
+    "Flicker": (RECORD, frozenset({"limit", "singleton"})),
+    "OrientedFlicker": (RECORD, frozenset({"limit", "singleton"})),
+    "ShootAvatar": (RECORD, frozenset({"stype", "speed"})),
+    "RandomNPC": (TABLE, frozenset({"speed", "cooldown", "cons"})),
+}
+# Parameters that change only how a sprite is drawn.
+COSMETIC = frozenset(
+    {"img", "color", "hidden", "invisible", "autotiling", "randomtiling", "frameRate", "shrinkfactor"}
+)
+# Per effect, the parameters its kernel reads; every other must keep Java's default.
+EFFECT_KERNELS: dict[str, frozenset[str]] = {
+    "stepBack": frozenset(),
+    "killSprite": frozenset({"scoreChange"}),
+    "transformTo": frozenset({"scoreChange", "stype", "killSecond"}),
+}
+TERMINATION_KERNELS = {"SpriteCounter": frozenset({"stype", "limit", "win"})}
+
+
+def check_engine(game: GameDescription, plan: Plan) -> None:
+    """Refuse the first thing of ``plan`` the generic step has no kernel for."""
+    path = plan.path
+    for name, sprite in plan.types.items():
+        if not _used(game, plan, name):
+            continue
+        kernel = SPRITE_KERNELS.get(sprite.java_class)
+        if kernel is None:
+            raise VGDLError(
+                path,
+                sprite.line,
+                f"sprite class {sprite.java_class} ({name}) has no kernel in the generic step yet",
+            )
+        representation, settable = kernel
+        if sprite.representation != representation:
+            raise VGDLError(
+                path,
+                sprite.line,
+                f"{name}: a {sprite.java_class} held as a {sprite.representation} ({sprite.why}) "
+                "has no kernel yet",
+            )
+        own = game.types[name].parameters if sprite.line else {}  # Java's pre-defined wall/avatar: its own
+        for parameter in own:
+            if parameter not in settable and parameter not in COSMETIC:
+                raise VGDLError(
+                    path,
+                    sprite.line,
+                    f"{name}: parameter {parameter} of {sprite.java_class} is not implemented",
+                )
+        if sprite.java_class == "ShootAvatar":
+            _check_shooter(plan, name)
+    for rule in plan.eos:
+        raise VGDLError(path, rule.line, "EOS rules are not implemented by the generic step yet")
+    for rule in plan.timed:
+        raise VGDLError(path, rule.line, "timed effects are not implemented by the generic step yet")
+    for rule in plan.pairs:
+        _check_rule(plan, rule)
+    for termination in plan.terminations:
+        settable = TERMINATION_KERNELS.get(termination.java_class)
+        if settable is None:
+            raise VGDLError(
+                path,
+                termination.line,
+                f"termination {termination.java_class} is not implemented by the generic step yet",
+            )
+        extra = [
+            key
+            for key in termination.values
+            if key not in settable and key not in ("itype", "count_score", "canEnd")
+        ]
+        if extra or termination.values.get("count_score") or termination.values.get("canEnd") is False:
+            raise VGDLError(
+                path,
+                termination.line,
+                f"{termination.java_class}: parameters other than stype, limit and win are not implemented",
+            )
+
+
+def _used(game: GameDescription, plan: Plan, name: str) -> bool:
+    """A type whose sprites can exist: placed by a level character, created, or defined in the
+    file (Java's pre-defined ``avatar``/``wall`` count only when placed)."""
+    placed = any(name in types for types in plan.level_mapping.values())
+    return placed or bool(plan.types[name].created_by) or game.types[name].line > 0
+
+
+def _check_shooter(plan: Plan, name: str) -> None:
+    sprite = plan.types[name]
+    stype = sprite.values.get("stype")
+    made = plan.types.get(stype) if isinstance(stype, str) else None
+    if sprite.step_px != plan.cell:
+        raise VGDLError(
+            plan.path, sprite.line, f"{name}: a ShootAvatar moving {sprite.step_px} px is not implemented"
+        )
+    if made is None or made.representation != RECORD or made.java_class not in ("Flicker", "OrientedFlicker"):
+        raise VGDLError(
+            plan.path,
+            sprite.line,
+            f"{name}: ShootAvatar's stype must be a singleton Flicker in the generic step",
+        )
+
+
+def _check_rule(plan: Plan, rule: RulePlan) -> None:
+    path, line = plan.path, rule.line
+    settable = EFFECT_KERNELS.get(rule.name)
+    if settable is None:
+        raise VGDLError(path, line, f"effect {rule.name} is not implemented by the generic step yet")
+    defaults = defaults_of("effect", rule.java_class)
+    for key, value in rule.values.items():
+        if key in settable or key in ("scoreChange", "counter", "counterElse"):
+            continue
+        if key in defaults and value != defaults[key]:
+            raise VGDLError(path, line, f"{rule.name}: parameter {key}={value} is not implemented")
+    score = score_of(plan, rule)  # refuses a score the step cannot hold
+    if rule.name == "stepBack" and score != 0:
+        raise VGDLError(path, line, "stepBack with a scoreChange is not implemented")
+    representations = {plan.types[name].representation for name in rule.firsts}
+    seconds = {plan.types[name].representation for name in rule.seconds}
+    if rule.name != "stepBack" and GRID in representations and GRID in seconds:
+        raise VGDLError(path, line, f"{rule.name} between two static types is not implemented")
+    if rule.name == "transformTo":
+        stype = rule.values.get("stype")
+        target = plan.types.get(stype) if isinstance(stype, str) else None
+        if (
+            target is None
+            or target.representation != RECORD
+            or representations - {RECORD}
+            or stype in rule.firsts
+        ):
+            raise VGDLError(
+                path, line, "transformTo is implemented from one record type (the avatar) into another"
+            )
+    if rule.kind == "F":
+        same = set(rule.firsts) == set(rule.seconds)
+        if rule.name != "stepBack" or not same or representations != {TABLE}:
+            raise VGDLError(
+                path, line, f"{rule.name} among sprites of one group is implemented for one table only"
+            )
+    elif rule.kind not in ("P", "A"):
+        raise VGDLError(
+            path, line, f"{rule.name}: a rule of kind {rule.kind} ({rule.why}) is not implemented"
+        )
+
+
+def score_of(plan: Plan, rule: RulePlan) -> int:
+    """The rule's scoreChange as an int (Java's first player's), refused otherwise."""
+    text = str(rule.values.get("scoreChange", "0")).split(",")[0]
+    try:
+        return int(text)
+    except ValueError:
+        raise VGDLError(plan.path, rule.line, f"scoreChange={text} is not an integer score") from None

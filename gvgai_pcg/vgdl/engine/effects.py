@@ -1,0 +1,191 @@
+"""The effect kernels: one rule (an effect line on one type pair) applied as GVGAI applies it.
+
+Java takes each first sprite in turn (``iSubTypes`` order, then list order), the seconds that
+overlap it, and applies the effect to each pair while the first is not killed (a killed avatar is
+only disabled, so it goes on). Each kernel below gives that result with batched ops: for these
+effects no first sprite's application changes another's, except a stepBack among the sprites of
+one table, which ``step_back_in_order`` resolves in slot order (the processing order, see
+``layout``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import torch
+
+from gvgai_pcg._private_apis import assert_async
+from gvgai_pcg.games.geometry import NONE, aligned_cell, covered_cells
+from gvgai_pcg.games.rules import step_back_in_order
+from gvgai_pcg.vgdl.engine.checks import score_of
+from gvgai_pcg.vgdl.engine.frame import Entry, Frame, Side, sides
+from gvgai_pcg.vgdl.engine.layout import FLICKERS, Layout
+from gvgai_pcg.vgdl.errors import VGDLError
+from gvgai_pcg.vgdl.layout import GRID, RECORD
+from gvgai_pcg.vgdl.plan import RulePlan
+
+
+@dataclass(frozen=True)
+class Rule:
+    plan: RulePlan
+    firsts: tuple[Side, ...]
+    seconds: tuple[Side, ...]
+    score: int
+    overflow: str  # the error of a creation that finds its record taken (made here: no f-string in a graph)
+
+
+def make_rules(layout: Layout) -> tuple[Rule, ...]:
+    rules = []
+    for rule in layout.plan.pairs:
+        made = Rule(
+            rule,
+            tuple(sides(layout, rule.firsts)),
+            tuple(sides(layout, rule.seconds)),
+            score_of(layout.plan, rule),
+            f"{layout.plan.path}:{rule.line}: {rule.name} into {rule.values.get('stype')!r}, "
+            "which already holds its one sprite",
+        )
+        if rule.kind == "F" and (len(made.firsts) != 1 or made.seconds != made.firsts):
+            raise VGDLError(
+                layout.plan.path, rule.line, f"{rule.name} among sprites of several tables is not implemented"
+            )
+        rules.append(made)
+    return tuple(rules)
+
+
+def apply_rule(frame: Frame, rule: Rule) -> None:
+    KERNELS[rule.plan.name](frame, rule)
+
+
+def step_back(frame: Frame, rule: Rule) -> None:
+    """stepBack: a first that overlaps a second goes back to where it started the tick. A still
+    (grid) first started there already."""
+    for first in rule.firsts:
+        if first.representation == GRID:
+            continue
+        entry = frame.entry(first.key)
+        x, y, lastx, lasty = (entry.get(key) for key in ("x", "y", "lastx", "lasty"))
+        eligible = frame.eligible(first)
+        if rule.plan.kind == "F":
+            x, y = step_back_in_order(
+                x, y, lastx, lasty, eligible, frame.present(rule.seconds[0]), first.aligned
+            )
+        else:
+            fx, fy = frame.xy(first)
+            back = eligible & (frame.overlap_count(fx, fy, first.aligned, first, list(rule.seconds)) > 0)
+            # A record's mask is [B, 1]: its positions are written back [B], never as views.
+            back = back.squeeze(-1) if first.representation == RECORD else back
+            x, y = torch.where(back, lastx, x), torch.where(back, lasty, y)
+        entry.update({"x": x, "y": y})
+
+
+def kill_sprite(frame: Frame, rule: Rule) -> None:
+    """killSprite: a first that overlaps a second is killed, ``scoreChange`` each time it is
+    applied: once for a sprite (then it is killed), once per second for an avatar (only
+    disabled, it stays a first)."""
+    for first in rule.firsts:
+        if first.representation == GRID:
+            _kill_cells(frame, rule, first)
+            continue
+        x, y = frame.xy(first)
+        hits = frame.overlap_count(x, y, first.aligned, first, list(rule.seconds)) * frame.eligible(first)
+        touched = hits > 0
+        frame.kill(first, touched)
+        applied = hits if first.key in frame.layout.avatars else touched.long()
+        frame.add_score(rule.score * applied.sum(-1))
+
+
+def _kill_cells(frame: Frame, rule: Rule, first: Side) -> None:
+    """killSprite of a grid type: every sprite of it not yet killed in a cell a second covers."""
+    grid = frame.grid(first.key)
+    batch, height, width = grid.shape
+    touched = torch.zeros(batch, height * width, dtype=torch.int32, device=grid.device)
+    for second in rule.seconds:
+        x, y = frame.xy(second)
+        index, valid = (aligned_cell if second.aligned else covered_cells)(x, y, height, width)
+        valid = valid & frame.present(second).unsqueeze(-1)
+        touched = touched.scatter_add(1, index.reshape(batch, -1), valid.reshape(batch, -1).to(torch.int32))
+    killed = frame.grid_killed(first.key)
+    newly = torch.where(touched.view(grid.shape) > 0, grid - killed, torch.zeros_like(grid))
+    frame.killed[first.key] = killed + newly
+    frame.add_score(rule.score * newly.flatten(1).sum(-1, dtype=torch.int64))
+
+
+def transform_to(frame: Frame, rule: Rule) -> None:
+    """transformTo (first a record, ``stype`` a record): a first not disabled that overlaps a
+    second becomes an ``stype`` sprite where it is (its last position copied; its facing copied
+    only if ``stype``'s default is NONE), is killed, and kills the first second it overlaps in
+    list order with ``killSecond``; once, since it is then killed. A disabled first is not
+    transformed but scores for every second it overlaps (Java adds the score anyway)."""
+    made = str(rule.plan.values["stype"])
+    target = frame.entry(made)
+    for first in rule.firsts:
+        record = frame.entry(first.key)
+        x, y = record.get("x").unsqueeze(-1), record.get("y").unsqueeze(-1)
+        eligible = frame.eligible(first).squeeze(-1)
+        hits = torch.zeros_like(record.get("x"))
+        firsts_hit: list[tuple[Side, torch.Tensor, torch.Tensor | None]] = []
+        found = torch.zeros_like(eligible)
+        for second in rule.seconds:
+            if second.representation == GRID:
+                index, counts = frame.cell_counts(second.key, x, y, first.aligned)
+                index, hit = index.squeeze(1), counts.squeeze(1) > 0
+                hits = hits + counts.squeeze(1).sum(-1)
+            else:
+                index, hit = None, frame.overlap_matrix(x, y, first.aligned, first, second).squeeze(1)
+                hits = hits + hit.sum(-1)
+            first_hit = hit & (hit.cumsum(-1) == 1) & ~found.unsqueeze(-1)
+            found = found | hit.any(-1)
+            firsts_hit.append((second, first_hit, index))
+        hits = hits * eligible
+        disabled = frame.is_disabled(first.key)
+        disabled = torch.zeros_like(eligible) if disabled is None else disabled
+        fire = (hits > 0) & ~disabled
+        frame.add_score(rule.score * torch.where(disabled, hits, fire.long()))
+        assert_async(  # no host sync: the tick stays one graph
+            ~(fire & target.get("alive")).any(),
+            rule.overflow,
+        )
+        _create(frame, made, fire, record)
+        frame.mark_killed(first.key, fire)
+        if rule.plan.values.get("killSecond"):
+            for second, first_hit, index in firsts_hit:
+                chosen = first_hit & fire.unsqueeze(-1)
+                if second.representation == GRID:
+                    _kill_listed_cells(frame, second.key, index, chosen)
+                else:
+                    frame.kill(second, chosen)
+
+
+def _create(frame: Frame, name: str, where: torch.Tensor, source: Entry) -> None:
+    """Put an ``name`` sprite (a record) where ``source`` (a record) is, where ``where``."""
+    layout = frame.layout
+    target = frame.entry(name)
+    default = layout.orientation[name]
+    ori = source.get("ori") if default == NONE else torch.full_like(source.get("ori"), default)
+    values = {
+        key: torch.where(where, source.get(key), target.get(key)) for key in ("x", "y", "lastx", "lasty")
+    }
+    values["ori"] = torch.where(where, ori, target.get("ori"))
+    values["alive"] = target.get("alive") | where
+    if layout.plan.types[name].java_class in FLICKERS:
+        values["age"] = torch.where(where, torch.zeros_like(target.get("age")), target.get("age"))
+    target.update(values)
+
+
+def _kill_listed_cells(frame: Frame, key: str, index: torch.Tensor, chosen: torch.Tensor) -> None:
+    """Kill one sprite of grid ``key`` in each chosen cell (``index``, ``chosen``: ``[B, c]``)
+    that has none killed yet."""
+    killed = frame.grid_killed(key)
+    batch = killed.shape[0]
+    flat = killed.reshape(batch, -1)
+    add = chosen & (torch.gather(flat, 1, index) == 0)
+    frame.killed[key] = flat.scatter_add(1, index, add.to(flat.dtype)).view(killed.shape)
+
+
+KERNELS: dict[str, Callable[[Frame, Rule], None]] = {
+    "stepBack": step_back,
+    "killSprite": kill_sprite,
+    "transformTo": transform_to,
+}

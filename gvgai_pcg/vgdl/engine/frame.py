@@ -1,0 +1,219 @@
+"""One tick's working view of the state: the sprites a rule names, where each is, and this tick's
+kill marks.
+
+Java kills a sprite during the event phase by putting it on a kill list: it stays a second of
+later rules until cleanup, and is skipped as a first. A killed avatar is only disabled: it stays
+a first too (and keeps scoring) until cleanup. The marks live here, not in the state, and
+``cleanup`` applies them. A rule's types are split by where they live (``Side``): one entry per
+record, table group or grid, in the rule's ``iSubTypes`` order.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import torch
+from tensordict import TensorDict
+
+from gvgai_pcg._private_apis import entries, write_entries
+from gvgai_pcg.games.geometry import aligned_cell, covered_cells, overlaps, overlaps_aligned
+from gvgai_pcg.vgdl.engine.layout import Layout
+from gvgai_pcg.vgdl.layout import GRID, RECORD
+
+# The entries every state has that a tick reads or writes.
+COMMON = ("seed", "tick", "score", "won", "lost")
+
+
+@dataclass(frozen=True)
+class Side:
+    """The sprites of some of a rule's types that live in one state entry ``key``; ``kinds`` are
+    the kind codes it selects of a table group."""
+
+    representation: str
+    key: str
+    kinds: tuple[int, ...]
+    aligned: bool
+
+
+def sides(layout: Layout, leaves: tuple[str, ...]) -> list[Side]:
+    """``leaves`` grouped by the entry that holds them, in order of first appearance."""
+    found: dict[str, list[str]] = {}
+    for name in leaves:
+        if name not in layout.places:  # a type that never has sprites
+            continue
+        found.setdefault(layout.places[name].key, []).append(name)
+    result = []
+    for key, names in found.items():
+        place = layout.places[names[0]]
+        aligned = all(layout.plan.types[name].aligned for name in names)
+        kinds = tuple(layout.places[name].kind for name in names)
+        result.append(Side(place.representation, key, kinds, aligned))
+    return result
+
+
+class Entry:
+    """A record's or a table's fields for one tick, as plain tensors: a ``TensorDict``'s ``get``
+    and ``set`` cost more than most of the tick's ops, so the frame reads each field once and
+    writes back only what changed (``Frame.write``)."""
+
+    def __init__(self, values: dict[str, torch.Tensor]) -> None:
+        self.values = dict(values)
+        self.changed: dict[str, torch.Tensor] = {}
+
+    def get(self, field: str) -> torch.Tensor:
+        return self.values[field]
+
+    def set(self, field: str, value: torch.Tensor) -> None:
+        self.values[field] = self.changed[field] = value
+
+    def update(self, values: dict[str, torch.Tensor]) -> None:
+        for field, value in values.items():
+            self.set(field, value)
+
+
+class Frame:
+    """The state of one tick and its kill marks (see the module docstring)."""
+
+    def __init__(self, layout: Layout, state: TensorDict) -> None:
+        self.layout, self.state = layout, state
+        top = entries(state)
+        keys = (*layout.records, *(group.key for group in layout.tables))
+        self.entries = {key: Entry(entries(top[key])) for key in keys}
+        self.values = {key: top[key] for key in (*COMMON, *layout.grids)}
+        self.changed: dict[str, torch.Tensor] = {}
+        self.killed: dict[str, torch.Tensor] = {}  # per entry: [B] / [B, K] bool, grids [B, H, W] uint8
+        self.disabled: dict[str, torch.Tensor] = {}  # per avatar record, [B] bool
+
+    def value(self, key: str) -> torch.Tensor:
+        """A top-level entry: a common one (``tick``, ``score``...) or a grid."""
+        return self.values[key]
+
+    def put(self, key: str, value: torch.Tensor) -> None:
+        self.values[key] = self.changed[key] = value
+
+    def write(self) -> None:
+        """Write what changed back into the state, unchecked: every kernel keeps a field's shape
+        and dtype."""
+        write_entries(self.state, self.changed)
+        top = entries(self.state)
+        for key, entry in self.entries.items():
+            if entry.changed:
+                write_entries(top[key], entry.changed)
+
+    # --- positions and presence, records seen as tables of one slot ([B, 1]) ---
+    def entry(self, key: str) -> Entry:
+        return self.entries[key]
+
+    def xy(self, side: Side) -> tuple[torch.Tensor, torch.Tensor]:
+        entry = self.entry(side.key)
+        x, y = entry.get("x"), entry.get("y")
+        return (x.unsqueeze(-1), y.unsqueeze(-1)) if side.representation == RECORD else (x, y)
+
+    def present(self, side: Side) -> torch.Tensor:
+        """Sprites of ``side`` that exist this tick (killed ones included: they are still seconds)."""
+        entry = self.entry(side.key)
+        if side.representation == RECORD:
+            return entry.get("alive").unsqueeze(-1)
+        alive = entry.get("alive")
+        group = self.layout.group(side.key)
+        if len(side.kinds) == len(group.kinds):
+            return alive
+        kind = entry.get("kind")
+        chosen = kind == side.kinds[0]
+        for code in side.kinds[1:]:
+            chosen = chosen | (kind == code)
+        return alive & chosen
+
+    def killed_mask(self, side: Side) -> torch.Tensor:
+        """This tick's kill marks of ``side``'s entry, shaped like ``present``."""
+        mask = self.killed.get(side.key)
+        if mask is None:
+            return torch.zeros_like(self.present(side))
+        return mask.unsqueeze(-1) if side.representation == RECORD else mask
+
+    def eligible(self, side: Side) -> torch.Tensor:
+        """Sprites that may still be a rule's first: present and not killed (a disabled avatar is)."""
+        if side.key not in self.killed:
+            return self.present(side)
+        return self.present(side) & ~self.killed_mask(side)
+
+    def kill(self, side: Side, mask: torch.Tensor) -> None:
+        """Mark ``mask`` (shaped like ``present``) killed; an avatar record is disabled instead."""
+        if side.representation == RECORD:
+            mask = mask.squeeze(-1)
+            if side.key in self.layout.avatars:
+                self.disabled[side.key] = self.disabled.get(side.key, torch.zeros_like(mask)) | mask
+                return
+        self.mark_killed(side.key, mask)
+
+    def mark_killed(self, key: str, mask: torch.Tensor) -> None:
+        """Put ``mask`` on the kill list of entry ``key`` (Java's kill list: also for an avatar
+        that is transformed)."""
+        previous = self.killed.get(key)
+        self.killed[key] = mask if previous is None else previous | mask
+
+    def is_disabled(self, key: str) -> torch.Tensor | None:
+        return self.disabled.get(key)
+
+    def add_score(self, delta: torch.Tensor) -> None:
+        self.put("score", self.value("score") + delta)
+
+    # --- grids ---
+    def grid(self, key: str) -> torch.Tensor:
+        return self.values[key]
+
+    def grid_killed(self, key: str) -> torch.Tensor:
+        killed = self.killed.get(key)
+        return torch.zeros_like(self.grid(key)) if killed is None else killed
+
+    def cell_counts(
+        self, key: str, x: torch.Tensor, y: torch.Tensor, aligned: bool
+    ) -> tuple[torch.Tensor, torch.Tensor]:
+        """Sprites of grid ``key`` in the cells rectangles at ``x, y`` (``[B, N]``) cover: the flat
+        cells ``[B, N, c]`` and their counts ``[B, N, c]`` (zero for cells off the grid; one cell
+        for aligned rectangles, else up to four, row-major)."""
+        grid = self.grid(key)
+        batch, height, width = grid.shape
+        index, valid = (aligned_cell if aligned else covered_cells)(x, y, height, width)
+        counts = torch.gather(grid.reshape(batch, -1), 1, index.reshape(batch, -1)).view(index.shape)
+        return index, counts * valid
+
+    # --- overlaps of firsts with a side of seconds ---
+    def overlap_matrix(
+        self, x: torch.Tensor, y: torch.Tensor, aligned: bool, first: Side, second: Side
+    ) -> torch.Tensor:
+        """``[B, N, K]`` bool: first sprite n (at ``x, y``, ``[B, N]``) overlaps present second k of
+        ``second`` (a record or table; a sprite never overlaps itself)."""
+        sx, sy = self.xy(second)
+        test = overlaps_aligned if aligned and second.aligned else overlaps
+        meets = test(x.unsqueeze(-1), y.unsqueeze(-1), sx.unsqueeze(-2), sy.unsqueeze(-2))
+        meets = meets & self.present(second).unsqueeze(-2)
+        if first.key == second.key:
+            size = meets.shape[-1]
+            meets = meets & ~torch.eye(size, dtype=torch.bool, device=meets.device)
+        return meets
+
+    def overlap_count(
+        self, x: torch.Tensor, y: torch.Tensor, aligned: bool, first: Side, seconds: list[Side]
+    ) -> torch.Tensor:
+        """``[B, N]`` int64: how many present seconds each first sprite at ``x, y`` overlaps."""
+        total = torch.zeros_like(x)
+        for second in seconds:
+            if second.representation == GRID:
+                total = total + self.cell_counts(second.key, x, y, aligned)[1].sum(-1)
+            else:
+                total = total + self.overlap_matrix(x, y, aligned, first, second).sum(-1)
+        return total
+
+    # --- cleanup ---
+    def cleanup(self) -> None:
+        """Remove the killed sprites and the disabled avatars."""
+        for key, mask in self.killed.items():
+            if self.layout.representation(key) == GRID:
+                self.put(key, self.grid(key) - mask)
+            else:
+                entry = self.entry(key)
+                entry.set("alive", entry.get("alive") & ~mask)
+        for key, mask in self.disabled.items():
+            entry = self.entry(key)
+            entry.set("alive", entry.get("alive") & ~mask)

@@ -1,0 +1,211 @@
+"""``VGDLGame``: a ``Game`` built from a VGDL description, the generic step.
+
+The tick is Java's ``gameCycle`` (CORPUS.md, "Java's tick") for any description whose features
+have kernels here (``checks``): ``tick += 1``; the avatar first (``avatar``); every other type in
+reverse drawing order (``npcs``); the collision rules pair by pair in Java's order, each pair's
+effects in line order (``effects``); cleanup of the killed sprites (``frame``); the terminations
+in declaration order (``terminations``). Every loop here is over the plan's types or rules, so it
+unrolls when the tick is traced: there is no loop over envs or sprites.
+
+Each description gets a class of its own (``VGDLGame.from_text``): the engine compiles one tick
+per game class (``engine.compiled.engine_tick``).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import zlib
+from collections.abc import Sequence
+from pathlib import Path
+
+import torch
+from tensordict import TensorDict
+
+from gvgai_pcg.games.actions import SHOOT_ACTIONS
+from gvgai_pcg.games.base import Game, GridLayer, SpriteArt, SpriteLayer, golden_record, single_sprite_layer
+from gvgai_pcg.games.geometry import DIRECTION_NAMES
+from gvgai_pcg.games.spec import StepFacts
+from gvgai_pcg.levels import Level
+from gvgai_pcg.vgdl.engine.avatar import update_avatars
+from gvgai_pcg.vgdl.engine.checks import check_engine
+from gvgai_pcg.vgdl.engine.effects import apply_rule, make_rules
+from gvgai_pcg.vgdl.engine.frame import Frame
+from gvgai_pcg.vgdl.engine.layout import Layout, compile_state, make_layout
+from gvgai_pcg.vgdl.engine.npcs import update_npcs
+from gvgai_pcg.vgdl.engine.terminations import check_terminations
+from gvgai_pcg.vgdl.errors import VGDLError
+from gvgai_pcg.vgdl.layout import GRID, RECORD
+from gvgai_pcg.vgdl.model import GameDescription
+from gvgai_pcg.vgdl.parser import parse_vgdl
+from gvgai_pcg.vgdl.plan import compile_plan
+
+# Each avatar class's Gym action set.
+ACTION_SETS = {"ShootAvatar": SHOOT_ACTIONS}
+# Effects that remove their first sprite, and those that also remove their second.
+KILLS_FIRST = frozenset({"killSprite", "transformTo"})
+_GAMES: dict[tuple[str, str, str | None], VGDLGame] = {}
+# The widest table whose same-table stepBack ticks compiled: compiled, ``step_back_in_order`` runs
+# one round per slot (no early exit in a graph), so its cost grows as slots cubed, while eagerly it
+# stops when nothing changes; the hand-written Zelda draws the line at the same width
+# (``zelda.rules.COMPILED_MONSTER_SLOTS``, measured there).
+COMPILED_ORDERED_SLOTS = 16
+
+
+class VGDLGame(Game):
+    """The generic step of one description; make one with :meth:`from_text` or :meth:`from_file`."""
+
+    name = "vgdl"
+    actions = SHOOT_ACTIONS
+    tile_types: tuple[str, ...] = ()
+    art: dict[str, SpriteArt] = {}
+    layout: Layout
+    description: GameDescription
+
+    @classmethod
+    def from_text(cls, text: str, path: str = "<vgdl>", name: str | None = None) -> VGDLGame:
+        """The game of a description's text; the same text, path and name give the same game
+        (its compiled tick is compiled once)."""
+        key = (text, path, name)
+        if key not in _GAMES:
+            _GAMES[key] = cls.from_description(parse_vgdl(text, path), name)
+        return _GAMES[key]
+
+    @classmethod
+    def from_file(cls, path: str | Path, name: str | None = None) -> VGDLGame:
+        try:
+            text = Path(path).read_text(encoding="utf-8")
+        except UnicodeDecodeError as error:
+            raise VGDLError(str(path), 0, f"not UTF-8 text ({error.reason})") from None
+        return cls.from_text(text, str(path), name)
+
+    @classmethod
+    def from_description(cls, description: GameDescription, name: str | None = None) -> VGDLGame:
+        """A game of a class of its own: refuses, in one line, what has no kernel."""
+        plan = compile_plan(description)
+        check_engine(description, plan)
+        layout = make_layout(description, plan)
+        avatar_classes = {plan.types[avatar].java_class for avatar in layout.avatars}
+        if len(avatar_classes) != 1:
+            raise VGDLError(
+                plan.path, 0, f"the generic step needs one avatar class, not {sorted(avatar_classes)}"
+            )
+        title = name or f"vgdl:{Path(plan.path).stem}"
+        digest = hashlib.sha1(title.encode()).hexdigest()[:8]
+        attributes = {
+            "name": title,
+            "actions": ACTION_SETS[avatar_classes.pop()],
+            "tile_types": tuple(name for name in layout.types if _drawn(layout, name)),
+            "art": {name: SpriteArt(_colour(name)) for name in layout.types},
+            "layout": layout,
+            "description": description,
+        }
+        subclass = type(f"VGDLGame_{digest}", (cls,), attributes)
+        return subclass()
+
+    def __init__(self) -> None:
+        self.rules = make_rules(self.layout)
+        self.changing = _changing_types(self.layout)
+        # the tables a stepBack among their own sprites resolves in slot order
+        self.ordered = tuple(
+            dict.fromkeys(rule.firsts[0].key for rule in self.rules if rule.plan.kind == "F")
+        )
+
+    @property
+    def step_facts(self) -> StepFacts:
+        # compiled on the CPU only: its compiled tick has not been held to the eager one on CUDA yet
+        return StepFacts(compiles=True, eager_when=("crowded",), compiled_devices=("cpu",))
+
+    def host_arguments(self, state: TensorDict) -> dict[str, object]:
+        """Whether a table with an ordered stepBack is wider than ``COMPILED_ORDERED_SLOTS`` (its
+        shape: no sync); such a tick runs eagerly."""
+        return {"crowded": any(state.get(key).batch_size[1] > COMPILED_ORDERED_SLOTS for key in self.ordered)}
+
+    def compile(self, levels: Sequence[Level], seeds: torch.Tensor, device: torch.device) -> TensorDict:
+        return compile_state(self.layout, levels, seeds, torch.device(device))
+
+    def tick(self, state: TensorDict, action: torch.Tensor, crowded: bool | None = None) -> None:
+        """Java's tick (see the module docstring); ``crowded`` only chooses how the engine runs it."""
+        frame = Frame(self.layout, state)
+        frame.put("tick", frame.value("tick") + 1)
+        update_avatars(frame, action)
+        update_npcs(frame)
+        for rule in self.rules:
+            apply_rule(frame, rule)
+        frame.cleanup()
+        check_terminations(frame)
+        frame.write()
+
+    def layers(self, state: TensorDict) -> list:
+        layout, layers = self.layout, []
+        for name in layout.types:
+            place = layout.places[name]
+            if place.representation == GRID:
+                layers.append(GridLayer(name, state.get(name) > 0))
+            elif place.representation == RECORD:
+                oriented = name in layout.avatars
+                layers.append(single_sprite_layer(name, state.get(name), oriented=oriented))
+            else:
+                table = state.get(place.key)
+                present = table.get("alive") & (table.get("kind") == place.kind)
+                layers.append(SpriteLayer(name, table.get("x"), table.get("y"), present))
+        return layers
+
+    def snapshot(self, state: TensorDict, index: int) -> dict:
+        """The golden record: the avatar, and every other sprite but the still types that no rule
+        removes (walls, floors), as the golden traces list them."""
+        s, layout = state[index], self.layout
+        avatar = None
+        for name in layout.avatars:
+            record = s.get(name)
+            if record.get("alive").item():
+                avatar = {
+                    "type": name,
+                    "x": record.get("x").item(),
+                    "y": record.get("y").item(),
+                    "orientation": DIRECTION_NAMES[record.get("ori").item()],
+                    "resources": {},
+                }
+        sprites = []
+        for name in layout.types:
+            place = layout.places[name]
+            if place.representation == GRID:
+                if name in self.changing:
+                    grid = s.get(name)
+                    for row, column in grid.nonzero().tolist():
+                        sprites += [[name, 10 * column, 10 * row]] * int(grid[row, column])
+            elif place.representation == RECORD:
+                record = s.get(name)
+                if name not in layout.avatars and record.get("alive").item():
+                    sprites.append([name, record.get("x").item(), record.get("y").item()])
+            else:
+                table = s.get(place.key)
+                present = table.get("alive") & (table.get("kind") == place.kind)
+                for slot in present.nonzero().flatten().tolist():
+                    sprites.append([name, table.get("x")[slot].item(), table.get("y")[slot].item()])
+        return golden_record(s, avatar, sprites)
+
+    def max_score(self, level: Level) -> int:
+        raise NotImplementedError(f"{self.name}: the generic step does not derive a maximum score")
+
+
+def _changing_types(layout: Layout) -> frozenset[str]:
+    """Grid types some rule removes: the others never change and are left out of a snapshot."""
+    changing = set()
+    for rule in layout.plan.pairs:
+        if rule.name in KILLS_FIRST:
+            changing.update(rule.firsts)
+        if rule.values.get("killSecond"):
+            changing.update(rule.seconds)
+    return frozenset(name for name in changing & set(layout.grids))
+
+
+def _drawn(layout: Layout, name: str) -> bool:
+    """Whether a type gets an observation channel: any but a still type no rule names."""
+    if layout.places[name].representation != GRID:
+        return True
+    return any(name in rule.firsts or name in rule.seconds for rule in layout.plan.pairs)
+
+
+def _colour(name: str) -> tuple[int, int, int]:
+    value = zlib.crc32(name.encode())
+    return (value & 255, (value >> 8) & 255, (value >> 16) & 255)

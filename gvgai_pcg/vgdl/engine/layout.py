@@ -1,0 +1,239 @@
+"""Where each type of a plan lives in the batched state, and the state a batch of levels starts in.
+
+The plan says per type ``grid``, ``record`` or ``table`` (``gvgai_pcg.vgdl.layout``); here they
+become state entries:
+
+- a grid type is a ``[B, H, W]`` uint8 count grid under its own name;
+- a record type is a ``[B]`` TensorDict under its own name (``x, y, lastx, lasty, ori, alive``,
+  and ``age`` for a Flicker);
+- table types are grouped: the table types of one class whose nearest parent is the same type
+  share one ``[B, K]`` table (under the parent's name, or the leaf's own name for a type with no
+  parent) with a ``kind`` column, the kind codes being the leaves in the parent's ``iSubTypes``
+  order. Slots follow ``(kind, row-major cell)`` (``base.char_entities``): Java's processing
+  order of a rule that names the parent, so a same-group ``stepBack`` resolves in slot order.
+
+**Draw keys.** A random draw is ``rng`` of ``(seed, tick, slot, stream)``: ``slot`` is the
+sprite's slot in its group's table, ``stream`` is ``1 + `` the rank of its group among the
+groups that draw (in drawing order of each group's first kind). Every draw of one sprite in one
+tick therefore has its own key, whatever the batch, and Zelda's three monster types (one group,
+the only one that draws) draw exactly what the hand-written engine draws with its one monster
+table and stream 1.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import torch
+from tensordict import TensorDict
+
+from gvgai_pcg.games.base import char_codes, char_entities, common_state, on_device
+from gvgai_pcg.games.geometry import CELL, DOWN, LEFT, NONE, RIGHT, UP
+from gvgai_pcg.levels import Level
+from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE, is_avatar
+from gvgai_pcg.vgdl.model import GameDescription
+from gvgai_pcg.vgdl.plan import Plan
+
+# Java's direction constants as the package's direction codes.
+DIRECTION_CODES = {"DLEFT": LEFT, "DRIGHT": RIGHT, "DDOWN": DOWN, "DUP": UP, "DNONE": NONE, "DNIL": NONE}
+# Classes whose sprites draw a random number at each update.
+DRAWING_CLASSES = frozenset({"RandomNPC"})
+FLICKERS = frozenset({"Flicker", "OrientedFlicker"})
+
+
+@dataclass(frozen=True)
+class TableGroup:
+    key: str  # its state entry
+    kinds: tuple[str, ...]  # leaf types, kind code = index
+    java_class: str
+    stream: int  # the rng stream of its draws; 0 for a group that draws nothing
+
+
+@dataclass(frozen=True)
+class Place:
+    """Where one type's sprites are: its representation, state entry and kind code (tables)."""
+
+    representation: str
+    key: str
+    kind: int = 0
+
+
+@dataclass(frozen=True)
+class Layout:
+    plan: Plan
+    types: tuple[str, ...]  # the types whose sprites can exist, drawing order
+    grids: tuple[str, ...]  # drawing order
+    records: tuple[str, ...]
+    tables: tuple[TableGroup, ...]
+    places: Mapping[str, Place]
+    avatars: tuple[str, ...]  # record types of an avatar class
+    orientation: Mapping[str, int]  # each type's default direction code
+
+    def group(self, key: str) -> TableGroup:
+        return next(group for group in self.tables if group.key == key)
+
+    def representation(self, key: str) -> str:
+        """The representation of state entry ``key``."""
+        return GRID if key in self.grids else RECORD if key in self.records else TABLE
+
+
+def make_layout(game: GameDescription, plan: Plan) -> Layout:
+    """The state layout of ``plan`` (``game`` gives the parents that group the tables)."""
+    types = existing_types(plan)
+    grids = tuple(name for name in types if plan.types[name].representation == GRID)
+    records = tuple(name for name in types if plan.types[name].representation == RECORD)
+    places: dict[str, Place] = {name: Place(GRID, name) for name in grids}
+    places.update({name: Place(RECORD, name) for name in records})
+    grouped: dict[tuple[str, str], list[str]] = {}
+    for name in types:
+        sprite = plan.types[name]
+        if sprite.representation == TABLE:
+            parent = game.types[name].parent or name
+            grouped.setdefault((parent, sprite.java_class), []).append(name)
+    classes_per_parent: dict[str, int] = {}
+    for parent, _ in grouped:
+        classes_per_parent[parent] = classes_per_parent.get(parent, 0) + 1
+    tables, stream = [], 0
+    for (parent, java_class), members in grouped.items():
+        order = game.types[parent].subtypes if parent in game.types else (parent,)
+        kinds = tuple(sorted(members, key=order.index))
+        key = parent if classes_per_parent[parent] == 1 else f"{parent}_{java_class}"
+        if java_class in DRAWING_CLASSES:
+            stream += 1
+        tables.append(TableGroup(key, kinds, java_class, stream if java_class in DRAWING_CLASSES else 0))
+        places.update({name: Place(TABLE, key, code) for code, name in enumerate(kinds)})
+    avatars = tuple(name for name in records if is_avatar(game.types[name]))
+    orientation = {
+        name: DIRECTION_CODES[getattr(sprite.values.get("orientation"), "name", "DNONE")]
+        for name, sprite in plan.types.items()
+    }
+    return Layout(plan, types, grids, records, tuple(tables), places, avatars, orientation)
+
+
+def existing_types(plan: Plan) -> tuple[str, ...]:
+    """The types whose sprites can exist: those a level character places, and, as a fixed point,
+    the ``stype`` of a ShootAvatar or a ``transformTo`` whose source can exist. The rest (Zelda's
+    ``avatar``, a parent type with a class that nothing places) get no state and no work."""
+    found = {name for types in plan.level_mapping.values() for name in types if name in plan.types}
+    while True:
+        made = {
+            str(plan.types[name].values["stype"])
+            for name in found
+            if plan.types[name].java_class == "ShootAvatar"
+        }
+        made |= {
+            str(rule.values["stype"])
+            for rule in plan.pairs
+            if rule.name == "transformTo" and found & set(rule.firsts)
+        }
+        if made <= found:
+            return tuple(name for name in plan.types if name in found)
+        found |= made
+
+
+def compile_state(
+    layout: Layout, levels: Sequence[Level], seeds: torch.Tensor, device: torch.device
+) -> TensorDict:
+    """The state of ``levels`` before the reset tick: every sprite a level character places
+    (through the description's LevelMapping), each type where ``layout`` puts it."""
+    mapping = layout.plan.level_mapping
+    codes = char_codes(levels)
+    batch, height, width = codes.shape
+    _check_characters(codes, mapping, levels)
+    state: dict[str, object] = dict(common_state(levels, seeds, device))
+    for name in layout.grids:
+        per_char = np.zeros(256, dtype=np.uint8)
+        for char, types in mapping.items():
+            per_char[ord(char)] = types.count(name)
+        state[name] = torch.from_numpy(per_char[codes]).to(device)
+    for name in layout.records:
+        state[name] = _record(layout, name, codes, mapping, levels, device)
+    for group in layout.tables:
+        state[group.key] = _table(layout, group, levels, mapping, device)
+    return on_device(device, state, [batch])
+
+
+def table_slots(largest: int) -> int:
+    """A table's slots for a batch whose largest level places ``largest`` sprites in it: at least
+    two, in powers of two (as a running env grows its tables), so that batches of nearby sizes
+    share one compiled tick (a same-table stepBack unrolls over the slots)."""
+    return max(2, 1 << max(0, largest - 1).bit_length())
+
+
+def _check_characters(
+    codes: np.ndarray, mapping: Mapping[str, tuple[str, ...]], levels: Sequence[Level]
+) -> None:
+    known = np.zeros(256, dtype=bool)
+    known[[ord(char) for char in mapping if ord(char) < 256]] = True
+    known[ord(" ")] = True  # padding beyond a smaller level's screen
+    unknown = ~known[codes]
+    if unknown.any():
+        env, row, column = (int(i) for i in np.argwhere(unknown)[0])
+        char = chr(codes[env, row, column])
+        name = levels[env].name or f"level {env}"
+        raise ValueError(f"{name}: row {row + 1}: character {char!r} is not in the game's LevelMapping")
+
+
+def _record(
+    layout: Layout,
+    name: str,
+    codes: np.ndarray,
+    mapping: Mapping[str, tuple[str, ...]],
+    levels: Sequence[Level],
+    device: torch.device,
+) -> TensorDict:
+    batch, _, width = codes.shape
+    places = np.zeros(256, dtype=np.int64)
+    for char, types in mapping.items():
+        places[ord(char)] = types.count(name)
+    count = places[codes].reshape(batch, -1)
+    many = np.flatnonzero(count.sum(1) > 1)
+    if many.size:
+        level = levels[int(many[0])]
+        raise ValueError(f"{level.name or 'a level'} places more than one {name!r}, a type that holds one")
+    present = count.sum(1) > 0
+    cell = count.argmax(1)
+    x = torch.from_numpy(np.where(present, CELL * (cell % width), 0))
+    y = torch.from_numpy(np.where(present, CELL * (cell // width), 0))
+    values = {
+        "x": x,
+        "y": y,
+        "lastx": x.clone(),
+        "lasty": y.clone(),
+        "ori": torch.full((batch,), layout.orientation[name], dtype=torch.int64),
+        "alive": torch.from_numpy(present),
+    }
+    if layout.plan.types[name].java_class in FLICKERS:
+        values["age"] = torch.zeros(batch, dtype=torch.int64)
+    return on_device(device, values, [batch])
+
+
+def _table(
+    layout: Layout,
+    group: TableGroup,
+    levels: Sequence[Level],
+    mapping: Mapping[str, tuple[str, ...]],
+    device: torch.device,
+) -> TensorDict:
+    kinds: dict[str, int] = {}
+    for char, types in mapping.items():
+        placed = [name for name in types if name in group.kinds]
+        if len(placed) > 1:
+            raise ValueError(
+                f"level character {char!r} places {len(placed)} sprites of the table {group.key!r}; "
+                "the engine holds one per character"
+            )
+        if placed:
+            kinds[char] = group.kinds.index(placed[0])
+    placing = np.zeros(256, dtype=np.int64)
+    placing[[ord(char) for char in kinds]] = 1
+    largest = int(placing[char_codes(levels)].reshape(len(levels), -1).sum(1).max(initial=0))
+    table = char_entities(levels, kinds, device, capacity=table_slots(largest))
+    batch, slots = table.batch_size
+    zeros = torch.zeros(batch, slots, dtype=torch.int64, device=device)
+    table.update({"lastx": table.get("x").clone(), "lasty": table.get("y").clone()})
+    if group.java_class == "RandomNPC":
+        table.update({"lastmove": zeros, "counter": zeros.clone(), "prev": torch.full_like(zeros, NONE)})
+    return table

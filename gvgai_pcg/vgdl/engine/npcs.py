@@ -1,0 +1,76 @@
+"""Every other sprite's update, type by type in Java's update order (reverse drawing order).
+
+Grid types never change on their own. A table group is updated whole, at the first of its kinds
+in that order: its classes' updates touch only the sprite itself, and its draws are keyed by slot
+(``layout``'s draw-key rule), so the order of its sprites within the phase changes nothing.
+"""
+
+from __future__ import annotations
+
+import torch
+
+from gvgai_pcg.games import rng
+from gvgai_pcg.games.geometry import NONE, direction_dx, direction_dy
+from gvgai_pcg.games.lookup import lookup
+from gvgai_pcg.vgdl.engine.frame import Frame
+from gvgai_pcg.vgdl.engine.layout import FLICKERS, TableGroup
+from gvgai_pcg.vgdl.layout import RECORD, TABLE
+
+DIRECTIONS = 4  # RandomNPC draws one of the four base directions
+
+
+def update_npcs(frame: Frame) -> None:
+    layout = frame.layout
+    done: set[str] = set()
+    for name in layout.plan.update_order:
+        if name in layout.avatars or name not in layout.places:
+            continue
+        place = layout.places[name]
+        if place.representation == TABLE and place.key not in done:
+            done.add(place.key)
+            group = layout.group(place.key)
+            if group.java_class == "RandomNPC":
+                random_npc(frame, group)
+        elif place.representation == RECORD and layout.plan.types[name].java_class in FLICKERS:
+            flicker(frame, name)
+
+
+def random_npc(frame: Frame, group: TableGroup) -> None:
+    """RandomNPC (RULES.md §2): hold ``prev`` for ``cons`` updates, then draw a direction; move
+    ``step`` px through the cooldown gate (a move undone later still resets it)."""
+    types = frame.layout.plan.types
+    table = frame.entry(group.key)
+    kind, alive = table.get("kind"), table.get("alive")
+    cons = lookup(tuple(int(types[name].values["cons"]) for name in group.kinds), kind)
+    cooldown = lookup(tuple(max(1, int(types[name].values["cooldown"])) for name in group.kinds), kind)
+    step = lookup(tuple(types[name].step_px for name in group.kinds), kind)
+    counter, prev = table.get("counter"), table.get("prev")
+    slots = torch.arange(counter.shape[1], device=counter.device)
+    drawn = rng.randint(frame.value("seed"), frame.value("tick"), slots, group.stream, DIRECTIONS)
+    draw = counter >= cons
+    direction = torch.where(draw, drawn, prev)
+    counter = torch.where(draw, torch.zeros_like(counter), counter + 1)
+    lastmove = table.get("lastmove") + 1
+    move = alive & (direction != NONE) & (lastmove >= cooldown)
+    x, y = table.get("x"), table.get("y")
+    distance = move * step
+    table.update(
+        {
+            "lastx": x,
+            "lasty": y,
+            "x": x + distance * direction_dx(direction),
+            "y": y + distance * direction_dy(direction),
+            "lastmove": torch.where(move, torch.zeros_like(lastmove), lastmove),
+            "counter": torch.where(alive, counter, table.get("counter")),
+            "prev": torch.where(alive, direction, prev),
+        }
+    )
+
+
+def flicker(frame: Frame, name: str) -> None:
+    """Flicker (RULES.md §2): killed once its age exceeds ``limit``, then one older."""
+    record = frame.entry(name)
+    alive, age = record.get("alive"), record.get("age")
+    limit = int(frame.layout.plan.types[name].values["limit"])
+    frame.mark_killed(name, alive & (age > limit))
+    record.set("age", age + alive)

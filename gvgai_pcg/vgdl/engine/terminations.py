@@ -1,0 +1,31 @@
+"""Terminations, checked after cleanup in declaration order: the first that holds ends the game."""
+
+from __future__ import annotations
+
+import torch
+
+from gvgai_pcg.vgdl.engine.frame import Frame, sides
+from gvgai_pcg.vgdl.layout import GRID
+
+
+def check_terminations(frame: Frame) -> None:
+    """SpriteCounter: the sprites of its type (and subtypes) still there, disabled avatars not
+    counted (cleanup removed them), are at most ``limit``."""
+    won, lost = frame.value("won"), frame.value("lost")
+    decided = torch.zeros_like(won)
+    for termination in frame.layout.plan.terminations:
+        count = torch.zeros_like(frame.value("score"))
+        for leaves in termination.counted:
+            for side in sides(frame.layout, leaves):
+                if side.representation == GRID:
+                    count = count + frame.grid(side.key).flatten(1).sum(-1, dtype=torch.int64)
+                else:
+                    count = count + frame.present(side).sum(-1)
+        ends = (count <= termination.limit) & ~decided
+        if termination.win:
+            won = won | ends
+        else:
+            lost = lost | ends
+        decided = decided | ends
+    frame.put("won", won)
+    frame.put("lost", lost)
