@@ -23,6 +23,9 @@ import argparse
 from dataclasses import replace
 from pathlib import Path
 
+from gvgai_pcg.commands.folders import refuse_files_for_folders
+from gvgai_pcg.config_rules import searchpath_dirs, searchpath_override
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     from gvgai_pcg.study import BUDGETS
@@ -99,8 +102,6 @@ def _seed_list(text: str) -> tuple[int, ...]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from gvgai_pcg.commands.folders import refuse_files_for_folders
-    from gvgai_pcg.config_rules import searchpath_dirs, searchpath_override
     from gvgai_pcg.study import BUDGETS, conditions_of, reproduce
     from gvgai_pcg.study.conditions import known_conditions, unregistered, user_conditions
 
