@@ -130,8 +130,6 @@ def level_source(game: str, levels: str) -> object:
     if levels not in LEVEL_SETS:
         raise ValueError(f"unknown level set {levels!r}; valid ones are: {', '.join(LEVEL_SETS)}")
     if levels == "generated":
-        from gvgai_pcg.envs.level_sources import GeneratedLevels
-
         return GeneratedLevels(game)
     return levels
 
