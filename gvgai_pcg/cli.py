@@ -4,6 +4,14 @@ Each command module exposes ``add_arguments(parser)`` and ``run(args) -> int``, 
 lives next to nothing but its own options; this file only dispatches. ``train`` is a Hydra app
 and takes Hydra's own arguments, so it is handed the raw argument list; its refusals end the same
 way as every other command's (one line, exit 2), also when they are raised inside the Hydra app.
+
+Imports: the package imports at the top of its modules, with one measured exception. A command's
+quick paths (``--help``, a usage error, a refused option) load neither torch nor Hydra, so each
+command module imports at its top only what is torch-free, and imports the rest (``gvgai_pcg.rl``,
+``evaluation``, ``study``, ``play``, Hydra) inside ``run``: importing them takes seconds, some
+twenty times the half second that ``gvgai-pcg evaluate --help`` takes without them
+(``python -X importtime``). For the same reason ``config`` reads the learners' and models'
+registries, and the built-in curricula build their level sources, inside functions.
 """
 
 from __future__ import annotations

@@ -21,6 +21,7 @@ from gvgai_pcg.analysis.clustering import NOISE  # noqa: E402
 from gvgai_pcg.analysis.distribution import LevelDistribution  # noqa: E402
 from gvgai_pcg.analysis.encoding import padded_rows  # noqa: E402
 from gvgai_pcg.games.registry import get_game_spec  # noqa: E402
+from gvgai_pcg.games.render import level_pictures
 from gvgai_pcg.levels import Level  # noqa: E402
 
 POINT_SIZE = 6  # marker sizes in points, as in the notebook
@@ -112,8 +113,6 @@ def _draw_difficulties(ax: plt.Axes, analysis: LevelDistribution, coords: np.nda
 
 def level_images(levels: list[Level]) -> np.ndarray:
     """``[N, 10H, 10W, 3]`` uint8 RGB pictures of levels of one game, padded to the game's full size."""
-    from gvgai_pcg.games.render import level_pictures
-
     return level_pictures([Level(level.game, tuple(padded_rows(level)), name=level.name) for level in levels])
 
 

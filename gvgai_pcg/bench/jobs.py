@@ -25,6 +25,10 @@ from typing import TYPE_CHECKING
 
 from gvgai_pcg.bench.targets import PROTOCOL_SECONDS, TRAINING_OVER_EAGER, Check, Section, ratio
 from gvgai_pcg.bench.timing import Stopwatch
+from gvgai_pcg.evaluation.checkpoints import run_info
+from gvgai_pcg.evaluation.evaluator import evaluate_policy
+from gvgai_pcg.evaluation.policy import load_policy
+from gvgai_pcg.evaluation.protocol import Protocol
 
 if TYPE_CHECKING:
     from gvgai_pcg.evaluation.protocol import Protocol
@@ -56,11 +60,6 @@ class TrainingTime:
 
 def time_protocol(run_dir: Path = EVALUATED_RUN, protocol: Protocol | None = None) -> ProtocolTime:
     """The study's protocol (or ``protocol``) on the model of ``run_dir``, timed from loading it."""
-    from gvgai_pcg.evaluation.checkpoints import run_info
-    from gvgai_pcg.evaluation.evaluator import evaluate_policy
-    from gvgai_pcg.evaluation.policy import load_policy
-    from gvgai_pcg.evaluation.protocol import Protocol
-
     with Stopwatch() as watch:
         info = run_info(run_dir)
         protocol = protocol or Protocol()

@@ -41,6 +41,7 @@ from importlib.metadata import PackageNotFoundError, version
 from gvgai_pcg.bench.targets import DOORKEY_BARE_AT_64, GRIDDLY_AT_4096, Check, Section, ratio
 from gvgai_pcg.bench.throughput import Rate, measure_env, windowed_rate
 from gvgai_pcg.bench.timing import Stopwatch
+from gvgai_pcg.levels import human_levels
 from gvgai_pcg.progress import track
 
 DOORKEY = "MiniGrid-DoorKey-8x8"
@@ -145,8 +146,6 @@ def _griddly_zelda_yaml() -> str:
 
     import griddly
     import yaml
-
-    from gvgai_pcg.levels import human_levels
 
     path = Path(griddly.__file__).parent / "resources/games/Single-Player/GVGAI/zelda.yaml"
     spec = yaml.safe_load(path.read_text())

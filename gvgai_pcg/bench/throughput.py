@@ -29,8 +29,13 @@ from gvgai_pcg.bench.targets import Check, Section, env_checks
 from gvgai_pcg.bench.timing import Stopwatch, time_windows
 from gvgai_pcg.engine.compiled import engine_tick
 from gvgai_pcg.envs import GVGAIEnv
+from gvgai_pcg.envs.level_sources import GeneratedLevels
 from gvgai_pcg.envs.shards import ShardedStepper
-from gvgai_pcg.games import get_game_spec, registered_games
+from gvgai_pcg.games import get_game, get_game_spec, registered_games
+from gvgai_pcg.games.render import render_tiles
+from gvgai_pcg.generators import registered_generators
+from gvgai_pcg.generators.speed import levels_per_second
+from gvgai_pcg.levels import human_levels
 from gvgai_pcg.progress import track
 
 BATCH_SIZES = (12, 64, 1024, 4096)  # 12: the study's envs; 64: training's default
@@ -125,8 +130,6 @@ def level_source(game: str, levels: str) -> object:
     if levels not in LEVEL_SETS:
         raise ValueError(f"unknown level set {levels!r}; valid ones are: {', '.join(LEVEL_SETS)}")
     if levels == "generated":
-        from gvgai_pcg.envs.level_sources import GeneratedLevels
-
         return GeneratedLevels(game)
     return levels
 
@@ -135,10 +138,6 @@ def measure_engine(game: str, batch: int = 4096, shards: int = 1, min_seconds: f
     """Steps/s of the engine alone: its tick (compiled where the engine compiles it) then
     ``render_tiles``, no resets (human levels 0-4 in turn, random actions), sliced into ``shards``
     as ``GVGAIEnv`` does on the CPU."""
-    from gvgai_pcg.games import get_game
-    from gvgai_pcg.games.render import render_tiles
-    from gvgai_pcg.levels import human_levels
-
     engine = get_game(game)
     tick = engine_tick(engine)
     levels = [human_levels(game)[i % 5] for i in range(batch)]  # of mixed sizes in Frogs
@@ -166,8 +165,6 @@ def measure_engine(game: str, batch: int = 4096, shards: int = 1, min_seconds: f
 
 def measure_generating_resets(game: str, batch: int = 64, rounds: int = 5) -> float:
     """Full resets/s of a GVGAIEnv whose source generates a new level each episode (d = 1)."""
-    from gvgai_pcg.envs.level_sources import GeneratedLevels
-
     env = GVGAIEnv(game, num_envs=batch, levels=GeneratedLevels(game), difficulty=1.0)
     env.reset()
 
@@ -328,9 +325,6 @@ def _met(rate: float, target: float) -> str:
 
 
 def _generator_lines(games: list[str]) -> list[str]:
-    from gvgai_pcg.generators import registered_generators
-    from gvgai_pcg.generators.speed import levels_per_second
-
     lines = [
         "",
         "### Level generation (one core, d = 1)",

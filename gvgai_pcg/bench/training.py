@@ -40,6 +40,7 @@ import torch
 from omegaconf import DictConfig
 
 from gvgai_pcg.bench.timing import Stopwatch, time_windows
+from gvgai_pcg.config import ConfigError, check_jobs, config_dir
 from gvgai_pcg.engine.threads import threads_for_batch
 from gvgai_pcg.rl.environment import EnvFactory, make_difficulty
 from gvgai_pcg.rl.learners import learner_class
@@ -320,8 +321,6 @@ def main(argv: list[str]) -> int:
         return 0
     from hydra import compose, initialize_config_dir
     from hydra.errors import HydraException
-
-    from gvgai_pcg.config import ConfigError, check_jobs, config_dir
 
     overrides = ["log.curve=false", "log.backends=[]", *argv]
     try:  # a bad override is one line naming it, as gvgai-pcg train says it, before any work

@@ -34,6 +34,8 @@ import torch
 
 from gvgai_pcg.bench.peers import MAX_CALLS, Timed, measure_ours, slowest, timed_rate, version_of
 from gvgai_pcg.bench.targets import VGDLX_AT, Check, Section, ratio
+from gvgai_pcg.evaluation.evaluator import default_cache_dir
+from gvgai_pcg.levels import human_levels
 from gvgai_pcg.progress import track
 
 GAMES = ("zelda", "frogs", "boulderdash")  # ours that VGDLx plays (it has no Solarfox)
@@ -75,8 +77,6 @@ def game_description(game: str) -> str:
                 f"{', '.join(f'{g}.txt' for g in GAMES)} (GVGAI's examples/gridphysics)"
             )
         return path.read_text()
-    from gvgai_pcg.evaluation.evaluator import default_cache_dir
-
     path = default_cache_dir() / "vgdl" / GVGAI_COMMIT[:12] / f"{game}.txt"
     if not path.is_file():
         with urllib.request.urlopen(f"{GVGAI_URL}/{game}.txt", timeout=30) as reply:
@@ -88,8 +88,6 @@ def game_description(game: str) -> str:
 
 
 def level_text(game: str) -> str:
-    from gvgai_pcg.levels import human_levels
-
     return "\n".join(human_levels(game)[0].rows) + "\n"
 
 

@@ -18,6 +18,8 @@ import re
 import time
 from pathlib import Path
 
+from gvgai_pcg.commands.folders import refuse_files_for_folders
+from gvgai_pcg.generators import check_difficulty, generate_level
 from gvgai_pcg.levels import LEVEL_FORMATS, Level, human_levels
 from gvgai_pcg.levels.human import check_named_game
 
@@ -26,8 +28,6 @@ DIFFICULTY_IN_NAME = re.compile(r"_d(?:if)?(\d+(?:\.\d+)?)(?:_|$)")
 
 def difficulty_list(spec: str) -> list[float]:
     """``"1"`` -> [1.0]; ``"0,0.5,1"`` -> [0.0, 0.5, 1.0]; each value must be in [0, 1]."""
-    from gvgai_pcg.generators import check_difficulty
-
     try:
         return [check_difficulty(float(part)) for part in spec.split(",") if part.strip()]
     except ValueError:
@@ -77,8 +77,6 @@ def level_files(folder: Path) -> list[Path]:
 
 def check_arguments(args: argparse.Namespace) -> None:
     """What can be refused before the analysis imports (seconds of scikit-learn and matplotlib)."""
-    from gvgai_pcg.commands.folders import refuse_files_for_folders
-
     if args.levels is not None:
         level_files(args.levels)
     elif args.count < 2:
@@ -96,8 +94,6 @@ def generated_levels(args: argparse.Namespace) -> tuple[list[Level], list[float 
             check_named_game(path.stem, args.game)
         levels = [Level.load(path, args.game) for path in paths]
         return levels, [_difficulty_in_name(path.stem) for path in paths]
-    from gvgai_pcg.generators import generate_level
-
     check_arguments(args)
     pairs = [(d, seed) for d in args.difficulty for seed in range(args.seed, args.seed + args.count)]
     return [generate_level(args.game, d, seed) for d, seed in pairs], [d for d, _ in pairs]

@@ -7,8 +7,12 @@ from pathlib import Path
 
 import torch
 
+from gvgai_pcg.bench.jobs import jobs_section
+from gvgai_pcg.bench.peers import peers_report
 from gvgai_pcg.bench.targets import Section, target_lines
 from gvgai_pcg.bench.throughput import BATCH_SIZES, LEVEL_SETS, OBSERVATIONS, run_benchmarks, write_section
+from gvgai_pcg.bench.vgdlx import GAMES, vgdlx_section
+from gvgai_pcg.commands.folders import refuse_folders_for_files
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -38,8 +42,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def check_arguments(args: argparse.Namespace) -> None:
     """Bad options in one line, before any measurement (and not as a torch traceback)."""
-    from gvgai_pcg.commands.folders import refuse_folders_for_files
-
     refuse_folders_for_files({"--output": args.output})
     if not args.seconds > 0 or args.seconds == float("inf"):
         raise ValueError(f"--seconds must be a finite number > 0, got {args.seconds}")
@@ -87,9 +89,6 @@ def _peers(args: argparse.Namespace, device: str) -> Section:
     VGDLx beside each game it plays."""
     if args.no_peers or torch.device(device).type != "cpu" or "tiles" not in args.obs.split(","):
         return Section()
-    from gvgai_pcg.bench.peers import peers_report
-    from gvgai_pcg.bench.vgdlx import GAMES, vgdlx_section
-
     games = tuple(args.games.split(",")) if args.games else GAMES
     sizes = tuple(int(b) for b in args.batch_sizes.split(","))
     section = peers_report(sizes, args.seconds) if "zelda" in games else Section()
@@ -100,6 +99,4 @@ def _jobs(args: argparse.Namespace, device: str) -> Section:
     """The evaluation protocol and the short training job, on the CPU."""
     if args.no_jobs or torch.device(device).type != "cpu":
         return Section()
-    from gvgai_pcg.bench.jobs import jobs_section
-
     return jobs_section()

@@ -34,7 +34,8 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from gvgai_pcg.games import registered_games
+from gvgai_pcg.commands.folders import refuse_files_for_folders
+from gvgai_pcg.games import get_game, registered_games
 from gvgai_pcg.levels import Level, human_levels, resolve_level
 
 if TYPE_CHECKING:
@@ -218,8 +219,6 @@ def _levels(spec: str, game: str) -> list[Level]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from gvgai_pcg.commands.folders import refuse_files_for_folders
-
     refuse_files_for_folders({"--cache-dir": args.cache_dir})
     agent = args.agent or ("trained" if args.runs else "random")
     if agent == "trained" and not args.runs:
@@ -352,7 +351,6 @@ def _run_levels(args: argparse.Namespace, agent: str) -> int:
     from gvgai_pcg.evaluation import RandomAgent, evaluate_levels, format_table
     from gvgai_pcg.evaluation.checkpoints import run_info
     from gvgai_pcg.evaluation.policy import load_policy
-    from gvgai_pcg.games import get_game
 
     if agent == "trained":
         info = run_info(args.runs[0], args.checkpoint)

@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 from gvgai_pcg.games import registered_games
+from gvgai_pcg.generators import generate_level
 from gvgai_pcg.levels import Level, human_level, resolve_level
 
 RENDERS = ("text", "pixels")
@@ -43,8 +44,6 @@ def choose_level(args: argparse.Namespace) -> Level:
     if args.difficulty is not None:
         if not 0.0 <= args.difficulty <= 1.0:
             raise ValueError(f"--difficulty must be in [0, 1], got {args.difficulty}")
-        from gvgai_pcg.generators import generate_level
-
         return generate_level(args.game, args.difficulty, args.seed)
     if args.level is None:
         return human_level(args.game, 0)

@@ -10,6 +10,10 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from gvgai_pcg.commands.folders import refuse_folders_for_files
+from gvgai_pcg.levels import resolve_level
+from gvgai_pcg.levels.test_sets import TEST_DIFFICULTIES, frozen_test_set
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("run", type=Path, help="a run directory")
@@ -38,9 +42,6 @@ def _positive(kind: type):
 
 def resolve_any_level(spec: str, game: str):
     """A human level name, a frozen test level name or a path."""
-    from gvgai_pcg.levels import resolve_level
-    from gvgai_pcg.levels.test_sets import TEST_DIFFICULTIES, frozen_test_set
-
     for difficulty in TEST_DIFFICULTIES:
         for level in frozen_test_set(game, difficulty) if spec.startswith(f"{game}_pcg") else ():
             if level.name == spec:
@@ -49,7 +50,6 @@ def resolve_any_level(spec: str, game: str):
 
 
 def run(args: argparse.Namespace) -> int:
-    from gvgai_pcg.commands.folders import refuse_folders_for_files
     from gvgai_pcg.evaluation.checkpoints import run_info
     from gvgai_pcg.evaluation.policy import load_policy
     from gvgai_pcg.evaluation.replay import record_episode, write_gif

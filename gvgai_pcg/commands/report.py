@@ -17,9 +17,17 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from gvgai_pcg.commands.evaluate import add_protocol_arguments, add_ued_arguments, protocol_from
+from gvgai_pcg.commands.evaluate import (
+    add_protocol_arguments,
+    add_ued_arguments,
+    protocol_from,
+    ued_protocol_from,
+)
 from gvgai_pcg.commands.folders import refuse_files_for_folders
 from gvgai_pcg.evaluation.checkpoints import is_run_dir
+from gvgai_pcg.report import build_report
+from gvgai_pcg.report.render import markdown_table
+from gvgai_pcg.report.ued_table import write_ued_table
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -41,17 +49,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from gvgai_pcg.report import build_report
-    from gvgai_pcg.report.render import markdown_table
-
     first = args.runs[0]
     out = args.out or (first.parent if is_run_dir(first) else first) / "report"
     refuse_files_for_folders({"--out": out, "--cache-dir": args.cache_dir})
     protocol = protocol_from(args)
     ued = None
     if args.ued:
-        from gvgai_pcg.commands.evaluate import ued_protocol_from
-
         ued, _ = ued_protocol_from(args)  # a bad setting is refused before anything is evaluated
     report = build_report(
         args.runs,
@@ -69,8 +72,6 @@ def run(args: argparse.Namespace) -> int:
     for paths in report.figures.values():
         print("curves: " + ", ".join(map(str, paths)))
     if ued is not None:
-        from gvgai_pcg.report.ued_table import write_ued_table
-
         table = write_ued_table(
             args.runs,
             out,

@@ -23,10 +23,12 @@ import argparse
 from dataclasses import replace
 from pathlib import Path
 
+from gvgai_pcg.commands.folders import refuse_files_for_folders
+from gvgai_pcg.config_rules import searchpath_dirs, searchpath_override
+from gvgai_pcg.study.conditions import BUDGETS, conditions_of, known_conditions, unregistered, user_conditions
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    from gvgai_pcg.study import BUDGETS
-
     parser.add_argument("--budget", choices=sorted(BUDGETS), default="smoke", help="how much of the study")
     parser.add_argument("--out", type=Path, help="where runs, results and the report go (reproduce/BUDGET)")
     parser.add_argument("--jobs", type=int, default=1, help="runs side by side (basic launcher)")
@@ -99,10 +101,7 @@ def _seed_list(text: str) -> tuple[int, ...]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from gvgai_pcg.commands.folders import refuse_files_for_folders
-    from gvgai_pcg.config_rules import searchpath_dirs, searchpath_override
-    from gvgai_pcg.study import BUDGETS, conditions_of, reproduce
-    from gvgai_pcg.study.conditions import known_conditions, unregistered, user_conditions
+    from gvgai_pcg.study.pipeline import reproduce
 
     budget = BUDGETS[args.budget]
     conditions = conditions_of(budget, args.extra)

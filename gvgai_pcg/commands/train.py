@@ -31,6 +31,7 @@ import signal
 import sys
 from pathlib import Path
 
+from gvgai_pcg.cli import USER_ERRORS, say
 from gvgai_pcg.commands.train_checks import check_argv
 from gvgai_pcg.config import CONFIG_NAME, check_jobs, checked_config, config_dir, sweep_jobs
 
@@ -47,8 +48,6 @@ class _Refused(BaseException):
 
 
 def main(cfg) -> None:
-    from gvgai_pcg.cli import USER_ERRORS
-
     try:
         _train(cfg)
     except USER_ERRORS as error:
@@ -100,8 +99,6 @@ def _train(cfg) -> None:
 def _tell(line: str) -> None:
     """``line`` on stderr, else stdout, else only in the run's ``train.log`` (Hydra's file handler):
     a stop through a pipe whose reader died still says where it stopped."""
-    from gvgai_pcg.cli import say
-
     if not say(line):
         logging.getLogger(__name__).error(line)
 

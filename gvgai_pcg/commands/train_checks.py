@@ -12,6 +12,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from gvgai_pcg.config_rules import searchpath_dirs
+from gvgai_pcg.curricula.registry import curriculum_names
+from gvgai_pcg.games import registered_games
 from gvgai_pcg.log_backends import check_installed
 
 # Hydra flags after which the configs come from elsewhere, or no run starts: nothing to check here.
@@ -65,13 +67,8 @@ def _plugins(group: str, conf: Path) -> list[str]:
     """The registered plug-ins of a config group (``regimen``: curricula, ``algo``: learners,
     ``condition``: each game with each plug-in curriculum, one whose yaml ``conf/regimen`` lacks)."""
     if group == "regimen":
-        from gvgai_pcg.curricula.registry import curriculum_names
-
         return curriculum_names()  # names only: the modules behind them import torch
     if group == "condition":
-        from gvgai_pcg.curricula.registry import curriculum_names
-        from gvgai_pcg.games import registered_games
-
         plugins = [name for name in curriculum_names() if not (conf / "regimen" / f"{name}.yaml").is_file()]
         return [f"{game}-{name}" for name in plugins for game in registered_games()]
     if group == "algo":

@@ -43,15 +43,16 @@ from gvgai_pcg.config_rules import (  # noqa: F401 (the rules are this module's 
     level_count_tag,
     level_set_tag,
 )
+from gvgai_pcg.curricula import registered_curricula
+from gvgai_pcg.curricula.registry import store_configs as store_curriculum_configs
+from gvgai_pcg.games import registered_games
 
 
 def config_dir() -> Path:
     """The Hydra configs (``config_root``), with the plug-in curricula's and learners' configs stored
     in their groups."""
     candidate = config_root()
-    from gvgai_pcg.curricula.registry import store_configs
-
-    store_configs(candidate)  # plug-in curricula's configs join the regimen group
+    store_curriculum_configs(candidate)  # plug-in curricula's configs join the regimen group
     _store_learner_configs(candidate)  # and plug-in learners' the algo group
     return candidate
 
@@ -115,8 +116,6 @@ for _name, _resolver in (
 
 
 def _games() -> list[str]:
-    from gvgai_pcg.games import registered_games
-
     return registered_games()
 
 
@@ -132,8 +131,6 @@ def _models() -> tuple[str, ...]:
 
 
 def _regimens() -> dict[str, Any]:
-    from gvgai_pcg.curricula import registered_curricula
-
     return registered_curricula()
 
 

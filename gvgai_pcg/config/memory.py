@@ -13,6 +13,10 @@ from __future__ import annotations
 import os
 from typing import Any
 
+from gvgai_pcg.games import get_game
+from gvgai_pcg.games.geometry import observation_shape
+from gvgai_pcg.rl.models import make_actor_critic
+
 # Below this many envs a run is never checked: it fits any machine that runs the package, and the
 # check would import torch into the config check of every command line.
 CHECKED_FROM_ENVS = 4096
@@ -36,10 +40,6 @@ def available_bytes() -> int | None:
 def bytes_per_env(config: dict[str, Any]) -> int:
     """The least memory one env of ``config`` takes in training (see the module docstring)."""
     import torch
-
-    from gvgai_pcg.games import get_game
-    from gvgai_pcg.games.geometry import observation_shape
-    from gvgai_pcg.rl.models import make_actor_critic
 
     game, obs = config["game"]["name"], config["env"]["obs"]
     shape = observation_shape(game, obs)

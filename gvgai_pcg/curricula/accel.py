@@ -33,6 +33,7 @@ from gvgai_pcg.curricula.plr import (
     seed_uniforms,
 )
 from gvgai_pcg.levels import Level
+from gvgai_pcg.levels.formats import level_format
 from gvgai_pcg.levels.seeds import TRAINING_SEED_SPACE
 
 CHILD_SLOTS = 1024  # children queued or playing at once; the oldest slot is reused when full
@@ -194,8 +195,6 @@ class Accel(PrioritizedLevelReplay):
     levels_type: type[EditedLevels] = EditedLevels
 
     def make_state(self, game, section):
-        from gvgai_pcg.levels.formats import level_format
-
         fmt = level_format(game)
         buffer = self.buffer_type(
             int(section.get("buffer_size", ReplaySettings.buffer_size)), fmt.height, fmt.width

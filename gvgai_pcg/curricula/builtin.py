@@ -22,7 +22,10 @@ from gvgai_pcg.config_rules import (
     level_set_tag,
 )
 from gvgai_pcg.curricula.base import Curriculum
+from gvgai_pcg.levels import human_level, human_levels
 from gvgai_pcg.levels.seeds import TRAINING_SEED_SPACE
+from gvgai_pcg.levels.sets import load_level_set
+from gvgai_pcg.levels.winnable import warn_unwinnable
 
 
 def given_level_source(name: str, game: str, given: list):
@@ -31,7 +34,6 @@ def given_level_source(name: str, game: str, given: list):
     # torch on first use only (here and below): a refused command line lists the registered
     # curricula, which loads this module, without importing torch
     from gvgai_pcg.envs.level_sources import as_level_source
-    from gvgai_pcg.levels.winnable import warn_unwinnable
 
     if not given:
         raise ValueError(f"the regimen {name!r} plays given levels, and none were given")
@@ -58,8 +60,6 @@ class HumanLevel(GivenLevels):
     schema = {"name": Text(), "level": HUMAN_LEVEL, "tag": Text(), "win_rule": OneOf(WIN_RULES)}
 
     def levels(self, game, section):
-        from gvgai_pcg.levels import human_level
-
         return [human_level(game, int(section["level"]))]
 
     def human_levels_trained(self, section):
@@ -79,8 +79,6 @@ class HumanLevels0To3(GivenLevels):
     }
 
     def levels(self, game, section):
-        from gvgai_pcg.levels import human_level
-
         return [human_level(game, int(i)) for i in section["levels"]]
 
     def human_levels_trained(self, section):
@@ -92,8 +90,6 @@ class AllHumanLevels(GivenLevels):
     schema = {"name": Text(), "tag": Text(), "win_rule": OneOf(WIN_RULES)}
 
     def levels(self, game, section):
-        from gvgai_pcg.levels import human_levels
-
         return human_levels(game)
 
     def human_levels_trained(self, section):
@@ -105,8 +101,6 @@ class OwnLevels(GivenLevels):
     schema = {"name": Text(), "path": LevelPaths(), "tag": Text(), "win_rule": OneOf(WIN_RULES)}
 
     def check(self, section, config):
-        from gvgai_pcg.levels.sets import load_level_set
-
         try:
             load_level_set(config["game"]["name"], section["path"])
         except (ValueError, OSError) as error:
@@ -117,8 +111,6 @@ class OwnLevels(GivenLevels):
             raise ConfigError(f"regimen.path={shown}: {message}") from None
 
     def levels(self, game, section):
-        from gvgai_pcg.levels.sets import load_level_set
-
         return load_level_set(game, section["path"])
 
     def has_training_set(self, section):

@@ -31,6 +31,7 @@ from gvgai_pcg.config_rules import DIFFICULTY, WIN_RULES, ConfigError, Flag, Int
 from gvgai_pcg.curricula.base import Curriculum
 from gvgai_pcg.curricula.level_buffer import LevelBuffer
 from gvgai_pcg.envs.level_sources import LevelSource, checked_generator, generated_level, uniform_difficulties
+from gvgai_pcg.games.rng import mix64
 from gvgai_pcg.levels import Level
 from gvgai_pcg.levels.seeds import TRAINING_SEED_SPACE
 
@@ -40,8 +41,6 @@ _REPLAY_STREAM, _PICK_STREAM = 0x504C522D72, 0x504C522D70  # "PLR-r", "PLR-p": b
 
 def seed_uniforms(episode_seeds: torch.Tensor, stream: int) -> torch.Tensor:
     """``[N]`` float64 uniforms on [0, 1), one a function of each episode seed and ``stream``."""
-    from gvgai_pcg.games.rng import mix64
-
     bits = mix64(episode_seeds.to(torch.int64) ^ stream)
     return ((bits >> 11) & ((1 << 53) - 1)).to(torch.float64) * 2.0**-53
 

@@ -18,6 +18,8 @@ from importlib import import_module
 from pathlib import Path
 
 from gvgai_pcg.curricula.base import Curriculum
+from gvgai_pcg.curricula.builtin import BUILTIN_CURRICULA
+from gvgai_pcg.games import registered_games
 from gvgai_pcg.plugins import load_entry_points
 
 ENTRY_POINT_GROUP = "gvgai_pcg.curricula"
@@ -34,8 +36,6 @@ def _builtins() -> None:
     """Register the study's curricula (once; light: nothing of torch)."""
     if _CURRICULA:
         return
-    from gvgai_pcg.curricula.builtin import BUILTIN_CURRICULA
-
     for curriculum in BUILTIN_CURRICULA:
         _CURRICULA[curriculum.name] = curriculum
 
@@ -106,8 +106,6 @@ def curriculum_names() -> list[str]:
     the entry points' names."""
     from importlib.metadata import entry_points
 
-    from gvgai_pcg.curricula.builtin import BUILTIN_CURRICULA
-
     names = [curriculum.name for curriculum in BUILTIN_CURRICULA] + [
         _curriculum_name(m) for m in _package_modules()
     ]
@@ -146,8 +144,6 @@ def plugin_curricula(config_dir: Path | None = None) -> list[Curriculum]:
 def plugin_conditions(config_dir: Path | None = None) -> dict[str, tuple[str, str]]:
     """``<game>-<name> -> (game, name)``: the condition of every registered game with every
     plug-in curriculum, but those ``config_dir/condition`` has a yaml of."""
-    from gvgai_pcg.games import registered_games
-
     conditions = {
         f"{game}-{curriculum.name}": (game, curriculum.name)
         for curriculum in plugin_curricula(config_dir)

@@ -31,10 +31,13 @@ import math
 
 import torch
 
-from gvgai_pcg.config_rules import WIN_RULES, Integer, Number, OneOf, Text
+from gvgai_pcg.config_rules import WIN_RULES, ConfigError, Integer, Number, OneOf, Text
 from gvgai_pcg.curricula.base import ActingPolicy, Curriculum
 from gvgai_pcg.curricula.state import SharedState
+from gvgai_pcg.envs import GVGAIEnv, LevelPerEnv
 from gvgai_pcg.envs.level_sources import LevelSource, RandomDifficultyLevels
+from gvgai_pcg.games.rng import derive_seeds, mix64
+from gvgai_pcg.generators import generate_level
 from gvgai_pcg.levels.seeds import TRAINING_SEED_SPACE
 
 _REPLAY_STREAM = 0x53464C72  # "SFLr": whether an episode replays a buffer level
@@ -92,9 +95,6 @@ def play_wins(
 ) -> torch.Tensor:
     """``[L, episodes]`` whether each of ``episodes`` episodes of each level was won (one batched
     env, one episode per env; an episode still running at ``max_steps`` counts as lost)."""
-    from gvgai_pcg.envs import GVGAIEnv, LevelPerEnv  # torchrl only when SFL plays its pool
-    from gvgai_pcg.games.rng import derive_seeds
-
     batch = [level for level in levels for _ in range(episodes)]
     env = GVGAIEnv(
         game,
@@ -143,8 +143,6 @@ class LearnabilityLevels(LevelSource):
     def _replayed(self, episode_seeds: torch.Tensor) -> tuple[torch.Tensor, torch.Tensor]:
         """Which episodes replay a buffer level, and which one (bits of the episode seed that
         neither the level seed nor DR's d use)."""
-        from gvgai_pcg.games.rng import mix64
-
         size = self.state.size
         if size == 0:
             return torch.zeros(len(episode_seeds), dtype=torch.bool), torch.zeros_like(episode_seeds)
@@ -160,8 +158,6 @@ class LearnabilityLevels(LevelSource):
         return torch.where(replay, self.state.difficulties[pick], fresh)
 
     def next_levels(self, env_indices, episode_seeds, difficulties) -> list:
-        from gvgai_pcg.generators import generate_level
-
         replay, pick = self._replayed(episode_seeds)
         fresh = self.fresh.next_levels(env_indices, episode_seeds, difficulties)
         d, seeds = self.state.difficulties[pick].tolist(), self.state.seeds[pick].tolist()
@@ -179,8 +175,6 @@ class LearnabilityLevels(LevelSource):
 
     def refresh(self, policy: ActingPolicy, frames: int) -> None:
         """Sample a pool, play it, keep its most learnable levels."""
-        from gvgai_pcg.generators import generate_level
-
         # the run's seed (seed_everything) and the refresh count: a resumed run draws the next pool
         pool_seed = (torch.initial_seed() * 1_000_003 + int(self.state.refreshes[0])) % 2**63
         generator = torch.Generator().manual_seed(pool_seed)
@@ -224,8 +218,6 @@ class SamplingForLearnability(Curriculum):
     }
 
     def check(self, section, config) -> None:
-        from gvgai_pcg.config_rules import ConfigError
-
         if int(section["buffer_size"]) > int(section["pool_size"]):
             raise ConfigError(
                 f"regimen.buffer_size={section['buffer_size']} is more than regimen.pool_size="
@@ -239,8 +231,6 @@ class SamplingForLearnability(Curriculum):
 
     def replay_levels(self, state, k):
         """The buffer's ``k`` most learnable levels, most learnable first."""
-        from gvgai_pcg.generators import generate_level
-
         held = 0 if state is None else int(state.filled[0])
         order = torch.argsort(state.learnability[:held], descending=True, stable=True)[:k] if held else []
         return [generate_level(state.game, float(state.difficulties[i]), int(state.seeds[i])) for i in order]

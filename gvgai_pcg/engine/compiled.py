@@ -32,6 +32,7 @@ from tensordict import TensorDict
 
 from gvgai_pcg.engine.outputs import episode_outputs
 from gvgai_pcg.games.base import Game
+from gvgai_pcg.games.render import render_tiles_traced
 from gvgai_pcg.games.spec import StepFacts
 
 COMPILE_VARIABLE = "GVGAI_PCG_COMPILE"
@@ -232,8 +233,6 @@ def tick_and_draw(
 ) -> tuple[torch.Tensor, dict[str, torch.Tensor]]:
     """One tick of ``state``, then its tiles and the step's other outputs: what
     ``CompiledTick.tick_and_draw`` compiles."""
-    from gvgai_pcg.games.render import render_tiles_traced
-
     before = state.get("score").clone()
     type(game).tick(game, state, action, **arguments)
     return render_tiles_traced(game, state), episode_outputs(state, steps, max_steps, score_before=before)

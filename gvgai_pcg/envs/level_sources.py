@@ -20,6 +20,8 @@ from typing import TYPE_CHECKING, Any
 
 import torch
 
+from gvgai_pcg.games.rng import mix64
+from gvgai_pcg.generators import generate_level, get_generator
 from gvgai_pcg.levels import Level, human_levels, resolve_level
 from gvgai_pcg.levels.seeds import TRAINING_SEED_SPACE
 from gvgai_pcg.levels.sets import load_level_set
@@ -228,8 +230,6 @@ class GeneratedLevels(LevelSource):
 def checked_generator(game: str, generator: str | None) -> str:
     """The name of the generator a source of ``game`` makes its levels with (default: the game's
     own), checked when the source is built: an unknown one is refused with the registered names."""
-    from gvgai_pcg.generators import get_generator
-
     name = generator or game
     get_generator(name)
     return name
@@ -237,8 +237,6 @@ def checked_generator(game: str, generator: str | None) -> str:
 
 def _generated_of(game: str, generator: str, difficulty: float, seed: int) -> Level:
     """A level of ``game`` from ``generator``; a level of another game is refused."""
-    from gvgai_pcg.generators import generate_level
-
     level = generate_level(generator, difficulty, seed)
     if level.game != game:
         raise ValueError(f"the generator {generator!r} made a {level.game} level, not a {game} level")
@@ -312,8 +310,6 @@ _DR_STREAM = 0x44522D64  # "DR-d"
 
 def uniform_difficulties(episode_seeds: torch.Tensor) -> torch.Tensor:
     """``[N]`` float64 difficulties, uniform on [0, 1), one a function of each episode seed."""
-    from gvgai_pcg.games.rng import mix64
-
     bits = mix64(episode_seeds.to(torch.int64) ^ _DR_STREAM)
     return ((bits >> 11) & ((1 << 53) - 1)).to(torch.float64) * 2.0**-53
 

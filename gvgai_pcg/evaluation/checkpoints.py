@@ -17,6 +17,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from gvgai_pcg.curricula.registry import get_curriculum
+from gvgai_pcg.evaluation.protocol import LARGE_PROTOCOL, TRAINING_SET, Protocol, protocol_test_sets
+from gvgai_pcg.rl.checkpoint import check_finite, check_identity, identity, read_file
+from gvgai_pcg.rl.environment import training_levels
+from gvgai_pcg.rl.run_session import ASIDE_DIR
+
 FINAL_MODEL = "model.pt"
 LAST_CHECKPOINT = Path("checkpoints") / "last.pt"
 
@@ -79,8 +85,6 @@ class RunInfo:
         """The run's registered curriculum (``gvgai_pcg.curricula``); ``None`` when its plug-in is
         not installed here (the run is then labelled by its regimen's name and has no training
         set of its own)."""
-        from gvgai_pcg.curricula.registry import get_curriculum
-
         try:
             return get_curriculum(self.regimen["name"])
         except ValueError:
@@ -103,8 +107,6 @@ class RunInfo:
 
     def training_levels(self, limit: int | None = None) -> list:
         """The first ``limit`` (default: all) levels of the run's own training set."""
-        from gvgai_pcg.rl.environment import training_levels
-
         if not self.has_training_set:
             raise ValueError(f"{self.path}: regimen {self.regimen['name']!r} has no training set of its own")
         return training_levels(self.game, self.regimen, limit)
@@ -120,8 +122,6 @@ class RunInfo:
             return human
         if not self.has_training_set:
             return ()
-        from gvgai_pcg.evaluation.protocol import LARGE_PROTOCOL, TRAINING_SET, Protocol, protocol_test_sets
-
         if curriculum.generated:  # generated training levels are held out by their seeds
             return (TRAINING_SET,)
         own = set(self.training_levels())
@@ -149,8 +149,6 @@ def is_run_dir(path: Path) -> bool:
 
 def find_runs(paths: list[Path]) -> list[Path]:
     """Run directories among ``paths`` and below them (a Hydra multirun directory holds many)."""
-    from gvgai_pcg.rl.run_session import ASIDE_DIR
-
     found: list[Path] = []
     for path in paths:
         if not path.exists():
@@ -171,8 +169,6 @@ def find_runs(paths: list[Path]) -> list[Path]:
 
 def load_state(path: Path) -> dict:
     """A model or checkpoint file, read safely; refused when its weights are not finite."""
-    from gvgai_pcg.rl.checkpoint import check_finite, read_file
-
     state = read_file(path)
     check_finite(state, path)
     return state
@@ -202,8 +198,6 @@ def read_run_config(run_dir: Path) -> dict | None:
 
 def check_model_of_run(state: dict, path: Path, run_dir: Path, config: dict) -> None:
     """Refuse a model that is not of the run's game, observation kind and architecture."""
-    from gvgai_pcg.rl.checkpoint import check_identity, identity
-
     try:
         expected = identity(config)
     except (KeyError, TypeError) as error:

@@ -24,6 +24,8 @@ from gvgai_pcg.evaluation.protocol import EvalSet, Protocol, protocol_test_sets,
 from gvgai_pcg.evaluation.random_agent import RandomAgent
 from gvgai_pcg.evaluation.runner import Policy, play_episodes
 from gvgai_pcg.games import get_game
+from gvgai_pcg.rl.atomic_files import atomic_write_text
+from gvgai_pcg.rl.run_lock import FolderLock
 
 EVAL_DIR = "eval"
 
@@ -102,15 +104,11 @@ def evaluate_policy(
 
 def write_records(path: Path, records: list[LevelRecord]) -> Path:
     """Write ``records`` as JSON lines (atomically: a temporary file renamed over ``path``)."""
-    from gvgai_pcg.rl.atomic_files import atomic_write_text
-
     return atomic_write_text(path, "".join(json.dumps(r.as_dict()) + "\n" for r in records))
 
 
 def writer_lock(folder: Path, what: str, lock_name: str | None = None):
     """The lock that makes this process the only one writing ``what`` into ``folder``."""
-    from gvgai_pcg.rl.run_lock import FolderLock
-
     purpose = f"two processes writing {what} at once would overwrite each other's"
     return FolderLock(folder, purpose, "run the other command once it is done", lock_name=lock_name)
 

@@ -14,9 +14,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
+from gvgai_pcg.evaluation.checkpoints import run_info
 from gvgai_pcg.evaluation.evaluator import EVAL_DIR, LevelRecord, evaluate_run
 from gvgai_pcg.evaluation.protocol import HUMAN_SETS, Protocol
-from gvgai_pcg.rl.snapshots import snapshot_frames
+from gvgai_pcg.rl.curves import smooth
+from gvgai_pcg.rl.run_log import read_log
+from gvgai_pcg.rl.snapshots import snapshot_frames, snapshot_paths
 
 SNAPSHOT_EVAL_DIR = "snapshots"
 HUMAN_MEAN = "human"  # the mean over the five human levels, one line of the plot
@@ -62,9 +65,6 @@ def evaluate_snapshots(
     force: bool = False,
 ) -> dict[int, list[LevelRecord]]:
     """Each picked snapshot's records under ``protocol``, by its frames."""
-    from gvgai_pcg.evaluation.checkpoints import run_info
-    from gvgai_pcg.rl.snapshots import snapshot_paths
-
     run_dir = Path(run_dir).resolve()
     if every < 0:
         raise ValueError(f"every={every}: expected 0 (every snapshot) or a positive number of frames")
@@ -127,9 +127,6 @@ def plot_held_out(
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     import numpy as np
-
-    from gvgai_pcg.rl.curves import smooth
-    from gvgai_pcg.rl.run_log import read_log
 
     rows = read_log(log_path) if Path(log_path).is_file() else []
     fig, ax = plt.subplots(figsize=(7, 4), dpi=120)

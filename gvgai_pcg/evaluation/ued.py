@@ -65,10 +65,15 @@ from pathlib import Path
 import torch
 
 from gvgai_pcg.evaluation.checkpoints import RunInfo
+from gvgai_pcg.evaluation.evaluator import EVAL_DIR, default_cache_dir, writer_lock
+from gvgai_pcg.evaluation.policy import load_policy
+from gvgai_pcg.evaluation.random_agent import RandomAgent
 from gvgai_pcg.evaluation.runner import Policy, play_episodes
+from gvgai_pcg.games import get_game
 from gvgai_pcg.games.registry import generate_level
 from gvgai_pcg.levels import Level
 from gvgai_pcg.levels.seeds import TEST_SEED_BASE, TRAINING_SEED_SPACE
+from gvgai_pcg.rl.atomic_files import atomic_write_text
 
 # Generator seeds of the UED levels: level i has seed UED_SEED_BASE + i. The frozen test sets use
 # [TEST_SEED_BASE, TEST_SEED_BASE + 2^24), training seeds lie below TRAINING_SEED_SPACE.
@@ -489,8 +494,6 @@ def write_ued_records(
     folder: Path, stem: str, rows: Sequence[UEDLevelResult], header: dict, summary: UEDSummary
 ) -> tuple[Path, Path]:
     """The CSV, then the summary (each atomically): a summary on disk always has its CSV."""
-    from gvgai_pcg.rl.atomic_files import atomic_write_text
-
     table, record = ued_paths(folder, stem)
     atomic_write_text(table, rows_to_csv(rows))
     atomic_write_text(record, json.dumps({**header, "summary": summary.as_dict()}, indent=1) + "\n")
@@ -522,9 +525,6 @@ def evaluate_run_ued(
 ) -> tuple[UEDSummary, Path]:
     """The UED protocol on a trained run: its summary and the path of its per-level CSV, from the
     run's ``eval/`` when they were made from its present model."""
-    from gvgai_pcg.evaluation.evaluator import EVAL_DIR, writer_lock
-    from gvgai_pcg.evaluation.policy import load_policy
-
     alphas = check_alphas(alphas)
     folder, stem = Path(info.path) / EVAL_DIR, run_ued_stem(protocol)
     header = {
@@ -554,10 +554,6 @@ def evaluate_random_ued(
     force: bool = False,
 ) -> tuple[UEDSummary, Path]:
     """The random agent under the UED protocol, cached per game and settings."""
-    from gvgai_pcg.evaluation.evaluator import default_cache_dir, writer_lock
-    from gvgai_pcg.evaluation.random_agent import RandomAgent
-    from gvgai_pcg.games import get_game
-
     alphas = check_alphas(alphas)
     folder, stem = (cache_dir or default_cache_dir()) / "random", f"ued-{game}-{protocol.key}"
     header = {"agent": "random", "game": game, "protocol": protocol.as_dict()}

@@ -11,13 +11,12 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from gvgai_pcg.games.registry import generate_level, get_game_spec, study_games  # noqa: E402
+from gvgai_pcg.games.render import level_pictures
 from gvgai_pcg.levels import Level  # noqa: E402
 
 
 def write_png(level: Level, path: Path) -> Path:
     """``level`` drawn with the game's tile art (10 px per cell) as a PNG."""
-    from gvgai_pcg.games.render import level_pictures
-
     plt.imsave(path, level_pictures([level])[0])
     return path
 
@@ -30,8 +29,6 @@ def difficulty_figure(
 ) -> Path:
     """One row per game (default: the study's, in its order), one column per difficulty: the level
     each (game, d, seed) generates."""
-    from gvgai_pcg.games.render import level_pictures
-
     games = tuple(study_games()) if games is None else games
     fig, axes = plt.subplots(
         len(games), len(difficulties), figsize=(3.2 * len(difficulties), 1.9 * len(games)), squeeze=False

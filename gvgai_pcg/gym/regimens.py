@@ -15,6 +15,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from gvgai_pcg.config_rules import config_root
 from gvgai_pcg.curricula import Curriculum, get_curriculum, registered_curricula
 from gvgai_pcg.curricula.builtin import given_level_source
 from gvgai_pcg.envs.level_sources import LevelSource
@@ -40,8 +41,6 @@ def regimen_defaults(name: str) -> dict[str, Any]:
     ``pool``) reach its source from the Gymnasium API too. Interpolated values (the run tag) are
     left out: they name runs, which the Gymnasium API has none of."""
     from omegaconf import OmegaConf
-
-    from gvgai_pcg.config_rules import config_root
 
     curriculum = regimen_kind(name)
     path = (

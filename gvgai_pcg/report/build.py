@@ -25,6 +25,7 @@ from gvgai_pcg.report.generalisation import LEVEL_COUNT_FIGURE, level_count_curv
 from gvgai_pcg.report.render import html_report, markdown_report, write_csv
 from gvgai_pcg.report.table import GameTable, RunResults, build_table
 from gvgai_pcg.rl.atomic_files import atomic_write_text
+from gvgai_pcg.rl.checkpoint import NonFiniteModelError
 
 log = logging.getLogger(__name__)
 
@@ -135,8 +136,6 @@ def build_report(
 
 def usable_run(path: Path) -> RunInfo | None:
     """The run at ``path``, or ``None`` (with a warning) when its model diverged."""
-    from gvgai_pcg.rl.checkpoint import NonFiniteModelError
-
     try:
         return run_info(path)
     except NonFiniteModelError as error:

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from gvgai_pcg.report.table import format_frames
 from gvgai_pcg.rl.atomic_files import atomic_savefig
 from gvgai_pcg.rl.curves import smooth
 from gvgai_pcg.rl.run_log import LOG_NAME, read_log
@@ -62,7 +63,7 @@ def plot_curves(game: str, curves: Sequence[PooledCurve], out_stem: Path) -> lis
     import matplotlib.pyplot as plt
     from matplotlib.ticker import FuncFormatter
 
-    from gvgai_pcg.report.table import format_frames
+    # cycle: gvgai_pcg.study (its pipeline builds the report) imports gvgai_pcg.report
     from gvgai_pcg.study.table1 import STUDY_REACHED
 
     fig, axes = plt.subplots(1, max(1, len(curves)), figsize=(4.5 * max(1, len(curves)), 3.6), squeeze=False)

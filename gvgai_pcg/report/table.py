@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 from gvgai_pcg.evaluation.evaluator import LevelRecord
 from gvgai_pcg.evaluation.max_score import mean_max_score
 from gvgai_pcg.evaluation.protocol import TEST_SETS, TRAINING_SET, EvalSet
+from gvgai_pcg.rl.checkpoint import ADDED_KEYS
 
 COLUMN_LABELS = {name: name.replace("pcg", "PCG ").replace("lv", "Lv ") for name in TEST_SETS}
 COLUMN_LABELS[TRAINING_SET] = "Train"
@@ -98,8 +99,6 @@ def _flatten(config: dict, prefix: str = "") -> dict[str, object]:
 def training_config(config: dict) -> dict[str, object]:
     """The dotted keys of ``config`` that shape what a run learns (``NOT_TRAINING`` left out;
     keys added since older runs at their old behaviour's value, so those runs still match)."""
-    from gvgai_pcg.rl.checkpoint import ADDED_KEYS
-
     flat = {
         k: v for k, v in _flatten(config).items() if k.split(".")[0] not in NOT_TRAINING and k not in NAMES
     }

@@ -13,7 +13,11 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from gvgai_pcg.study.comparison import ALPHAS, BASELINE
+from gvgai_pcg.evaluation.checkpoints import find_runs
+from gvgai_pcg.evaluation.ued import evaluate_run_ued
+from gvgai_pcg.report.build import usable_run
+from gvgai_pcg.rl.atomic_files import atomic_write_text
+from gvgai_pcg.study.comparison import ALPHAS, BASELINE, collect_runs, comparison_markdown
 
 UED_TABLE = "ued.md"
 
@@ -32,12 +36,6 @@ def write_ued_table(
     """``out_dir/ued.md`` for the runs under ``runs`` that have the study ``protocol``'s records:
     ``ued_protocol``'s metrics (evaluated here unless ``evaluate`` is off) beside their scores,
     each curriculum against ``baseline`` (a row label: ``PPCG``, ``DR``, ...)."""
-    from gvgai_pcg.evaluation.checkpoints import find_runs
-    from gvgai_pcg.evaluation.ued import evaluate_run_ued
-    from gvgai_pcg.report.build import usable_run
-    from gvgai_pcg.rl.atomic_files import atomic_write_text
-    from gvgai_pcg.study.comparison import collect_runs, comparison_markdown
-
     infos = [info for path in find_runs([Path(p) for p in runs]) if (info := usable_run(path))]
     summaries = {}
     if evaluate:

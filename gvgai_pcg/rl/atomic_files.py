@@ -20,6 +20,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import BinaryIO
 
+from gvgai_pcg.rl.stop_signal import stop_signals_deferred
+
 
 def fsync_directory(directory: Path) -> None:
     """Make a rename or a new file in ``directory`` durable."""
@@ -137,8 +139,6 @@ def swap_in_folder(staged: Path, target: Path) -> Path:
     """Put the folder ``staged`` in ``target``'s place: the old one is renamed aside, ``staged``
     renamed in, the old one removed. SIGINT and SIGTERM wait for the two renames; only a SIGKILL
     between them leaves ``target`` missing, and ``recover_folders`` then puts the old one back."""
-    from gvgai_pcg.rl.stop_signal import stop_signals_deferred
-
     aside = _moved_aside(target)
     shutil.rmtree(aside, ignore_errors=True)
     with stop_signals_deferred():

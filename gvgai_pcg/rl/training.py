@@ -38,6 +38,7 @@ from omegaconf import DictConfig, OmegaConf
 from torchrl.collectors import MultiSyncCollector
 from torchrl.modules import ProbabilisticActor
 
+from gvgai_pcg.curricula.base import ActingPolicy
 from gvgai_pcg.curricula.signals import feedback_for
 from gvgai_pcg.engine.step_plan import compile_pays_back
 from gvgai_pcg.engine.threads import threads_for_batch
@@ -354,7 +355,6 @@ def _train(
 
 def acting_policy(net: torch.nn.Module, obs_key: str, device: str):
     """The network as a sampling policy for a curriculum that plays it (``between_updates``)."""
-    from gvgai_pcg.curricula.base import ActingPolicy
 
     def act(tensordict) -> torch.Tensor:
         logits, _ = net(tensordict.get(obs_key))

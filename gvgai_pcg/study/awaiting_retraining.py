@@ -18,6 +18,9 @@ from pathlib import Path
 
 import yaml
 
+from gvgai_pcg.rl.atomic_files import atomic_write_text
+from gvgai_pcg.study.page import replace_block
+
 LIST_NAME = "awaiting-retraining.json"
 MODEL = "model.pt"
 
@@ -87,9 +90,6 @@ def page_block(results: Path, budget: str) -> str:
 
 def write_page(page: Path, results: Path, budget: str) -> None:
     """Replace the block in ``page`` (appended, under its heading, where it has none)."""
-    from gvgai_pcg.rl.atomic_files import atomic_write_text
-    from gvgai_pcg.study.page import replace_block
-
     block = page_block(results, budget)
     if START in page.read_text():
         replace_block(page, block, START, END)

@@ -25,6 +25,10 @@ from pathlib import Path
 
 from omegaconf import OmegaConf
 
+from gvgai_pcg.evaluation.checkpoints import FINAL_MODEL, is_run_dir, load_state, read_run_config, run_info
+from gvgai_pcg.rl.checkpoint import config_differences
+from gvgai_pcg.rl.provenance import SESSIONS_NAME
+from gvgai_pcg.rl.snapshots import SNAPSHOT_DIR, snapshot_frames, snapshot_path, snapshot_paths
 from gvgai_pcg.study.conditions import Budget
 
 BORROWED = "borrowed.json"
@@ -61,10 +65,6 @@ def borrow_runs(planned: dict, budget: Budget, source: Path, out: Path) -> set[t
 def borrowable_model(run: Path, planned: dict, frames: int) -> Path | None:
     """The model of ``run`` at exactly ``frames`` frames (final model or snapshot) if ``run`` trains
     as ``planned`` does but for its ``total_frames``; else ``None``."""
-    from gvgai_pcg.evaluation.checkpoints import is_run_dir, load_state, read_run_config, run_info
-    from gvgai_pcg.rl.checkpoint import config_differences
-    from gvgai_pcg.rl.snapshots import snapshot_path
-
     if not is_run_dir(run):
         return None
     config = dict(read_run_config(run) or {})
@@ -98,10 +98,6 @@ def borrow_run(source: Path, model: Path, frames: int, target: Path) -> Path:
 
 def _build_borrowed(source: Path, model: Path, frames: int, target: Path, building: Path) -> None:
     """Into ``building``: the run ``source`` at ``frames`` frames, ``model`` its final model."""
-    from gvgai_pcg.evaluation.checkpoints import FINAL_MODEL, read_run_config
-    from gvgai_pcg.rl.provenance import SESSIONS_NAME
-    from gvgai_pcg.rl.snapshots import SNAPSHOT_DIR, snapshot_frames, snapshot_paths
-
     config = dict(read_run_config(source) or {})
     trained = int(config["total_frames"])
     config.update(total_frames=frames, out_dir=str(target.parent.resolve()))

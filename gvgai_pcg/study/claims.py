@@ -32,6 +32,10 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+from gvgai_pcg.evaluation.checkpoints import run_info
+from gvgai_pcg.evaluation.evaluator import random_results_path, read_records, run_results_path
+from gvgai_pcg.report.table import differing_keys, training_config
+from gvgai_pcg.rl.run_log import read_log
 from gvgai_pcg.study.intervals import (
     ALPHA,
     LEVEL,
@@ -55,6 +59,7 @@ from gvgai_pcg.study.table1 import (
     TABLE1,
     study_normalised,
 )
+from gvgai_pcg.study.table1_compare import difficulty_markdown, side_by_side_markdown
 
 # Thresholds, in fractions of the gap from the random agent (0) to the maximum (1). Each is read
 # off the paper's words and set so that the study's own numbers satisfy them (said where generous).
@@ -736,10 +741,6 @@ def collect(
     left out. With ``target_frames``, a run's goal is the larger of it and its config's
     ``total_frames``, and a condition with runs at their goal is judged on those alone: a later
     seed still training would otherwise pull its mean back (its frames go to ``training``)."""
-    from gvgai_pcg.evaluation.checkpoints import run_info
-    from gvgai_pcg.evaluation.evaluator import random_results_path, read_records, run_results_path
-    from gvgai_pcg.rl.run_log import read_log
-
     evaluated = []
     for path in runs:
         info = run_info(path)
@@ -799,8 +800,6 @@ def _labels_by_config(infos) -> dict[Path, str]:
     learning rate, say), each keeps its label with the differing keys' values appended, so runs
     of different configs are never pooled as seeds (and the rules, which read the plain labels,
     judge none of them)."""
-    from gvgai_pcg.report.table import differing_keys, training_config
-
     groups: dict[tuple[str, str], list] = {}
     for info in infos:
         groups.setdefault((info.game, info.label), []).append(info)
@@ -936,8 +935,6 @@ def claims_markdown(
     """The verdicts as a Markdown table, the statistics behind them, the seeds and frames behind
     each game, and the study's Table 1 beside ours; ``level_sampling``: the verdicts were judged
     with it (the note says so, and the random agent's intervals are listed)."""
-    from gvgai_pcg.study.table1_compare import difficulty_markdown, side_by_side_markdown
-
     study = study_verdicts()
     held = sum(verdict.verdict == "holds" for _, verdict in study)
     lines = [

@@ -26,6 +26,8 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from gvgai_pcg.evaluation.checkpoints import run_info
+from gvgai_pcg.evaluation.evaluator import read_records, run_results_path
 from gvgai_pcg.study.intervals import (
     ALPHA,
     LEVEL,
@@ -148,9 +150,6 @@ def collect_runs(
     """``game -> label -> CurriculumRuns`` from run directories with the study protocol's records
     (runs without are left out) and, where present, UED summaries: a run's in ``ued_summaries``
     (by its path, as just evaluated), else its newest record with ``ued_settings``."""
-    from gvgai_pcg.evaluation.checkpoints import run_info
-    from gvgai_pcg.evaluation.evaluator import read_records, run_results_path
-
     games: dict[str, dict[str, CurriculumRuns]] = {}
     for path in sorted(runs):
         info = run_info(path)

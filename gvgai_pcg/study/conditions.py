@@ -23,6 +23,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from gvgai_pcg.config import config_dir
+from gvgai_pcg.curricula import registered_curricula
+from gvgai_pcg.curricula.registry import plugin_conditions
+
 GAMES = ("zelda", "solarfox", "frogs", "boulderdash")
 # Table 1 of the study: every regimen on Zelda; PCG 1 and PPCG on the other games (the study
 # skipped the rest for lack of compute).
@@ -239,9 +243,6 @@ def known_conditions() -> tuple[str, ...]:
 def user_conditions(search: Sequence[Path] = ()) -> tuple[str, ...]:
     """The conditions of the user's config folders (``DIR/condition/*.yaml``) and of the
     curriculum plug-ins (``<game>-<name>``) that the study's do not name already."""
-    from gvgai_pcg.config import config_dir
-    from gvgai_pcg.curricula.registry import plugin_conditions
-
     ours = config_dir()
     found = [path.stem for folder in search for path in sorted(Path(folder).glob("condition/*.yaml"))]
     found += list(plugin_conditions(ours))
@@ -253,9 +254,6 @@ def condition_regimen(condition: str, search: Sequence[Path] = ()) -> str:
     composing it (a curriculum not registered yet has no ``regimen`` option to compose): ours
     first, then the user's folders ``search`` (Hydra's order), then the curriculum plug-ins'."""
     from omegaconf import OmegaConf
-
-    from gvgai_pcg.config import config_dir
-    from gvgai_pcg.curricula.registry import plugin_conditions
 
     ours = config_dir()
     folders = [ours, *search]
@@ -282,8 +280,6 @@ def condition_regimen(condition: str, search: Sequence[Path] = ()) -> str:
 def unregistered(conditions: Sequence[str], search: Sequence[Path] = ()) -> dict[str, str]:
     """``condition -> one line`` for each condition whose curriculum is not registered
     (``search``: the user's config folders, ``searchpath_dirs``)."""
-    from gvgai_pcg.curricula import registered_curricula
-
     names = registered_curricula()
     known = ", ".join(sorted(names))
     regimens = {c: condition_regimen(c, search) for c in conditions}

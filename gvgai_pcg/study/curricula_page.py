@@ -12,9 +12,18 @@ import os
 import platform
 from pathlib import Path
 
+from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
+from gvgai_pcg.evaluation.protocol import Protocol
+from gvgai_pcg.games.registry import get_game_spec
+from gvgai_pcg.generators import get_generator
+from gvgai_pcg.levels import human_levels
+from gvgai_pcg.rl.atomic_files import atomic_copy
 from gvgai_pcg.study.borrowed_runs import borrowed_lines
+from gvgai_pcg.study.comparison import collect_runs, comparison_markdown
 from gvgai_pcg.study.conditions import Budget
+from gvgai_pcg.study.curricula_runs import REPLAY_PICTURE, REPLAY_STATS, level_count_summary, write_curves
 from gvgai_pcg.study.page import _runs_table, replace_block
+from gvgai_pcg.study.ued_by_difficulty import write_solved_by_difficulty
 
 START, END = "<!-- curricula:start -->", "<!-- curricula:end -->"
 
@@ -36,10 +45,6 @@ def _summary_cells(summary: dict, names: list[str]) -> str:
 
 def _reference_summaries(game: str) -> list[tuple[str, dict]]:
     """The human levels' and the generator's at d = 1 (seeds 0 to ``REFERENCE_LEVELS`` - 1)."""
-    from gvgai_pcg.generators import get_generator
-    from gvgai_pcg.levels import human_levels
-    from gvgai_pcg.study.curricula_runs import level_count_summary
-
     generate = get_generator(game)
     return [
         (
@@ -54,9 +59,6 @@ def _held_levels_tables(runs: list) -> list[str]:
     """Per game, what the levels each replaying curriculum holds at the end contain (its
     ``replay-levels.json``), beside the generator's at d = 1 and the human levels."""
     import json
-
-    from gvgai_pcg.games.registry import get_game_spec
-    from gvgai_pcg.study.curricula_runs import REPLAY_STATS
 
     held: dict[str, list[tuple[str, dict]]] = {}
     for info in runs:
@@ -85,9 +87,6 @@ def _held_levels_tables(runs: list) -> list[str]:
 def _replay_section(runs: list, images: Path, prefix: str) -> list[str]:
     """The replay pictures of the published runs, copied into ``images``, one line each, then the
     tables of what the levels each curriculum holds contain."""
-    from gvgai_pcg.rl.atomic_files import atomic_copy
-    from gvgai_pcg.study.curricula_runs import REPLAY_PICTURE
-
     lines = []
     for info in runs:
         picture = info.path / REPLAY_PICTURE
@@ -104,12 +103,6 @@ def _replay_section(runs: list, images: Path, prefix: str) -> list[str]:
 
 def curricula_block(published: Path, budget: Budget, images: Path, prefix: str, commit: str) -> str:
     """The page's block from ``published``; figures go to ``images``, linked as ``prefix/<name>``."""
-    from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
-    from gvgai_pcg.evaluation.protocol import Protocol
-    from gvgai_pcg.study.comparison import collect_runs, comparison_markdown
-    from gvgai_pcg.study.curricula_runs import write_curves
-    from gvgai_pcg.study.ued_by_difficulty import write_solved_by_difficulty
-
     runs_dir = published / "runs"
     runs = find_runs([runs_dir]) if runs_dir.is_dir() and any(runs_dir.iterdir()) else []
     infos = [run_info(run) for run in runs]

@@ -10,6 +10,15 @@ import math
 from collections.abc import Sequence
 from pathlib import Path
 
+from gvgai_pcg.curricula import registered_curricula
+from gvgai_pcg.evaluation import ued
+from gvgai_pcg.evaluation.checkpoints import LAST_CHECKPOINT, load_state, read_run_config, run_info
+from gvgai_pcg.games.registry import get_game_spec
+from gvgai_pcg.games.render import level_pictures
+from gvgai_pcg.levels import human_level
+from gvgai_pcg.rl.atomic_files import atomic_savefig
+from gvgai_pcg.rl.run_log import read_log
+
 REPLAY_PICTURE = "replay.png"
 REPLAY_LEVELS = 4
 # Every level the curriculum holds at the end, summarised per count of the game's ``counts``
@@ -21,24 +30,12 @@ CURVE_COLUMNS = ("difficulty",)
 BUFFER_PREFIX = "buffer_"
 
 
-def ued_available() -> bool:
-    """Whether this checkout has the UED protocol (``gvgai_pcg.evaluation.ued``)."""
-    try:
-        import gvgai_pcg.evaluation.ued  # noqa: F401
-    except ImportError:
-        return False
-    return True
-
-
 def evaluate_ued(run: Path, settings: dict, progress: bool = True) -> dict | None:
     """The UED protocol on ``run`` (written to ``run/eval/ued-<key>.{csv,json}`` and reused while
-    its model is unchanged); its summary as a dict, ``None`` where the protocol is not in this
-    checkout. The one call into ``gvgai_pcg.evaluation.ued``: adapt it here if its interface moves."""
-    if not settings or not ued_available():
+    its model is unchanged); its summary as a dict, ``None`` without ``settings``. The one call
+    into ``gvgai_pcg.evaluation.ued``: adapt it here if its interface moves."""
+    if not settings:
         return None
-    from gvgai_pcg.evaluation import ued
-    from gvgai_pcg.evaluation.checkpoints import run_info
-
     protocol = ued.UEDProtocol(**settings)
     summary, _ = ued.evaluate_run_ued(run_info(run), protocol, alphas=(0.01, 0.1), progress=progress)
     return summary.as_dict()
@@ -48,9 +45,6 @@ def replay_levels_of(run: Path, k: int = REPLAY_LEVELS) -> list:
     """Up to ``k`` levels the run's curriculum would replay next, from its last checkpoint's state
     (``Curriculum.replay_levels``); none where it replays none, is not registered here, or there is
     no checkpoint."""
-    from gvgai_pcg.curricula import registered_curricula
-    from gvgai_pcg.evaluation.checkpoints import LAST_CHECKPOINT, load_state, read_run_config
-
     config, checkpoint = read_run_config(run) or {}, run / LAST_CHECKPOINT
     curriculum = registered_curricula().get(config.get("regimen", {}).get("name"))
     if curriculum is None or not checkpoint.is_file():
@@ -68,12 +62,8 @@ def write_levels_picture(levels: Sequence, path: Path, title: str = "") -> Path 
         return None
     import matplotlib
 
-    from gvgai_pcg.rl.atomic_files import atomic_savefig
-
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
-    from gvgai_pcg.games.render import level_pictures
 
     images = level_pictures(list(levels))
     fig, axes = plt.subplots(1, len(images), figsize=(3.2 * len(images), 2.2), squeeze=False)
@@ -101,8 +91,6 @@ def level_count_summary(levels: Sequence) -> dict:
         return {"levels": 0}
     import numpy as np
 
-    from gvgai_pcg.games.registry import get_game_spec
-
     counts = [get_game_spec(level.game).counts(level) for level in levels]
     summary = {}
     for name in counts[0]:
@@ -120,8 +108,6 @@ def write_replay_stats(run: Path) -> Path | None:
     holds at the end (its whole buffer or pool); none where it holds none. Rebuilding a buffer of
     generated levels takes a while (Zelda PLR⊥'s 4,000: about 20 s), so it is written once per
     last checkpoint and version of the game's counts (their names)."""
-    from gvgai_pcg.evaluation.checkpoints import LAST_CHECKPOINT
-
     path, checkpoint = run / REPLAY_STATS, run / LAST_CHECKPOINT
     if _summary_is_current(path, checkpoint, run):
         return path
@@ -138,10 +124,6 @@ def _summary_is_current(path: Path, checkpoint: Path, run: Path) -> bool:
     """Whether ``path`` is newer than ``checkpoint`` and counts what the game counts now."""
     if not (path.is_file() and checkpoint.is_file() and path.stat().st_mtime >= checkpoint.stat().st_mtime):
         return False
-    from gvgai_pcg.evaluation.checkpoints import read_run_config
-    from gvgai_pcg.games.registry import get_game_spec
-    from gvgai_pcg.levels import human_level
-
     game = (read_run_config(run) or {}).get("game", {}).get("name")
     saved = json.loads(path.read_text()).get("counts", {})
     return game is None or set(saved) == set(get_game_spec(game).counts(human_level(game, 0)))
@@ -162,12 +144,8 @@ def write_curves(runs: Sequence[tuple[str, str, Path]], folder: Path) -> list[Pa
     frames, one line per run, coloured by curriculum. ``runs``: ``(game, label, run dir)``."""
     import matplotlib
 
-    from gvgai_pcg.rl.atomic_files import atomic_savefig
-
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-
-    from gvgai_pcg.rl.run_log import read_log
 
     logs: dict[str, list[tuple[str, list[dict]]]] = {}
     for game, label, run in runs:

@@ -13,14 +13,15 @@ import platform
 import re
 from pathlib import Path
 
+from gvgai_pcg.evaluation.checkpoints import read_run_config
+from gvgai_pcg.rl.atomic_files import atomic_copy, atomic_write_text
+from gvgai_pcg.rl.provenance import session_commits
+from gvgai_pcg.rl.run_log import read_log
+
 START, END = "<!-- results:start -->", "<!-- results:end -->"
 
 
 def _runs_table(published: Path, target_frames: int) -> str:
-    from gvgai_pcg.evaluation.checkpoints import read_run_config
-    from gvgai_pcg.rl.provenance import session_commits
-    from gvgai_pcg.rl.run_log import read_log
-
     lines = [
         "| run | frames evaluated | finished | training wall time so far (h) | last logged mean score "
         "| trained at |",
@@ -47,8 +48,6 @@ def _runs_table(published: Path, target_frames: int) -> str:
 def results_block(published: Path, images: Path, image_prefix: str, target_frames: int, commit: str) -> str:
     """The page's results block from ``published``; the curve images are copied into ``images``
     and referenced as ``image_prefix/<name>``."""
-    from gvgai_pcg.rl.atomic_files import atomic_copy
-
     report = (published / "report" / "results.md").read_text()
     images.mkdir(parents=True, exist_ok=True)
     for stale in images.glob("curves-*.png"):  # a game no longer in the report keeps no figure
@@ -100,8 +99,6 @@ def write_results_page(
 
 def replace_block(page: Path, block: str, start: str = START, end: str = END) -> Path:
     """Replace ``page``'s text from ``start`` to ``end`` by ``block`` (which holds both markers)."""
-    from gvgai_pcg.rl.atomic_files import atomic_write_text
-
     text = page.read_text()
     if start not in text or end not in text:
         raise ValueError(f"{page}: no {start} ... {end} block to write the results into")

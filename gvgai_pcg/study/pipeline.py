@@ -30,10 +30,33 @@ from pathlib import Path
 
 from omegaconf import OmegaConf
 
+from gvgai_pcg.config import check_jobs, config_dir, sweep_jobs
 from gvgai_pcg.config_rules import SEARCHPATH, searchpath_dirs
+from gvgai_pcg.evaluation.checkpoints import (
+    PUBLISHED,
+    find_runs,
+    is_run_dir,
+    published_run_info,
+    read_run_config,
+    run_info,
+)
+from gvgai_pcg.evaluation.evaluator import run_results_path
+from gvgai_pcg.evaluation.protocol import Protocol
 from gvgai_pcg.games.registry import find_game_spec
+from gvgai_pcg.report import build_report
+from gvgai_pcg.report.build import usable_run
+from gvgai_pcg.rl.atomic_files import atomic_write_text, copy_tree
+from gvgai_pcg.rl.checkpoint import config_differences
 from gvgai_pcg.study.borrowed_runs import borrow_runs
+from gvgai_pcg.study.claims import claims_markdown, collect, study_claims
+from gvgai_pcg.study.comparison import collect_runs, comparison_markdown
 from gvgai_pcg.study.conditions import Budget, unregistered
+from gvgai_pcg.study.curricula_runs import (
+    evaluate_ued,
+    write_curves,
+    write_replay_picture,
+    write_replay_stats,
+)
 from gvgai_pcg.study.publish import publish, refuse_publishing_into_the_sweep
 
 # A trained model (weights, config, frames: no optimizer) is published only below this size: the
@@ -226,8 +249,6 @@ def run_overrides(overrides: Sequence[str]) -> list[str]:
 def check_planned(budget: Budget, conditions: Sequence[str], overrides: Sequence[str] = ()) -> None:
     """``ConfigError`` for the first planned run whose config cannot train (``algo.lr=-1``), before
     the sweep starts: one seed of each condition (the seeds differ in nothing else)."""
-    from gvgai_pcg.config import check_jobs, sweep_jobs
-
     ours = run_overrides(overrides)
     jobs = [
         job
@@ -260,8 +281,6 @@ def planned_configs(budget: Budget, conditions: Sequence[str], overrides: Sequen
     (several where ``overrides`` sweep over more values); Hydra's own overrides are left out."""
     from hydra import compose, initialize_config_dir
 
-    from gvgai_pcg.config import config_dir, sweep_jobs
-
     ours = run_overrides(overrides)
     configs: dict[tuple[str, int], dict[str, dict]] = {}
     with initialize_config_dir(config_dir=str(config_dir()), version_base="1.3", job_name="train"):
@@ -280,8 +299,6 @@ def published_elsewhere(
     """The ``(condition, seed)`` pairs not to train because ``published`` holds every run of
     theirs finished (the budget's frames, ``protocol``'s records, the very config the sweep would
     train, ``out_dir`` aside) and ``out`` has no finished copy; and those published runs."""
-    from gvgai_pcg.evaluation.checkpoints import PUBLISHED, published_run_info, read_run_config
-    from gvgai_pcg.evaluation.evaluator import run_results_path
 
     def finished_there(name: str, config: dict) -> Path | None:
         run = Path(published) / "runs" / name
@@ -308,8 +325,6 @@ def _same_training(published: dict, planned: dict) -> bool:
     """Whether a published run's config trains exactly as ``planned`` does: the same values of
     every key but bookkeeping (checkpoints, logs, where it was written), and keys added since
     it was trained at their old behaviour's value (``ADDED_KEYS``)."""
-    from gvgai_pcg.rl.checkpoint import config_differences
-
     if published.get("total_frames") != planned.get("total_frames"):
         return False
     return not config_differences(published, planned)
@@ -317,9 +332,6 @@ def _same_training(published: dict, planned: dict) -> bool:
 
 def _finished(run: Path, frames: int) -> bool:
     """Whether ``run`` is a run directory that has trained ``frames`` or more."""
-    from gvgai_pcg.evaluation.checkpoints import is_run_dir
-    from gvgai_pcg.report.build import usable_run
-
     return is_run_dir(run) and (info := usable_run(run)) is not None and info.frames >= frames
 
 
@@ -334,10 +346,6 @@ def write_claims(
     """The study's claims tested on the runs under ``runs`` (``gvgai_pcg.study.claims``);
     ``level_sampling``: intervals over seeds and the generated sets' levels (off for the
     published budgets, whose pages rebuild as they were)."""
-    from gvgai_pcg.evaluation.checkpoints import find_runs
-    from gvgai_pcg.rl.atomic_files import atomic_write_text
-    from gvgai_pcg.study.claims import claims_markdown, collect, study_claims
-
     games = collect(find_runs(list(runs)), random_cache, protocol, target_frames)
     atomic_write_text(
         path, claims_markdown(study_claims(games, target_frames, level_sampling), games, level_sampling)
@@ -356,16 +364,6 @@ def write_curricula(
     """The curricula comparison on the runs: the UED protocol (where this checkout has it) and the
     replay picture of each run trained here, then ``report_dir/curricula.md`` (tables and the
     answer, ``gvgai_pcg.study.comparison``) and the curves of d over training."""
-    from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
-    from gvgai_pcg.rl.atomic_files import atomic_write_text
-    from gvgai_pcg.study.comparison import collect_runs, comparison_markdown
-    from gvgai_pcg.study.curricula_runs import (
-        evaluate_ued,
-        write_curves,
-        write_replay_picture,
-        write_replay_stats,
-    )
-
     here = find_runs(list(here)) if here else []
     for run in here:
         evaluate_ued(run, budget.ued, progress)
@@ -404,10 +402,6 @@ def reproduce(
     refused = unregistered(conditions, searchpath_dirs(overrides))
     if refused:
         raise ValueError("; ".join(refused.values()))
-    from gvgai_pcg.evaluation.protocol import Protocol
-    from gvgai_pcg.report import build_report
-    from gvgai_pcg.rl.atomic_files import copy_tree
-
     out = Path(out).resolve()
     if publish_to is not None:  # before any training: refused now, not after hours of it
         refuse_publishing_into_the_sweep(out, Path(publish_to))
@@ -455,7 +449,6 @@ def _trained_here(runs_dir: Path, finished_only: int | None, leave_out: set[str]
     """The runs under ``runs_dir`` (with ``finished_only``, the budget's fewest frames, those that
     have trained their config's ``total_frames`` and at least that many), but those named in
     ``leave_out`` (their published copies are reported instead)."""
-    from gvgai_pcg.evaluation.checkpoints import find_runs, read_run_config
 
     def wanted(run: Path) -> bool:
         frames = 0

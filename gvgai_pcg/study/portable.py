@@ -20,6 +20,9 @@ import re
 from collections.abc import Callable
 from pathlib import Path
 
+from gvgai_pcg.evaluation.checkpoints import PUBLISHED, load_state
+from gvgai_pcg.rl.atomic_files import atomic_write
+
 DEFAULT_OUT_DIR = "runs"  # conf/config.yaml's out_dir
 NOT_PUBLISHED = (
     "its model exists on no machine any more; the run awaits retraining with the same config and "
@@ -79,9 +82,6 @@ def write_portable_model(source: Path, target: Path) -> None:
     checkpoint's optimiser and random states stay behind)."""
     import torch
 
-    from gvgai_pcg.evaluation.checkpoints import load_state
-    from gvgai_pcg.rl.atomic_files import atomic_write
-
     state = load_state(source)
     kept = {key: state[key] for key in ("format", "identity", "model", "config", "frames") if key in state}
     kept["config"] = portable_config(state["config"])
@@ -97,8 +97,6 @@ def make_portable(run: Path) -> None:
     """Rewrite the published run folder ``run`` in place so that it names nothing outside itself:
     ``published.json`` in the new form (read from either form), its records, UED summaries,
     ``config.yaml``, ``borrowed.json`` and model. No number changes."""
-    from gvgai_pcg.evaluation.checkpoints import PUBLISHED
-
     record = json.loads((run / PUBLISHED).read_text())
     renamed: dict[str, str] = {}
     run_dir = None

@@ -14,8 +14,20 @@ import shutil
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 
+from gvgai_pcg.evaluation.checkpoints import (
+    FINAL_MODEL,
+    PUBLISHED,
+    find_runs,
+    load_state,
+    published_run_info,
+    run_info,
+)
+from gvgai_pcg.evaluation.evaluator import read_records, run_results_path
+from gvgai_pcg.rl.atomic_files import atomic_copy, copy_tree, recover_folders, staging_folder, swap_in_folder
+from gvgai_pcg.rl.checkpoint import config_differences
 from gvgai_pcg.study.borrowed_runs import BORROWED
 from gvgai_pcg.study.curricula_runs import REPLAY_PICTURE, REPLAY_STATS
+from gvgai_pcg.study.portable import make_portable, write_portable_model
 
 WRITER_LOCKS = shutil.ignore_patterns(".lock", ".*.lock")  # the evaluator's, never published
 
@@ -24,9 +36,6 @@ def refuse_other_configs(runs: Sequence[Path], published: Path) -> None:
     """``ValueError`` before anything is published when ``published`` holds a run of one of
     ``runs``' names but another training config: kept (it may have trained longer) beside a new
     report, it would leave a folder whose runs no longer rebuild its table."""
-    from gvgai_pcg.evaluation.checkpoints import PUBLISHED, published_run_info, run_info
-    from gvgai_pcg.rl.checkpoint import config_differences
-
     for run in runs:
         target = published / run.name
         if not (target / PUBLISHED).is_file():
@@ -73,10 +82,6 @@ def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = 
     ``out/runs``) are the runs to publish: those of the report; a published run is never replaced
     by a copy that has trained fewer frames. ``dest`` may not hold the sweep's own runs
     (``refuse_publishing_into_the_sweep``)."""
-    from gvgai_pcg.evaluation.checkpoints import PUBLISHED, find_runs, published_run_info, run_info
-    from gvgai_pcg.evaluation.evaluator import read_records, run_results_path
-    from gvgai_pcg.rl.atomic_files import atomic_copy, copy_tree, recover_folders
-
     refuse_publishing_into_the_sweep(out, dest, runs or ())
     if runs is None:
         runs = [out / "runs"] if (out / "runs").is_dir() else []
@@ -118,8 +123,6 @@ def staged_folder(target: Path, keep: bool = True) -> Iterator[Path]:
     """A folder to build ``target``'s new content in (``keep``: starting from a copy of what
     ``target`` holds now), swapped in when the block ends; a block cut short leaves ``target`` as
     it was and removes the staging folder."""
-    from gvgai_pcg.rl.atomic_files import copy_tree, staging_folder, swap_in_folder
-
     staged = staging_folder(target)
     shutil.rmtree(staged, ignore_errors=True)
     if keep and target.is_dir():
@@ -137,8 +140,6 @@ def evaluated_model(info, model: dict) -> Path | None:
     """The file of the model the run's records were made from (``model``: their checkpoint and
     frames): its final model, or an earlier file of it that is still there; ``None`` when that
     model is on this machine no more."""
-    from gvgai_pcg.evaluation.checkpoints import load_state
-
     if model["frames"] == info.frames:
         try:
             return info.model_file
@@ -155,10 +156,6 @@ def _stage_run(run: Path, staged: Path, model: dict, model_file: Path | None) ->
     """Into ``staged``: ``run``'s config, logs, pictures and evaluation records, the model they
     were made from (``model_file``, whatever its size) and ``published.json`` naming it, all made
     to name nothing outside the run folder."""
-    from gvgai_pcg.evaluation.checkpoints import FINAL_MODEL, PUBLISHED, load_state
-    from gvgai_pcg.rl.atomic_files import copy_tree
-    from gvgai_pcg.study.portable import make_portable, write_portable_model
-
     (staged / "eval").mkdir(parents=True, exist_ok=True)
     for name in (
         "config.yaml",

@@ -17,8 +17,12 @@ from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from gvgai_pcg.evaluation.checkpoints import PUBLISHED, published_run_info, run_info
+from gvgai_pcg.rl.run_lock import LOCK_NAME, describe_holder
+from gvgai_pcg.rl.run_log import LOG_NAME, read_log
 from gvgai_pcg.study.borrowed_runs import BORROWED
 from gvgai_pcg.study.conditions import Budget
+from gvgai_pcg.study.pipeline import planned_configs
 
 
 @dataclass(frozen=True)
@@ -55,8 +59,6 @@ def training_holder(run: Path) -> str | None:
     lets it go at once."""
     from filelock import lock_descriptor, unlock_descriptor
 
-    from gvgai_pcg.rl.run_lock import LOCK_NAME, describe_holder
-
     path = run / LOCK_NAME
     if not path.is_file():
         return None
@@ -72,8 +74,6 @@ def training_holder(run: Path) -> str | None:
 
 def _progress(run: Path) -> tuple[int, float]:
     """Frames and training wall hours of ``run`` by its log's last row (0, 0.0 without a log)."""
-    from gvgai_pcg.rl.run_log import LOG_NAME, read_log
-
     rows = read_log(run / LOG_NAME) if (run / LOG_NAME).is_file() else []
     return (int(rows[-1]["frames"]), float(rows[-1]["time"]) / 3600) if rows else (0, 0.0)
 
@@ -82,8 +82,6 @@ def _checkpoint_frames(run: Path, logged: int) -> int | None:
     """The frames of ``run``'s newest model or checkpoint (what a resume continues from); its
     log's ``logged`` frames where it has written none yet; ``None`` where it has written some and
     they cannot be read (a status never stops at one bad run: training it says what is wrong)."""
-    from gvgai_pcg.evaluation.checkpoints import run_info
-
     try:
         return run_info(run).frames
     except FileNotFoundError:  # no model or checkpoint yet
@@ -93,8 +91,6 @@ def _checkpoint_frames(run: Path, logged: int) -> int | None:
 
 
 def _published_frames(run: Path) -> int:
-    from gvgai_pcg.evaluation.checkpoints import PUBLISHED, published_run_info
-
     return published_run_info(run).frames if (run / PUBLISHED).is_file() else 0
 
 
@@ -167,8 +163,6 @@ def sweep_status(
 ) -> list[RunStatus]:
     """Every run the sweep plans, in the order it trains them (seed by seed), with its state; a
     run is finished at the frames its config trains to (``overrides``' ``total_frames`` too)."""
-    from gvgai_pcg.study.pipeline import planned_configs
-
     if borrow_from is not None and not Path(borrow_from).is_dir():
         raise FileNotFoundError(f"--borrow-from {borrow_from}: no such sweep folder to borrow runs from")
     planned = planned_configs(budget, conditions, overrides)

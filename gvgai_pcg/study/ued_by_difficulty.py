@@ -13,6 +13,9 @@ import csv
 from collections.abc import Sequence
 from pathlib import Path
 
+from gvgai_pcg.rl.atomic_files import atomic_savefig
+from gvgai_pcg.study.comparison import ued_record
+
 BINS = 10  # bins of d: [0, 0.1), [0.1, 0.2), ..., [0.9, 1]
 
 
@@ -39,8 +42,6 @@ def write_solved_by_difficulty(
 ) -> list[Path]:
     """Per game, ``ued-solved-by-d-<game>.png`` from the runs (``(game, label, run dir)``) that
     have a UED record of ``settings``; the written paths (none without records)."""
-    from gvgai_pcg.study.comparison import ued_record
-
     curves: dict[str, dict[str, list[list[float | None]]]] = {}
     for game, label, run in runs:
         found = ued_record(run, settings) if settings else None
@@ -55,8 +56,6 @@ def write_solved_by_difficulty(
 
 def _figure(game: str, by_label: dict[str, list[list[float | None]]], folder: Path) -> Path:
     import matplotlib
-
-    from gvgai_pcg.rl.atomic_files import atomic_savefig
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt

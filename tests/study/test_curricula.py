@@ -37,7 +37,6 @@ from gvgai_pcg.study.curricula_runs import (
     REPLAY_PICTURE,
     REPLAY_STATS,
     level_count_summary,
-    ued_available,
     write_levels_picture,
     write_replay_picture,
     write_replay_stats,
@@ -323,7 +322,7 @@ def test_the_smoke_comparison_trains_evaluates_publishes_and_writes_the_page(tmp
     assert (outcome.report / "curricula-curves-zelda.png").is_file()  # PPCG logs its d
     for run in published:  # a UED record as the protocol writes it (the page reads data only)
         made = sorted((run / "eval").glob("ued-*"))  # the protocol's own, published with the run
-        assert [path.suffix for path in made] == ([".csv", ".json"] if ued_available() else [])
+        assert [path.suffix for path in made] == [".csv", ".json"]
         for path in made:
             path.unlink()
         record = {"protocol": {**budget.ued, "greedy": False, "seed": 0}, "frames": 800, "summary": SUMMARY}
