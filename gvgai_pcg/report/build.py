@@ -5,7 +5,7 @@
 from __future__ import annotations
 
 import logging
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -121,17 +121,21 @@ def build_report(
     device: str = "cpu",
     progress: bool = True,
     force: bool = False,
+    reached_by_game: Mapping[str, float | None] | None = None,
 ) -> Report:
     """Find the runs under ``paths``, evaluate them (and the random agent) as needed, write the report.
 
-    ``force`` evaluates again even where current results exist."""
+    ``force`` evaluates again even where current results exist; ``reached_by_game`` is drawn on
+    the PPCG curves (``plot_curves``)."""
     runs = [info for path in find_runs([Path(p) for p in paths]) if (info := usable_run(path))]
     if not runs:
         raise FileNotFoundError(
             f"no run directories (config.yaml and a usable model) under {', '.join(map(str, paths))}"
         )
     with writer_lock(out_dir, f"the report {out_dir}"):
-        return _build_report(runs, out_dir, protocol, cache_dir, evaluate, device, progress, force)
+        return _build_report(
+            runs, out_dir, protocol, cache_dir, evaluate, device, progress, force, reached_by_game
+        )
 
 
 def usable_run(path: Path) -> RunInfo | None:
@@ -152,6 +156,7 @@ def _build_report(
     device: str,
     progress: bool,
     force: bool,
+    reached_by_game: Mapping[str, float | None] | None = None,
 ) -> Report:
     games = sorted({info.game for info in runs})  # one order, however the runs were found
     tables, figures = [], {}
@@ -169,7 +174,7 @@ def _build_report(
         conditions = {row.name: [Path(p) for p in row.runs] for row in tables[-1].rows if row.runs}
         curves = [c for label, dirs in conditions.items() if (c := pool_runs(label, dirs)) is not None]
         if curves:
-            figures[game] = plot_curves(game, curves, out_dir / f"curves-{game}")
+            figures[game] = plot_curves(game, curves, out_dir / f"curves-{game}", reached_by_game)
         level_counts = level_count_curves(evaluated)
         if level_counts:
             stem = out_dir / f"{LEVEL_COUNT_FIGURE}-{game}"

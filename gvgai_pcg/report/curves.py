@@ -1,6 +1,7 @@
 """Training curves of pooled runs (the study's Figure 2): per condition, the smoothed mean episode
 score of its runs with a ±1 std band across runs, and the mean difficulty on a second axis, with
-the highest d the study's text says its PPCG reached (``STUDY_REACHED``) dashed beside ours.
+where the caller gives it, the highest d a published PPCG reached (the study's text) dashed
+beside ours.
 
 Each run's ``log.csv`` (``gvgai_pcg.rl.run_log``) is smoothed with a trailing mean over its rows,
 then all runs of a condition are interpolated onto one frame grid, up to the shortest run's last
@@ -9,7 +10,7 @@ row, so the band only covers frames every run has reached.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -55,16 +56,21 @@ def pool_runs(label: str, run_dirs: Sequence[Path], window: int | None = None) -
     return PooledCurve(label, len(logs), grid, scores_arr.mean(0), scores_arr.std(0), diff_arr.mean(0))
 
 
-def plot_curves(game: str, curves: Sequence[PooledCurve], out_stem: Path) -> list[Path]:
-    """One panel per condition; writes ``<out_stem>.png`` and ``.svg`` and returns their paths."""
+def plot_curves(
+    game: str,
+    curves: Sequence[PooledCurve],
+    out_stem: Path,
+    reached_by_game: Mapping[str, float | None] | None = None,
+) -> list[Path]:
+    """One panel per condition; writes ``<out_stem>.png`` and ``.svg`` and returns their paths.
+    ``reached_by_game``: per game, the highest d a published PPCG reached (the study's, from
+    ``gvgai_pcg.study.table1.STUDY_REACHED``), dashed beside ours; given by the caller, so the report
+    layer stays below the study's."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.ticker import FuncFormatter
-
-    # cycle: gvgai_pcg.study (its pipeline builds the report) imports gvgai_pcg.report
-    from gvgai_pcg.study.table1 import STUDY_REACHED
 
     fig, axes = plt.subplots(1, max(1, len(curves)), figsize=(4.5 * max(1, len(curves)), 3.6), squeeze=False)
     for ax, curve in zip(axes[0], curves, strict=False):
@@ -83,7 +89,7 @@ def plot_curves(game: str, curves: Sequence[PooledCurve], out_stem: Path) -> lis
             twin.plot(curve.frames, curve.difficulty, color="tab:red", marker=marker)
             twin.set_ylim(0.0, 1.0)
             twin.set_ylabel("difficulty", color="tab:red")
-            reached = STUDY_REACHED.get(game) if curve.label.startswith("PPCG") else None
+            reached = (reached_by_game or {}).get(game) if curve.label.startswith("PPCG") else None
             if reached is not None:  # the study's Figure 2, as its text states it
                 twin.axhline(reached, color="tab:red", linestyle="--", alpha=0.6)
                 twin.annotate(

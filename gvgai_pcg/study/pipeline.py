@@ -58,6 +58,7 @@ from gvgai_pcg.study.curricula_runs import (
     write_replay_stats,
 )
 from gvgai_pcg.study.publish import publish, refuse_publishing_into_the_sweep
+from gvgai_pcg.study.table1 import STUDY_REACHED
 
 # A trained model (weights, config, frames: no optimizer) is published only below this size: the
 # compact CNN's 295k float32 weights are 1.2 MB, the Nature CNN's on pixels far more.
@@ -428,7 +429,14 @@ def reproduce(
     if not here and not elsewhere:
         finished = f" that finished (trained at least {fewest:,} frames)" if fewest is not None else ""
         raise FileNotFoundError(f"no run directories{finished} under {out / 'runs'}")
-    build_report([*here, *elsewhere], report_dir, protocol, cache_dir=out / "random", progress=progress)
+    build_report(
+        [*here, *elsewhere],
+        report_dir,
+        protocol,
+        cache_dir=out / "random",
+        progress=progress,
+        reached_by_game=STUDY_REACHED,
+    )
     target = budget.frames_range[0]
     if budget.comparison == "curricula":
         write_curricula(here, elsewhere, budget, protocol, report_dir, progress)

@@ -124,7 +124,7 @@ def _curve_labels(monkeypatch) -> list[str]:
     labels: list[str] = []
     monkeypatch.setattr(
         "gvgai_pcg.report.build.plot_curves",
-        lambda game, curves, out: labels.extend(c.label for c in curves) or [],
+        lambda game, curves, out, reached=None: labels.extend(c.label for c in curves) or [],
     )
     return labels
 
@@ -177,10 +177,15 @@ def test_ppcg_curve_shows_the_studys_highest_difficulty(monkeypatch, tmp_path):
     grid = np.linspace(0, 1e6, 5)
     ppcg = curves.PooledCurve("PPCG (1M)", 2, grid, grid * 0, grid * 0, np.linspace(0, 0.3, 5))
     pcg = curves.PooledCurve("PCG 1 (1M)", 2, grid, grid * 0, grid * 0, np.full(5, 1.0))
-    curves.plot_curves("boulderdash", [ppcg, pcg], tmp_path / "c")
+    from gvgai_pcg.study.table1 import STUDY_REACHED
+
+    curves.plot_curves("boulderdash", [ppcg, pcg], tmp_path / "c", STUDY_REACHED)
     twins = [ax for ax in figures[0].axes if ax.get_ylabel() == "difficulty"]
 
     def dashed(ax) -> list[float]:
         return [line.get_ydata()[0] for line in ax.get_lines() if line.get_linestyle() == "--"]
 
     assert dashed(twins[0]) == [0.2] and dashed(twins[1]) == []  # only PPCG, at the study's d
+    figures.clear()
+    curves.plot_curves("boulderdash", [ppcg], tmp_path / "c")  # no published account given: no line
+    assert [dashed(ax) for ax in figures[0].axes if ax.get_ylabel() == "difficulty"] == [[]]
