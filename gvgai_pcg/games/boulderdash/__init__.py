@@ -48,13 +48,14 @@ SPEC = GameSpec(
         # `pytest tests/engine/test_compiled.py -k "equals_eager_tick and boulderdash-True"`.
         eager_when=("leaving",),
         # Above 1,024 envs its compiled tick stops paying: the env stepped 1.03-1.06x as fast at
-        # B = 1,024 and 0.84x at 4,096 on 2 threads (1.09x and 1.14x on one; docs/history/benchmarks-notebook.md;
-        # `python -m gvgai_pcg.bench.compiled boulderdash 1024 4096`).
+        # B = 1,024 and 0.84x at 4,096 on 2 threads (1.09x and 1.14x on one;
+        # docs/history/benchmarks-notebook.md; `python -m gvgai_pcg.bench.compiled boulderdash 1024 4096`).
         max_compiled_batch=1024,
         # Miscompile opt-out: inductor (torch 2.13, CPU) miscompiles the graph of parallel loops
         # for some table widths: 1,024 envs of the human levels, as compiled (33 boulder slots), on
         # 2 threads, fed a kernel an out-of-bounds index at the first tick (docs/history/
-        # benchmarks-notebook.md), where the same tables grown to 64 slots ticked as the eager tick does.
+        # benchmarks-notebook.md), where the same tables grown to 64 slots ticked as the eager
+        # tick does.
         # So Boulderdash keeps the graph of serial loops over the envs at every batch. Reproduce
         # with parallel_graph=True here (and LARGE_BATCH_PER_THREAD at most 512):
         # `python -c "import torch; torch.set_num_threads(2); from gvgai_pcg.envs import GVGAIEnv;

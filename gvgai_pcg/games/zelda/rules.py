@@ -62,7 +62,8 @@ ALIGNED = True
 # (one per slot: no early exit in a graph), so its cost grows as slots cubed; eagerly it stops when
 # nothing changes (about 4 rounds). At 64 envs, env steps per CPU second with tables of 16, 32 and
 # 64 slots, compiled: 31-48k, 11.2k, 2.4k; with a wider table eager: 17.7k (32), 11.9k (64);
-# eager at 16: 22k (docs/experiments/crowded_zelda.py, docs/history/benchmarks-notebook.md "Crowded Zelda levels").
+# eager at 16: 22k (docs/experiments/crowded_zelda.py; docs/history/benchmarks-notebook.md,
+# "Crowded Zelda levels").
 # Human and generated levels have at most 4 monsters; ACCEL's edited levels reach 50.
 COMPILED_MONSTER_SLOTS = 16
 sprites_overlap = overlaps_aligned if ALIGNED else overlaps
