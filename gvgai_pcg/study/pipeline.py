@@ -48,7 +48,7 @@ from gvgai_pcg.report.build import usable_run
 from gvgai_pcg.rl.atomic_files import atomic_write_text, copy_tree
 from gvgai_pcg.rl.checkpoint import config_differences
 from gvgai_pcg.study.borrowed_runs import borrow_runs
-from gvgai_pcg.study.claims import claims_markdown, collect, study_claims
+from gvgai_pcg.study.claims_page import claims_markdown
 from gvgai_pcg.study.comparison import collect_runs, comparison_markdown
 from gvgai_pcg.study.conditions import Budget, unregistered
 from gvgai_pcg.study.curricula_runs import (
@@ -57,7 +57,9 @@ from gvgai_pcg.study.curricula_runs import (
     write_replay_picture,
     write_replay_stats,
 )
+from gvgai_pcg.study.judging import study_claims
 from gvgai_pcg.study.publish import publish, refuse_publishing_into_the_sweep
+from gvgai_pcg.study.results import collect
 from gvgai_pcg.study.table1 import STUDY_REACHED
 
 # A trained model (weights, config, frames: no optimizer) is published only below this size: the
@@ -344,7 +346,7 @@ def write_claims(
     target_frames: int | None = None,
     level_sampling: bool = False,
 ) -> Path:
-    """The study's claims tested on the runs under ``runs`` (``gvgai_pcg.study.claims``);
+    """The study's claims tested on the runs under ``runs`` (``gvgai_pcg.study.claim_rules``);
     ``level_sampling``: intervals over seeds and the generated sets' levels (off for the
     published budgets, whose pages rebuild as they were)."""
     games = collect(find_runs(list(runs)), random_cache, protocol, target_frames)

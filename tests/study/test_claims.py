@@ -5,24 +5,21 @@ from __future__ import annotations
 
 import pytest
 
-from gvgai_pcg.study.claims import (
+from gvgai_pcg.study.claim_rules import (
     CLOSE,
     MARGINAL,
-    GameResults,
-    SetResult,
-    Table,
     claims_of,
     four_levels_marginal,
     frogs_no_human_win,
-    judge,
     memorises,
     pcg1_beats_ppcg_generated,
     ppcg_beats_pcg05_hard,
     ppcg_never_hardest,
-    study_claims,
-    study_verdicts,
 )
+from gvgai_pcg.study.claims_page import claims_markdown
 from gvgai_pcg.study.intervals import estimate, holm
+from gvgai_pcg.study.judging import judge, study_claims, study_verdicts
+from gvgai_pcg.study.results import GameResults, SetResult, Table, _labels_by_config, collect
 from gvgai_pcg.study.table1 import TEST_SETS
 
 STUDY_GAINS = (0.32, 0.42, 0.28)  # Lv 0-3 over Lv 0 on lv4, pcg0.5, pcg1 in the study's Table 1
@@ -180,7 +177,6 @@ def test_claims_count_the_frames_of_the_evaluated_model_not_of_a_later_checkpoin
     from gvgai_pcg.evaluation.checkpoints import run_info
     from gvgai_pcg.evaluation.evaluator import evaluate_run
     from gvgai_pcg.evaluation.protocol import Protocol
-    from gvgai_pcg.study.claims import collect
     from tests.evaluation.conftest import make_run
 
     protocol = Protocol(test_levels=1, test_episodes=1, human_episodes=1, max_steps=5)
@@ -199,7 +195,6 @@ def test_a_seed_still_training_is_left_out_where_its_condition_has_finished_runs
     from gvgai_pcg.evaluation.checkpoints import run_info
     from gvgai_pcg.evaluation.evaluator import evaluate_run
     from gvgai_pcg.evaluation.protocol import Protocol
-    from gvgai_pcg.study.claims import claims_markdown, collect
     from tests.evaluation.conftest import make_run
 
     protocol = Protocol(test_levels=1, test_episodes=1, human_episodes=1, max_steps=5)
@@ -217,8 +212,6 @@ def test_a_seed_still_training_is_left_out_where_its_condition_has_finished_runs
 
 def test_runs_of_two_configs_are_not_judged_as_seeds_of_one_condition():
     from types import SimpleNamespace
-
-    from gvgai_pcg.study.claims import _labels_by_config
 
     def info(seed: int, lr: float):
         return SimpleNamespace(

@@ -10,8 +10,11 @@ import random
 import pytest
 from scipy import stats
 
-from gvgai_pcg.study.claims import GameResults, SetResult, Table, frogs_ppcg_wins_hard, judge, table_of
+from gvgai_pcg.study.claim_rules import frogs_ppcg_wins_hard
+from gvgai_pcg.study.claims_page import random_markdown, statistics_note
 from gvgai_pcg.study.intervals import estimate, level_terms, random_estimate
+from gvgai_pcg.study.judging import judge
+from gvgai_pcg.study.results import GameResults, SetResult, Table, table_of
 from gvgai_pcg.study.table1 import TEST_SETS
 
 
@@ -121,7 +124,6 @@ def test_per_level_means_reach_the_table_only_with_level_sampling():
 
 
 def test_the_note_names_the_interval_kind_and_the_random_agent_gets_its_own():
-    from gvgai_pcg.study.claims import random_markdown, statistics_note
     from gvgai_pcg.study.intervals import SEEDS_AND_LEVELS_INTERVAL
 
     assert SEEDS_AND_LEVELS_INTERVAL in statistics_note([], level_sampling=True)

@@ -10,9 +10,12 @@ from pathlib import Path
 import pytest
 
 from gvgai_pcg.study import BUDGETS
+from gvgai_pcg.study.claims_page import claims_markdown
 from gvgai_pcg.study.curricula_page import END as CURRICULA_END
 from gvgai_pcg.study.curricula_page import START as CURRICULA_START
+from gvgai_pcg.study.judging import study_claims
 from gvgai_pcg.study.page import END, START, results_block
+from gvgai_pcg.study.results import collect
 
 ROOT = Path(__file__).resolve().parents[2]
 PAGE = ROOT / "docs" / "results.md"
@@ -78,7 +81,6 @@ def test_the_pages_block_rebuilds_from_the_published_folder(page_path, tmp_path)
 def test_the_published_claims_rebuild_from_the_runs(page_path):
     from gvgai_pcg.evaluation.checkpoints import find_runs
     from gvgai_pcg.evaluation.protocol import Protocol
-    from gvgai_pcg.study.claims import claims_markdown, collect, study_claims
 
     published = ROOT / re.search(r"Data: `([^`]+)`", page_path.read_text()).group(1)
     budget = BUDGETS[published.name]

@@ -6,8 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gvgai_pcg.study.claims import Comparison, judge
+from gvgai_pcg.study.claim_rules import Claim, Comparison
 from gvgai_pcg.study.intervals import estimate, power, seeds_to_decide
+from gvgai_pcg.study.judging import judge
 
 
 def _seeds_like(mean: float, sd: float, n: int) -> tuple[float, ...]:
@@ -91,7 +92,6 @@ def test_one_seed_or_an_estimate_on_the_bound_gives_no_projection():
 
 
 def test_an_inconclusive_claim_says_how_many_seeds_would_decide_it():
-    from gvgai_pcg.study.claims import Claim
 
     comparison = Comparison("PPCG on pcg1", (0.30, 0.50, 0.40), None, 0.25, above=True)
     claim = Claim("frogs", "PPCG wins a large share.", ("PPCG",), [comparison])
