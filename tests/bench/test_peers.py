@@ -8,7 +8,6 @@ import sys
 
 import pytest
 
-from gvgai_pcg.bench import jobs as bench_jobs
 from gvgai_pcg.bench import peers as bench_peers
 from gvgai_pcg.bench import vgdlx as bench_vgdlx
 from gvgai_pcg.bench.targets import Check, Section
@@ -76,7 +75,7 @@ def test_the_bench_command_adds_peers_and_jobs_on_the_cpu_and_ends_with_every_ta
     monkeypatch.setattr(bench_peers, "missing_peers", lambda: ["jax"])
     monkeypatch.setattr(bench_vgdlx, "vgdlx_installed", lambda: False)
     jobs = Section("jobs\n", [Check("job", 30.0, 40.0, unit="s", at_most=True)])
-    monkeypatch.setattr(bench_jobs, "jobs_section", lambda: jobs)
+    monkeypatch.setattr(bench, "jobs_section", lambda: jobs)  # the name the command calls
     assert bench.run(_args(games="zelda", obs="tiles", batch_sizes="4", device="cpu")) == 0
     out = capsys.readouterr().out
     assert bench_peers.NOT_INSTALLED in out and bench_vgdlx.NOT_INSTALLED in out and "jobs\n" in out
