@@ -51,8 +51,8 @@ def refusal(text: str) -> str:
 
 
 def test_a_sprite_class_without_kernel_is_refused_at_its_line():
-    message = refusal(description(sprites="        rock > Missile"))
-    assert message == "mine.txt:10: sprite class Missile (rock) has no kernel in the generic step yet"
+    message = refusal(description(sprites="        rock > Missile singleton=True"))
+    assert message == "mine.txt:10: rock: a Missile held as a record (a singleton) has no kernel yet"
 
 
 def test_an_eos_rule_is_refused_at_its_line():

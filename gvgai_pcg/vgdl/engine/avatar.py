@@ -10,6 +10,7 @@ import torch
 
 from gvgai_pcg.games.actions import shoot_avatar
 from gvgai_pcg.vgdl.engine.frame import Frame
+from gvgai_pcg.vgdl.engine.ongoing import ongoing_avatar
 
 ORIENTED_CREATIONS = frozenset({"OrientedFlicker"})
 
@@ -19,6 +20,9 @@ def update_avatars(frame: Frame, action: torch.Tensor) -> None:
     record) in the faced cell, which gets the avatar's facing if its class is oriented."""
     layout = frame.layout
     for name in layout.avatars:
+        if layout.plan.types[name].java_class == "OngoingAvatar":
+            ongoing_avatar(frame, name, action)
+            continue
         avatar = frame.entry(name)
         made = str(layout.plan.types[name].values["stype"])
         shot = frame.entry(made)

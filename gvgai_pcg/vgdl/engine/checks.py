@@ -24,6 +24,15 @@ SPRITE_KERNELS: dict[str, tuple[str, frozenset[str]]] = {
     "OrientedFlicker": (RECORD, frozenset({"limit", "singleton"})),
     "ShootAvatar": (RECORD, frozenset({"stype", "speed"})),
     "RandomNPC": (TABLE, frozenset({"speed", "cooldown", "cons"})),
+    "OngoingAvatar": (RECORD, frozenset({"speed"})),
+    "Passive": (GRID, frozenset()),
+    "Resource": (GRID, frozenset({"value", "limit"})),  # as the name of a resource: never placed
+    "Missile": (TABLE, frozenset({"speed", "cooldown", "orientation"})),
+}
+# Classes whose kernels also hold them in another representation.
+MORE_REPRESENTATIONS: dict[str, frozenset[str]] = {
+    "Passive": frozenset({TABLE}),
+    "Flicker": frozenset({TABLE}),
 }
 # Parameters that change only how a sprite is drawn.
 COSMETIC = frozenset(
@@ -34,8 +43,15 @@ EFFECT_KERNELS: dict[str, frozenset[str]] = {
     "stepBack": frozenset(),
     "killSprite": frozenset({"scoreChange"}),
     "transformTo": frozenset({"scoreChange", "stype", "killSecond"}),
+    "spawn": frozenset({"scoreChange", "stype", "prob"}),
+    "spawnIfHasMore": frozenset({"scoreChange", "stype", "resource", "limit"}),
+    "changeResource": frozenset({"scoreChange", "resource", "value"}),
+    "reverseDirection": frozenset(),
 }
-TERMINATION_KERNELS = {"SpriteCounter": frozenset({"stype", "limit", "win"})}
+TERMINATION_KERNELS = {
+    "SpriteCounter": frozenset({"stype", "limit", "win"}),
+    "MultiSpriteCounter": frozenset({"stype1", "stype2", "stype3", "limit", "win"}),
+}
 
 
 def check_engine(game: GameDescription, plan: Plan) -> None:
@@ -52,7 +68,7 @@ def check_engine(game: GameDescription, plan: Plan) -> None:
                 f"sprite class {sprite.java_class} ({name}) has no kernel in the generic step yet",
             )
         representation, settable = kernel
-        if sprite.representation != representation:
+        if sprite.representation not in {representation} | MORE_REPRESENTATIONS.get(sprite.java_class, set()):
             raise VGDLError(
                 path,
                 sprite.line,
@@ -69,6 +85,10 @@ def check_engine(game: GameDescription, plan: Plan) -> None:
                 )
         if sprite.java_class == "ShootAvatar":
             _check_shooter(plan, name)
+        if sprite.representation == TABLE and sprite.java_class in ("Flicker",) and sprite.singleton:
+            raise VGDLError(path, sprite.line, f"{name}: a singleton Flicker in a table is not implemented")
+        if sprite.java_class == "Resource" and _placed(plan, name):
+            raise VGDLError(path, sprite.line, f"{name}: a Resource placed as a sprite is not implemented")
     for rule in plan.eos:
         raise VGDLError(path, rule.line, "EOS rules are not implemented by the generic step yet")
     for rule in plan.timed:
@@ -86,13 +106,16 @@ def check_engine(game: GameDescription, plan: Plan) -> None:
         extra = [
             key
             for key in termination.values
-            if key not in settable and key not in ("itype", "count_score", "canEnd")
+            if key not in settable
+            and key not in ("itype", "itype1", "itype2", "itype3", "min", "count_score", "canEnd")
         ]
+        if termination.values.get("min"):
+            extra.append("min")
         if extra or termination.values.get("count_score") or termination.values.get("canEnd") is False:
             raise VGDLError(
                 path,
                 termination.line,
-                f"{termination.java_class}: parameters other than stype, limit and win are not implemented",
+                f"{termination.java_class}: {', '.join(extra) or 'count_score, canEnd'} not implemented",
             )
 
 
@@ -101,6 +124,10 @@ def _used(game: GameDescription, plan: Plan, name: str) -> bool:
     file (Java's pre-defined ``avatar``/``wall`` count only when placed)."""
     placed = any(name in types for types in plan.level_mapping.values())
     return placed or bool(plan.types[name].created_by) or game.types[name].line > 0
+
+
+def _placed(plan: Plan, name: str) -> bool:
+    return any(name in types for types in plan.level_mapping.values())
 
 
 def _check_shooter(plan: Plan, name: str) -> None:
@@ -137,6 +164,8 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
     seconds = {plan.types[name].representation for name in rule.seconds}
     if rule.name != "stepBack" and GRID in representations and GRID in seconds:
         raise VGDLError(path, line, f"{rule.name} between two static types is not implemented")
+    if rule.name in CREATION_CHECKS:
+        CREATION_CHECKS[rule.name](plan, rule)
     if rule.name == "transformTo":
         stype = rule.values.get("stype")
         target = plan.types.get(stype) if isinstance(stype, str) else None
@@ -168,3 +197,43 @@ def score_of(plan: Plan, rule: RulePlan) -> int:
         return int(text)
     except ValueError:
         raise VGDLError(plan.path, rule.line, f"scoreChange={text} is not an integer score") from None
+
+
+def _check_spawn(plan: Plan, rule: RulePlan) -> None:
+    """spawn / spawnIfHasMore: firsts that move or are made (records, tables), into a grid or a
+    table that is not a singleton; a spawnIfHasMore that spends nothing."""
+    path, line = plan.path, rule.line
+    stype = rule.values.get("stype")
+    target = plan.types.get(stype) if isinstance(stype, str) else None
+    if target is None or target.representation == RECORD or target.singleton:
+        raise VGDLError(
+            path, line, f"{rule.name} into {stype!r}: only into a grid or a table, not a singleton"
+        )
+    if any(plan.types[name].representation == GRID for name in rule.firsts):
+        raise VGDLError(path, line, f"{rule.name} from a still (grid) type is not implemented")
+    if target.representation == GRID and not all(plan.types[name].aligned for name in rule.firsts):
+        raise VGDLError(path, line, f"{rule.name} into a grid from sprites off the cells is not implemented")
+    if rule.name == "spawnIfHasMore" and rule.values.get("spend"):
+        raise VGDLError(path, line, "spawnIfHasMore with spend is not implemented")
+
+
+def _check_change_resource(plan: Plan, rule: RulePlan) -> None:
+    path, line = plan.path, rule.line
+    if int(rule.values.get("value", 1)) <= 0 or rule.values.get("killResource"):
+        raise VGDLError(path, line, "changeResource with a value below 1 or killResource is not implemented")
+    if any(plan.types[name].representation == GRID for name in rule.firsts):
+        raise VGDLError(path, line, "changeResource on a still (grid) type is not implemented")
+
+
+def _check_reverse(plan: Plan, rule: RulePlan) -> None:
+    if any(plan.types[name].java_class != "Missile" for name in rule.firsts):
+        raise VGDLError(plan.path, rule.line, "reverseDirection is implemented for Missiles only")
+
+
+# Effects that need more than their parameters checked.
+CREATION_CHECKS = {
+    "spawn": _check_spawn,
+    "spawnIfHasMore": _check_spawn,
+    "changeResource": _check_change_resource,
+    "reverseDirection": _check_reverse,
+}

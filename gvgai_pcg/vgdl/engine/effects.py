@@ -21,6 +21,9 @@ from gvgai_pcg.games.rules import step_back_in_order
 from gvgai_pcg.vgdl.engine.checks import score_of
 from gvgai_pcg.vgdl.engine.frame import Entry, Frame, Side, sides
 from gvgai_pcg.vgdl.engine.layout import FLICKERS, Layout
+from gvgai_pcg.vgdl.engine.resources import change_resource
+from gvgai_pcg.vgdl.engine.reverse import reverse_direction
+from gvgai_pcg.vgdl.engine.spawn import spawn, spawn_if_has_more
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.layout import GRID, RECORD
 from gvgai_pcg.vgdl.plan import RulePlan
@@ -188,4 +191,8 @@ KERNELS: dict[str, Callable[[Frame, Rule], None]] = {
     "stepBack": step_back,
     "killSprite": kill_sprite,
     "transformTo": transform_to,
+    "spawn": spawn,
+    "spawnIfHasMore": spawn_if_has_more,
+    "changeResource": change_resource,
+    "reverseDirection": reverse_direction,
 }

@@ -21,7 +21,7 @@ from pathlib import Path
 import torch
 from tensordict import TensorDict
 
-from gvgai_pcg.games.actions import SHOOT_ACTIONS
+from gvgai_pcg.games.actions import MOVE_ACTIONS, SHOOT_ACTIONS
 from gvgai_pcg.games.base import Game, GridLayer, SpriteArt, SpriteLayer, golden_record, single_sprite_layer
 from gvgai_pcg.games.geometry import DIRECTION_NAMES
 from gvgai_pcg.games.spec import StepFacts
@@ -30,7 +30,7 @@ from gvgai_pcg.vgdl.engine.avatar import update_avatars
 from gvgai_pcg.vgdl.engine.checks import check_engine
 from gvgai_pcg.vgdl.engine.effects import apply_rule, make_rules
 from gvgai_pcg.vgdl.engine.frame import Frame
-from gvgai_pcg.vgdl.engine.layout import Layout, compile_state, make_layout
+from gvgai_pcg.vgdl.engine.layout import CREATING_RULES, Layout, compile_state, make_layout
 from gvgai_pcg.vgdl.engine.npcs import update_npcs
 from gvgai_pcg.vgdl.engine.terminations import check_terminations
 from gvgai_pcg.vgdl.errors import VGDLError
@@ -40,7 +40,7 @@ from gvgai_pcg.vgdl.parser import parse_vgdl
 from gvgai_pcg.vgdl.plan import compile_plan
 
 # Each avatar class's Gym action set.
-ACTION_SETS = {"ShootAvatar": SHOOT_ACTIONS}
+ACTION_SETS = {"ShootAvatar": SHOOT_ACTIONS, "OngoingAvatar": MOVE_ACTIONS}
 # Effects that remove their first sprite, and those that also remove their second.
 KILLS_FIRST = frozenset({"killSprite", "transformTo"})
 _GAMES: dict[tuple[str, str, str | None], VGDLGame] = {}
@@ -189,13 +189,15 @@ class VGDLGame(Game):
 
 
 def _changing_types(layout: Layout) -> frozenset[str]:
-    """Grid types some rule removes: the others never change and are left out of a snapshot."""
+    """Grid types some rule removes or makes: the others never change and are left out of a snapshot."""
     changing = set()
     for rule in layout.plan.pairs:
         if rule.name in KILLS_FIRST:
             changing.update(rule.firsts)
         if rule.values.get("killSecond"):
             changing.update(rule.seconds)
+        if rule.name in CREATING_RULES:
+            changing.add(str(rule.values["stype"]))
     return frozenset(name for name in changing & set(layout.grids))
 
 

@@ -32,6 +32,7 @@ from tensordict import TensorDict
 from gvgai_pcg.games.base import char_codes, char_entities, common_state, on_device
 from gvgai_pcg.games.geometry import CELL, DOWN, LEFT, NONE, RIGHT, UP
 from gvgai_pcg.levels import Level
+from gvgai_pcg.vgdl.engine.columns import fresh_columns, oriented_table
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE, is_avatar
 from gvgai_pcg.vgdl.model import GameDescription
 from gvgai_pcg.vgdl.plan import Plan
@@ -40,6 +41,8 @@ from gvgai_pcg.vgdl.plan import Plan
 DIRECTION_CODES = {"DLEFT": LEFT, "DRIGHT": RIGHT, "DDOWN": DOWN, "DUP": UP, "DNONE": NONE, "DNIL": NONE}
 # Classes whose sprites draw a random number at each update.
 DRAWING_CLASSES = frozenset({"RandomNPC"})
+# Effects that make sprites of their ``stype`` (where their first is, or instead of it).
+CREATING_RULES = frozenset({"transformTo", "spawn", "spawnIfHasMore"})
 FLICKERS = frozenset({"Flicker", "OrientedFlicker"})
 
 
@@ -100,9 +103,9 @@ def make_layout(game: GameDescription, plan: Plan) -> Layout:
         order = game.types[parent].subtypes if parent in game.types else (parent,)
         kinds = tuple(sorted(members, key=order.index))
         key = parent if classes_per_parent[parent] == 1 else f"{parent}_{java_class}"
-        if java_class in DRAWING_CLASSES:
-            stream += 1
-        tables.append(TableGroup(key, kinds, java_class, stream if java_class in DRAWING_CLASSES else 0))
+        draws = java_class in DRAWING_CLASSES or draws_in_rules(plan, kinds)
+        stream += draws
+        tables.append(TableGroup(key, kinds, java_class, stream if draws else 0))
         places.update({name: Place(TABLE, key, code) for code, name in enumerate(kinds)})
     avatars = tuple(name for name in records if is_avatar(game.types[name]))
     orientation = {
@@ -112,9 +115,18 @@ def make_layout(game: GameDescription, plan: Plan) -> Layout:
     return Layout(plan, types, grids, records, tuple(tables), places, avatars, orientation)
 
 
+def draws_in_rules(plan: Plan, kinds: tuple[str, ...]) -> bool:
+    """Whether sprites of ``kinds`` draw as the first of a rule: a ``spawn`` with ``prob`` below 1
+    (one of 1 always fires, so it needs no draw)."""
+    return any(
+        rule.name == "spawn" and float(rule.values["prob"]) < 1 and set(rule.firsts) & set(kinds)
+        for rule in plan.pairs
+    )
+
+
 def existing_types(plan: Plan) -> tuple[str, ...]:
     """The types whose sprites can exist: those a level character places, and, as a fixed point,
-    the ``stype`` of a ShootAvatar or a ``transformTo`` whose source can exist. The rest (Zelda's
+    the ``stype`` of a ShootAvatar or a creating rule whose source can exist. The rest (Zelda's
     ``avatar``, a parent type with a class that nothing places) get no state and no work."""
     found = {name for types in plan.level_mapping.values() for name in types if name in plan.types}
     while True:
@@ -126,7 +138,7 @@ def existing_types(plan: Plan) -> tuple[str, ...]:
         made |= {
             str(rule.values["stype"])
             for rule in plan.pairs
-            if rule.name == "transformTo" and found & set(rule.firsts)
+            if rule.name in CREATING_RULES and found & set(rule.firsts)
         }
         if made <= found:
             return tuple(name for name in plan.types if name in found)
@@ -205,8 +217,8 @@ def _record(
         "ori": torch.full((batch,), layout.orientation[name], dtype=torch.int64),
         "alive": torch.from_numpy(present),
     }
-    if layout.plan.types[name].java_class in FLICKERS:
-        values["age"] = torch.zeros(batch, dtype=torch.int64)
+    for column, value in fresh_columns(layout.plan, (name,)).items():
+        values[column] = torch.full((batch,), value)
     return on_device(device, values, [batch])
 
 
@@ -230,10 +242,28 @@ def _table(
     placing = np.zeros(256, dtype=np.int64)
     placing[[ord(char) for char in kinds]] = 1
     largest = int(placing[char_codes(levels)].reshape(len(levels), -1).sum(1).max(initial=0))
+    largest = max(largest, *(_created_slots(layout, group, level) for level in levels))
     table = char_entities(levels, kinds, device, capacity=table_slots(largest))
     batch, slots = table.batch_size
-    zeros = torch.zeros(batch, slots, dtype=torch.int64, device=device)
     table.update({"lastx": table.get("x").clone(), "lasty": table.get("y").clone()})
-    if group.java_class == "RandomNPC":
-        table.update({"lastmove": zeros, "counter": zeros.clone(), "prev": torch.full_like(zeros, NONE)})
+    if oriented_table(layout.plan, group.kinds):
+        ori = torch.tensor([layout.orientation[name] for name in group.kinds], device=device)
+        table.set("ori", ori[table.get("kind")])
+    for column, value in fresh_columns(layout.plan, group.kinds).items():
+        table.set(column, torch.full((batch, slots), value, device=device))
     return table
+
+
+def _created_slots(layout: Layout, group: TableGroup, level: Level) -> int:
+    """The slots the plan's capacity formulas ask of ``group`` for ``level``, where some of its
+    kinds are made during play (0 where none is: the level's own fill it)."""
+    types = layout.plan.types
+    if not any(types[name].created_by for name in group.kinds):
+        return 0
+    counts: dict[str, int] = {}
+    for row in level.rows:
+        for char in row:
+            for name in layout.plan.level_mapping.get(char, ()):
+                counts[name] = counts.get(name, 0) + 1
+    cells = sum(len(row) for row in level.rows)
+    return sum(types[name].capacity.slots(counts, cells) for name in group.kinds)

@@ -21,7 +21,10 @@ def check_terminations(frame: Frame) -> None:
                     count = count + frame.grid(side.key).flatten(1).sum(-1, dtype=torch.int64)
                 else:
                     count = count + frame.present(side).sum(-1)
-        ends = (count <= termination.limit) & ~decided
+        if termination.java_class == "MultiSpriteCounter":  # Java tests equality here
+            ends = (count == termination.limit) & ~decided
+        else:
+            ends = (count <= termination.limit) & ~decided
         if termination.win:
             won = won | ends
         else:

@@ -1,0 +1,66 @@
+"""Sprites made during play: into a table (the first free slots, reset to a fresh sprite's
+columns) or into a grid (a count more in a cell).
+
+Java appends a new sprite to its type's list. Here it takes the first free slot, so a table's
+slot order is its list order only for the sprites a level places; ``checks`` refuses the kernels
+that read slot order (a same-table stepBack) on a type that is created.
+"""
+
+from __future__ import annotations
+
+import torch
+
+from gvgai_pcg._private_apis import assert_async
+from gvgai_pcg.games.geometry import aligned_cell
+from gvgai_pcg.vgdl.engine.columns import fresh_columns, oriented_table
+from gvgai_pcg.vgdl.engine.frame import Frame
+from gvgai_pcg.vgdl.layout import GRID, TABLE
+
+
+def create(
+    frame: Frame, name: str, count: torch.Tensor, x: torch.Tensor, y: torch.Tensor, overflow: str
+) -> None:
+    """Make ``count`` ``[B, N]`` sprites of type ``name`` at ``x, y`` ``[B, N]`` (the creators in
+    their processing order): a count more in a cell of a grid, or the first free slots of a table,
+    in that order (``overflow`` is the error where a table has too few)."""
+    place = frame.layout.places[name]
+    if place.representation == GRID:
+        grid = frame.grid(name)
+        batch, height, width = grid.shape
+        index, valid = aligned_cell(x, y, height, width)
+        added = torch.zeros(batch, height * width, dtype=grid.dtype, device=grid.device)
+        added = added.scatter_add(
+            1, index.reshape(batch, -1), (count.unsqueeze(-1) * valid).reshape(batch, -1).to(grid.dtype)
+        )
+        frame.put(name, grid + added.view(grid.shape))
+        return
+    if place.representation != TABLE:  # checks refuses creations into a record by these effects
+        raise AssertionError(f"{name}: a creation into a {place.representation}")
+    table = frame.entry(place.key)
+    alive = table.get("alive")
+    free = ~alive
+    free_rank = free.long().cumsum(-1) - 1  # [B, K]
+    count = count.long()
+    end = count.cumsum(-1)
+    start = end - count  # the k-th sprite made takes the k-th free slot
+    rank = free_rank.unsqueeze(-2)
+    match = free.unsqueeze(-2) & (start.unsqueeze(-1) <= rank) & (rank < end.unsqueeze(-1))  # [B, N, K]
+    assert_async((end[:, -1] <= free.sum(-1)).all(), overflow)
+    made = match.any(-2)
+    new_x = (match * x.unsqueeze(-1)).sum(-2)
+    new_y = (match * y.unsqueeze(-1)).sum(-2)
+    group = frame.layout.group(place.key)
+    values = {
+        "x": torch.where(made, new_x, table.get("x")),
+        "y": torch.where(made, new_y, table.get("y")),
+        "lastx": torch.where(made, new_x, table.get("lastx")),
+        "lasty": torch.where(made, new_y, table.get("lasty")),
+        "kind": torch.where(made, place.kind, table.get("kind")),
+        "alive": alive | made,
+    }
+    if oriented_table(frame.layout.plan, group.kinds):
+        values["ori"] = torch.where(made, frame.layout.orientation[name], table.get("ori"))
+    for column, value in fresh_columns(frame.layout.plan, group.kinds).items():
+        current = table.get(column)
+        values[column] = torch.where(made, torch.full_like(current, value), current)
+    table.update(values)
