@@ -40,15 +40,12 @@ def create(
     alive = table.get("alive")
     free = ~alive
     free_rank = free.long().cumsum(-1) - 1  # [B, K]
-    count = count.long()
-    end = count.cumsum(-1)
-    start = end - count  # the k-th sprite made takes the k-th free slot
-    rank = free_rank.unsqueeze(-2)
-    match = free.unsqueeze(-2) & (start.unsqueeze(-1) <= rank) & (rank < end.unsqueeze(-1))  # [B, N, K]
+    end = count.long().cumsum(-1)  # creator n makes the sprites end[n - 1] .. end[n] - 1
     assert_async((end[:, -1] <= free.sum(-1)).all(), overflow)
-    made = match.any(-2)
-    new_x = (match * x.unsqueeze(-1)).sum(-2)
-    new_y = (match * y.unsqueeze(-1)).sum(-2)
+    # the k-th sprite made takes the k-th free slot: its creator is the first n with end[n] > k
+    made = free & (free_rank < end[:, -1:])
+    creator = torch.searchsorted(end, free_rank.clamp(min=0), right=True).clamp(max=end.shape[-1] - 1)
+    new_x, new_y = torch.gather(x, 1, creator), torch.gather(y, 1, creator)
     group = frame.layout.group(place.key)
     values = {
         "x": torch.where(made, new_x, table.get("x")),

@@ -20,6 +20,9 @@ from gvgai_pcg.games.geometry import aligned_cell, covered_cells, overlaps, over
 from gvgai_pcg.vgdl.engine.layout import Layout
 from gvgai_pcg.vgdl.layout import GRID, RECORD
 
+# Aligned firsts x seconds of at least this many pairs are counted by sorting, not pairwise.
+SORT_PAIRS = 4096
+POSITION_KEY = 1 << 32  # x * POSITION_KEY + y: one int64 per position
 # The entries every state has that a tick reads or writes.
 COMMON = ("seed", "tick", "score", "won", "lost")
 
@@ -201,9 +204,24 @@ class Frame:
         for second in seconds:
             if second.representation == GRID:
                 total = total + self.cell_counts(second.key, x, y, aligned)[1].sum(-1)
+            elif aligned and second.aligned and first.key != second.key and self._wide(x, second):
+                total = total + self.same_cell_count(x, y, second)
             else:
                 total = total + self.overlap_matrix(x, y, aligned, first, second).sum(-1)
         return total
+
+    def _wide(self, x: torch.Tensor, second: Side) -> bool:
+        """Whether firsts ``x`` against ``second`` make a pairwise matrix worth sorting instead."""
+        return x.shape[-1] * self.xy(second)[0].shape[-1] >= SORT_PAIRS
+
+    def same_cell_count(self, x: torch.Tensor, y: torch.Tensor, second: Side) -> torch.Tensor:
+        """``[B, N]``: present seconds at each aligned first's own position (two cell-aligned
+        sprites overlap where they are at the same place), by sorting the seconds' positions."""
+        sx, sy = self.xy(second)
+        keys = torch.where(self.present(second), sx * POSITION_KEY + sy, torch.iinfo(torch.int64).max)
+        keys = keys.sort(-1).values
+        wanted = x * POSITION_KEY + y
+        return torch.searchsorted(keys, wanted, right=True) - torch.searchsorted(keys, wanted)
 
     # --- cleanup ---
     def cleanup(self) -> None:
