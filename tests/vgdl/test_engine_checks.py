@@ -51,13 +51,19 @@ def refusal(text: str) -> str:
 
 
 def test_a_sprite_class_without_kernel_is_refused_at_its_line():
-    message = refusal(description(sprites="        rock > Missile"))
-    assert message == "mine.txt:10: sprite class Missile (rock) has no kernel in the generic step yet"
+    message = refusal(description(sprites="        rock > Passive"))
+    assert message == "mine.txt:10: sprite class Passive (rock) has no kernel in the generic step yet"
 
 
-def test_an_eos_rule_is_refused_at_its_line():
-    assert refusal(description(rules="        avatar EOS > stepBack")).startswith(
-        "mine.txt:20: EOS rules are not implemented"
+def test_an_eos_effect_without_kernel_is_refused_at_its_line():
+    assert refusal(description(rules="        rat EOS > reverseDirection")) == (
+        "mine.txt:20: EOS effect reverseDirection is not implemented by the generic step yet"
+    )
+
+
+def test_an_eos_wrap_around_of_a_sprite_without_orientation_is_refused():
+    assert refusal(description(rules="        rat EOS > wrapAround")).startswith(
+        "mine.txt:20: EOS wrapAround of rat (a RandomNPC, no orientation held) is not implemented"
     )
 
 

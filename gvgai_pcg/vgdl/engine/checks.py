@@ -2,10 +2,9 @@
 refused in one line naming the file, the line and the feature, never run as something else.
 
 ``support`` lists the features some hand-written engine implements; the generic step has kernels
-for the classes, effects, terminations and parameters below (what Zelda uses), and for the
-representations the plan gives them there. A description that passes ``check_supported`` but
-needs anything else (an EOS rule, a Missile, a parameter off its Java default, a creation into a
-table) stops here.
+for the classes, effects (EOS rules too), terminations and parameters below (what Zelda and
+Frogs use), and for the representations the plan gives them there. A description that passes
+``check_supported`` but needs anything else (a parameter off its Java default, say) stops here.
 """
 
 from __future__ import annotations
@@ -24,6 +23,8 @@ SPRITE_KERNELS: dict[str, tuple[str, frozenset[str]]] = {
     "OrientedFlicker": (RECORD, frozenset({"limit", "singleton"})),
     "ShootAvatar": (RECORD, frozenset({"stype", "speed"})),
     "RandomNPC": (TABLE, frozenset({"speed", "cooldown", "cons"})),
+    "MovingAvatar": (RECORD, frozenset()),
+    "Missile": (TABLE, frozenset({"speed", "orientation"})),
 }
 # Parameters that change only how a sprite is drawn.
 COSMETIC = frozenset(
@@ -34,6 +35,12 @@ EFFECT_KERNELS: dict[str, frozenset[str]] = {
     "stepBack": frozenset(),
     "killSprite": frozenset({"scoreChange"}),
     "transformTo": frozenset({"scoreChange", "stype", "killSecond"}),
+}
+# Per effect an EOS rule may apply (``eos``), the parameters its kernel reads.
+EDGE_KERNELS: dict[str, frozenset[str]] = {
+    "stepBack": frozenset(),
+    "killSprite": frozenset({"scoreChange"}),
+    "wrapAround": frozenset({"scoreChange"}),
 }
 TERMINATION_KERNELS = {"SpriteCounter": frozenset({"stype", "limit", "win"})}
 
@@ -69,8 +76,10 @@ def check_engine(game: GameDescription, plan: Plan) -> None:
                 )
         if sprite.java_class == "ShootAvatar":
             _check_shooter(plan, name)
+        if sprite.java_class == "Missile":
+            _check_missile(plan, name)
     for rule in plan.eos:
-        raise VGDLError(path, rule.line, "EOS rules are not implemented by the generic step yet")
+        _check_edge_rule(plan, rule)
     for rule in plan.timed:
         raise VGDLError(path, rule.line, "timed effects are not implemented by the generic step yet")
     for rule in plan.pairs:
@@ -117,6 +126,38 @@ def _check_shooter(plan: Plan, name: str) -> None:
             sprite.line,
             f"{name}: ShootAvatar's stype must be a singleton Flicker in the generic step",
         )
+
+
+def _check_missile(plan: Plan, name: str) -> None:
+    orientation = getattr(plan.types[name].values.get("orientation"), "name", None)
+    if orientation not in ("DLEFT", "DRIGHT", "DUP", "DDOWN", "DNONE"):
+        raise VGDLError(
+            plan.path, plan.types[name].line, f"{name}: a Missile oriented {orientation} is not implemented"
+        )
+
+
+def _check_edge_rule(plan: Plan, rule: RulePlan) -> None:
+    path, line = plan.path, rule.line
+    settable = EDGE_KERNELS.get(rule.name)
+    if settable is None:
+        raise VGDLError(path, line, f"EOS effect {rule.name} is not implemented by the generic step yet")
+    defaults = defaults_of("effect", rule.java_class)
+    for key, value in rule.values.items():
+        if key in settable or key in ("scoreChange", "counter", "counterElse"):
+            continue
+        if key in defaults and value != defaults[key]:
+            raise VGDLError(path, line, f"EOS {rule.name}: parameter {key}={value} is not implemented")
+    if rule.name == "stepBack" and score_of(plan, rule) != 0:
+        raise VGDLError(path, line, "stepBack with a scoreChange is not implemented")
+    for name in rule.firsts:
+        sprite = plan.types[name]
+        oriented = sprite.representation == RECORD or sprite.java_class == "Missile"
+        if rule.name == "wrapAround" and sprite.representation != GRID and not oriented:
+            raise VGDLError(
+                path,
+                line,
+                f"EOS wrapAround of {name} (a {sprite.java_class}, no orientation held) is not implemented",
+            )
 
 
 def _check_rule(plan: Plan, rule: RulePlan) -> None:

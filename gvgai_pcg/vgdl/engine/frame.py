@@ -21,7 +21,7 @@ from gvgai_pcg.vgdl.engine.layout import Layout
 from gvgai_pcg.vgdl.layout import GRID, RECORD
 
 # The entries every state has that a tick reads or writes.
-COMMON = ("seed", "tick", "score", "won", "lost")
+COMMON = ("seed", "tick", "score", "won", "lost", "height", "width")
 
 
 @dataclass(frozen=True)

@@ -14,6 +14,7 @@ from gvgai_pcg.games.geometry import NONE, direction_dx, direction_dy
 from gvgai_pcg.games.lookup import lookup
 from gvgai_pcg.vgdl.engine.frame import Frame
 from gvgai_pcg.vgdl.engine.layout import FLICKERS, TableGroup
+from gvgai_pcg.vgdl.engine.missiles import missile
 from gvgai_pcg.vgdl.layout import RECORD, TABLE
 
 DIRECTIONS = 4  # RandomNPC draws one of the four base directions
@@ -31,6 +32,8 @@ def update_npcs(frame: Frame) -> None:
             group = layout.group(place.key)
             if group.java_class == "RandomNPC":
                 random_npc(frame, group)
+            elif group.java_class == "Missile":
+                missile(frame, group)
         elif place.representation == RECORD and layout.plan.types[name].java_class in FLICKERS:
             flicker(frame, name)
 
