@@ -73,8 +73,13 @@ def test_an_effect_parameter_off_its_default_is_refused():
 
 
 def test_an_effect_without_kernel_is_refused():
+    message = refusal(description(rules="        rat avatar > killIfFromAbove"))
+    assert message == "mine.txt:20: effect killIfFromAbove is not implemented by the generic step yet"
+
+
+def test_a_pull_by_something_else_than_missiles_is_refused():
     message = refusal(description(rules="        rat avatar > pullWithIt"))
-    assert message == "mine.txt:20: effect pullWithIt is not implemented by the generic step yet"
+    assert message.startswith("mine.txt:20: pullWithIt is implemented for a MovingAvatar pulled by Missiles")
 
 
 def test_a_sprite_parameter_without_kernel_is_refused():

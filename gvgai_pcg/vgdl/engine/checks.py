@@ -25,6 +25,7 @@ SPRITE_KERNELS: dict[str, tuple[str, frozenset[str]]] = {
     "RandomNPC": (TABLE, frozenset({"speed", "cooldown", "cons"})),
     "MovingAvatar": (RECORD, frozenset()),
     "Missile": (TABLE, frozenset({"speed", "orientation"})),
+    "SpawnPoint": (GRID, frozenset({"stype", "prob", "cooldown"})),
 }
 # Parameters that change only how a sprite is drawn.
 COSMETIC = frozenset(
@@ -35,6 +36,8 @@ EFFECT_KERNELS: dict[str, frozenset[str]] = {
     "stepBack": frozenset(),
     "killSprite": frozenset({"scoreChange"}),
     "transformTo": frozenset({"scoreChange", "stype", "killSecond"}),
+    "shieldFrom": frozenset({"scoreChange", "stype", "ftype", "istype", "iftype"}),
+    "pullWithIt": frozenset(),
 }
 # Per effect an EOS rule may apply (``eos``), the parameters its kernel reads.
 EDGE_KERNELS: dict[str, frozenset[str]] = {
@@ -78,6 +81,8 @@ def check_engine(game: GameDescription, plan: Plan) -> None:
             _check_shooter(plan, name)
         if sprite.java_class == "Missile":
             _check_missile(plan, name)
+        if sprite.java_class == "SpawnPoint":
+            _check_spawner(plan, name)
     for rule in plan.eos:
         _check_edge_rule(plan, rule)
     for rule in plan.timed:
@@ -136,6 +141,17 @@ def _check_missile(plan: Plan, name: str) -> None:
         )
 
 
+def _check_spawner(plan: Plan, name: str) -> None:
+    stype = plan.types[name].values.get("stype")
+    made = plan.types.get(stype) if isinstance(stype, str) else None
+    if made is None or made.representation != TABLE or made.java_class != "Missile":
+        raise VGDLError(
+            plan.path,
+            plan.types[name].line,
+            f"{name}: a SpawnPoint is implemented for an stype of one Missile type held in a table",
+        )
+
+
 def _check_edge_rule(plan: Plan, rule: RulePlan) -> None:
     path, line = plan.path, rule.line
     settable = EDGE_KERNELS.get(rule.name)
@@ -190,6 +206,12 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
             raise VGDLError(
                 path, line, "transformTo is implemented from one record type (the avatar) into another"
             )
+    if rule.name == "shieldFrom":
+        _check_shield(plan, rule)
+        return
+    if rule.name == "pullWithIt":
+        _check_pull(plan, rule)
+        return
     if rule.kind == "F":
         same = set(rule.firsts) == set(rule.seconds)
         if rule.name != "stepBack" or not same or representations != {TABLE}:
@@ -199,6 +221,34 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
     elif rule.kind not in ("P", "A"):
         raise VGDLError(
             path, line, f"{rule.name}: a rule of kind {rule.kind} ({rule.why}) is not implemented"
+        )
+
+
+def _check_shield(plan: Plan, rule: RulePlan) -> None:
+    if any(plan.types[name].representation == GRID for name in rule.firsts):
+        raise VGDLError(plan.path, rule.line, "shieldFrom of a still (grid) type is not implemented")
+    if str(rule.values.get("ftype")) not in EFFECT_KERNELS:
+        raise VGDLError(plan.path, rule.line, f"shieldFrom: ftype={rule.values.get('ftype')} has no kernel")
+
+
+def _check_pull(plan: Plan, rule: RulePlan) -> None:
+    firsts = [plan.types[name] for name in rule.firsts]
+    seconds = {plan.types[name].java_class for name in rule.seconds}
+    same_line = [other for other in plan.pairs if other.effect == rule.effect]
+    if (
+        len(firsts) != 1
+        or firsts[0].representation != RECORD
+        or firsts[0].java_class != "MovingAvatar"
+        or seconds != {"Missile"}
+        or any(plan.types[name].representation != TABLE for name in rule.seconds)
+        or len(same_line) != 1
+        or score_of(plan, rule) != 0
+    ):
+        raise VGDLError(
+            plan.path,
+            rule.line,
+            "pullWithIt is implemented for a MovingAvatar pulled by Missiles (one table), one pair a "
+            "line, no score",
         )
 
 

@@ -193,8 +193,9 @@ class VGDLGame(Game):
 
 
 def _changing_types(layout: Layout) -> frozenset[str]:
-    """Grid types some rule removes: the others never change and are left out of a snapshot."""
-    changing = set()
+    """Grid types some rule removes, and spawners (they act: the traces list them); the others
+    never change and are left out of a snapshot."""
+    changing = {name for name in layout.grids if layout.plan.types[name].java_class == "SpawnPoint"}
     for rule in layout.plan.pairs:
         if rule.name in KILLS_FIRST:
             changing.update(rule.firsts)

@@ -171,11 +171,17 @@ def compile_state(
     batch, height, width = codes.shape
     _check_characters(codes, mapping, levels)
     state: dict[str, object] = dict(common_state(levels, seeds, device))
+    spawners = np.zeros(256, dtype=np.int64)
     for name in layout.grids:
         per_char = np.zeros(256, dtype=np.uint8)
         for char, types in mapping.items():
             per_char[ord(char)] = types.count(name)
+            if layout.plan.types[name].java_class in DRAWING_GRID_CLASSES:
+                spawners[ord(char)] += types.count(name)
         state[name] = torch.from_numpy(per_char[codes]).to(device)
+    if (spawners > 1).any():  # their draws are keyed by cell: two in one cell would draw alike
+        char = chr(int(np.flatnonzero(spawners > 1)[0]))
+        raise ValueError(f"level character {char!r} places two spawners in one cell; the engine holds one")
     for name in layout.records:
         state[name] = _record(layout, name, codes, mapping, levels, device)
     for group in layout.tables:
