@@ -205,8 +205,9 @@ def _changing_types(layout: Layout) -> frozenset[str]:
 
 
 def _drawn(layout: Layout, name: str) -> bool:
-    """Whether a type gets an observation channel: any but a still type no rule names."""
-    if layout.places[name].representation != GRID:
+    """Whether a type gets an observation channel: any but a still type no rule names (a
+    spawner acts, so it has one)."""
+    if layout.places[name].representation != GRID or layout.plan.types[name].java_class == "SpawnPoint":
         return True
     return any(name in rule.firsts or name in rule.seconds for rule in layout.plan.pairs)
 
