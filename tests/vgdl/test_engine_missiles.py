@@ -85,10 +85,9 @@ def test_missiles_move_after_their_first_update_and_obey_their_eos_rules(compile
     assert history[20].get("score").tolist() == [0, 0] and history[21].get("score").tolist() == [2, 2]
 
 
-@pytest.mark.parametrize("compiled", [False, True], ids=["eager", "compiled"])
-def test_a_moving_avatar_steps_back_from_the_edge(compiled):
+def test_a_moving_avatar_steps_back_from_the_edge():
     left, up, right = 1, 4, 2
-    vgdl, history = run([Level("mine", ("....", "....", "A..."))], [0, left, up, up, up, right], compiled)
+    vgdl, history = run([Level("mine", ("....", "....", "A..."))], [0, left, up, up, up, right])
     avatar = [(s.get(("avatar", "x")).item(), s.get(("avatar", "y")).item()) for s in history]
     assert vgdl.actions == ("NIL", "LEFT", "RIGHT", "DOWN", "UP")
     assert avatar == [(0, 20), (0, 20), (0, 10), (0, 0), (0, 0), (10, 0)]

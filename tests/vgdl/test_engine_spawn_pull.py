@@ -87,3 +87,34 @@ def test_a_log_shields_the_frog_from_the_water_and_carries_it_unless_it_moved():
 def test_a_frog_on_bare_water_drowns():
     history = play(game(), [Level("mine", ("~M~", "..."))], [NIL])
     assert not history[0].get(("avatar", "alive")).item() and history[0].get("lost").item()
+
+
+RAFTS = """BasicGame
+    SpriteSet
+        water > Immovable
+        raft > Missile orientation=LEFT
+{kinds}
+        avatar > MovingAvatar
+    InteractionSet
+        avatar raft > pullWithIt
+    TerminationSet
+        SpriteCounter stype=avatar limit=0 win=False
+    LevelMapping
+        ~ > water
+        s > water anchored
+        d > water drifting
+        A > avatar anchored
+"""
+ANCHORED = "            anchored > speed=0"
+DRIFTING = "            drifting > speed=0.1"
+
+
+def test_the_first_raft_in_list_order_pulls_once_a_tick_even_when_it_did_not_move():
+    """At tick 1 the frog (on an anchored raft) also overlaps a drifting raft that moved 1 px: Java
+    pulls once a tick, by the first overlapping second in list order (the kinds in subtype order),
+    so it is carried only when the drifting raft comes first."""
+    level = Level("mine", ("Ad~",))
+    for kinds, carried in (((ANCHORED, DRIFTING), False), ((DRIFTING, ANCHORED), True)):
+        vgdl = VGDLGame.from_text(RAFTS.format(kinds="\n".join(kinds)), f"rafts{carried}.txt")
+        history = play(vgdl, [level], [NIL, NIL])
+        assert history[1].get(("avatar", "x")).item() == (-1 if carried else 0)
