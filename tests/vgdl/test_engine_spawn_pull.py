@@ -65,6 +65,18 @@ def test_a_spawn_point_spawns_at_its_cooldown_and_the_log_moves_from_its_second_
     assert sorted(born.tolist()) == [1 << 20, 4 << 20]  # created in ticks 0 and 3: list order
 
 
+def test_a_sprite_spawned_before_its_type_is_updated_has_its_first_update_in_the_same_tick():
+    # the forest drawn after the log is updated before it (reverse drawing order)
+    forest = "        forest > SpawnPoint stype=log prob=1 cooldown=3\n"
+    log = "        log > Missile orientation=LEFT speed=0.1\n"
+    text = TEXT.format(prob="1").replace(forest + log, log + forest)
+    assert text != TEXT.format(prob="1")
+    vgdl = VGDLGame.from_text(text, "early.txt")
+    assert vgdl.layout.plan.update_order.index("forest") < vgdl.layout.plan.update_order.index("log")
+    history = play(vgdl, [Level("mine", ("~~f", "A.."))], [NIL] * 3)
+    assert [logs(state) for state in history] == [[(20, 0)], [(19, 0)], [(18, 0)]]
+
+
 def test_a_spawn_point_draws_by_its_cell_on_the_spawners_stream():
     seeds = torch.arange(16) * 31
     history = play(game("0.5"), [Level("mine", ("~~f", "A.."))] * 16, [NIL], seeds)
