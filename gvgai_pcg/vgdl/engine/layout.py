@@ -46,7 +46,7 @@ from gvgai_pcg.vgdl.plan import Plan
 # Java's direction constants as the package's direction codes.
 DIRECTION_CODES = {"DLEFT": LEFT, "DRIGHT": RIGHT, "DDOWN": DOWN, "DUP": UP, "DNONE": NONE, "DNIL": NONE}
 # Classes whose sprites draw a random number at each update, held in a table; and those held
-# in a grid, whose draws are keyed by their cell (``SPAWNER_SLOT``).
+# in a grid, whose draws are keyed by their cell (``SPAWNER_ROW``).
 DRAWING_CLASSES = frozenset({"RandomNPC"})
 DRAWING_GRID_CLASSES = frozenset({"SpawnPoint"})
 # A still spawner's draw slot: ``y * SPAWNER_ROW + x`` in px, whatever the level's width.
