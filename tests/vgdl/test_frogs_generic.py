@@ -139,3 +139,12 @@ def test_gvgai_frogs_description_equals_the_hand_written():
     levels = human_levels("frogs") + generated(1) + small_levels()
     assert_same_play(game, levels, ticks=100, compiled=False, seed=3)
     assert_replays(golden_files("frogs")[2], True, game)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("compiled", [False, True], ids=["eager", "compiled"])
+def test_generic_frogs_long_random_play(compiled):
+    levels = human_levels("frogs") + generated(4) + small_levels()
+    for seed in range(3):
+        seen = assert_same_play(own_frogs(), levels, ticks=400, compiled=compiled, seed=20 + seed)
+        assert seen["win"] > 0 and seen["carried"] > 0
