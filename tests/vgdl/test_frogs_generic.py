@@ -137,8 +137,9 @@ def test_generic_frogs_replays_gvgai_traces(path, batched):
 def test_gvgai_frogs_description_equals_the_hand_written():
     game = VGDLGame.from_file(GAMES / "frogs.txt")
     levels = human_levels("frogs") + generated(1) + small_levels()
+    # eager only: its class is another than the own description's, and compiling it would cost
+    # `make test` another compilation for what the own description's compiled cases already hold
     assert_same_play(game, levels, ticks=100, compiled=False, seed=3)
-    assert_replays(golden_files("frogs")[2], True, game)
 
 
 @pytest.mark.slow
