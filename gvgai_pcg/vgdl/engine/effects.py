@@ -21,6 +21,8 @@ from gvgai_pcg.games.rules import step_back_in_order
 from gvgai_pcg.vgdl.engine.checks import score_of
 from gvgai_pcg.vgdl.engine.frame import Entry, Frame, Side, sides
 from gvgai_pcg.vgdl.engine.layout import FLICKERS, Layout
+from gvgai_pcg.vgdl.engine.pull import pull_with_it
+from gvgai_pcg.vgdl.engine.shield import shield_from
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.layout import GRID, RECORD
 from gvgai_pcg.vgdl.plan import RulePlan
@@ -50,12 +52,20 @@ def make_rules(layout: Layout) -> tuple[Rule, ...]:
             raise VGDLError(
                 layout.plan.path, rule.line, f"{rule.name} among sprites of several tables is not implemented"
             )
+        if rule.name == "pullWithIt" and len(made.seconds) != 1:
+            raise VGDLError(
+                layout.plan.path, rule.line, "pullWithIt by sprites of several tables is not implemented"
+            )
         rules.append(made)
     return tuple(rules)
 
 
 def apply_rule(frame: Frame, rule: Rule) -> None:
+    """The rule's kernel; in envs where a shieldFrom shields the rule (its pair's first and second
+    and its effect), no first is eligible (Java skips the rule)."""
+    frame.skip = frame.shields.get((rule.plan.first, rule.plan.second, rule.plan.name))
     KERNELS[rule.plan.name](frame, rule)
+    frame.skip = None
 
 
 def step_back(frame: Frame, rule: Rule) -> None:
@@ -188,4 +198,6 @@ KERNELS: dict[str, Callable[[Frame, Rule], None]] = {
     "stepBack": step_back,
     "killSprite": kill_sprite,
     "transformTo": transform_to,
+    "shieldFrom": shield_from,
+    "pullWithIt": pull_with_it,
 }
