@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import os
 import signal
 import subprocess
 import sys
@@ -136,9 +137,12 @@ def test_sigterm_to_the_sweep_stops_its_training_runs_at_a_checkpoint(tmp_path):
         "import sys; from pathlib import Path; from gvgai_pcg.study import BUDGETS;"
         "from gvgai_pcg.study.pipeline import run_sweep;"
         "run_sweep(BUDGETS['smoke'], ['zelda-lv0', 'zelda-lv4'], Path(sys.argv[1]), jobs=2,"
-        " overrides=['total_frames=10000000'])"
+        " overrides=['total_frames=10000000', 'checkpoint.every_frames=1000'])"
     )
-    sweep = subprocess.Popen([sys.executable, "-c", script, str(tmp_path)], stderr=subprocess.PIPE, text=True)
+    quick = {**os.environ, "GVGAI_PCG_COMPILE": "0"}  # a signal's path, not the compiler, is tested here
+    sweep = subprocess.Popen(
+        [sys.executable, "-c", script, str(tmp_path)], stderr=subprocess.PIPE, text=True, env=quick
+    )
     runs = [tmp_path / "runs" / f"zelda-{c}-tiles-compact-seed0" for c in ("lv0", "lv4")]
     checkpoints = [run / "checkpoints" for run in runs]
     try:
