@@ -51,10 +51,9 @@ def t_interval(values: Sequence[float], level: float = 0.95) -> tuple[float, flo
     from scipy import stats
 
     mean = sum(values) / len(values)
-    sd = math.sqrt(sum((v - mean) ** 2 for v in values) / (len(values) - 1))
-    if sd == 0:  # scipy wants a positive scale
+    if max(values) == min(values):  # scipy wants a positive scale
         return mean, mean
-    low, high = stats.t.interval(level, len(values) - 1, loc=mean, scale=sd / math.sqrt(len(values)))
+    low, high = stats.t.interval(level, len(values) - 1, loc=mean, scale=float(stats.sem(values)))
     return float(low), float(high)
 
 
