@@ -32,8 +32,12 @@ The layers, lowest first. A module may import its own layer and the layers below
 10. ``rl``: models, A2C, the training loop, checkpoints, and ``config``, the training config's
    checks and its memory estimate (they ask the models for their names).
 11. ``evaluation``.
-12. ``apps``: ``report``, ``study``, ``bench`` (every benchmark and the device check), ``play``.
-13. ``commands``: ``commands``, ``cli`` and the package root (which registers the Gymnasium ids).
+12. ``apps``: ``report``, ``bench`` (every benchmark and the device check), ``play``.
+13. ``study``, in four layers of its own: ``study.sweeps`` (conditions, budgets, borrowed runs,
+   publishing), ``study.verdicts`` (the runs read into tables, the claims' rules, intervals, the
+   one judging system), ``study.pages`` (the results pages, written from the verdicts), and the
+   package itself with ``pipeline`` and ``sweep_status``, which run a sweep through all three.
+14. ``commands``: ``commands``, ``cli`` and the package root (which registers the Gymnasium ids).
 
 Importing ``a.b.c`` also runs ``a/b/__init__.py``, which has a layer of its own: it may sit
 above some of its modules (``generators`` above the kit ``generators._common``) as long as it
@@ -81,15 +85,11 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("gym", ("gvgai_pcg.gym",)),
     ("rl", ("gvgai_pcg.rl", "gvgai_pcg.config")),
     ("evaluation", ("gvgai_pcg.evaluation",)),
-    (
-        "apps",
-        (
-            "gvgai_pcg.report",
-            "gvgai_pcg.study",
-            "gvgai_pcg.bench",
-            "gvgai_pcg.play",
-        ),
-    ),
+    ("apps", ("gvgai_pcg.report", "gvgai_pcg.bench", "gvgai_pcg.play")),
+    ("study sweeps", ("gvgai_pcg.study.sweeps",)),
+    ("study verdicts", ("gvgai_pcg.study.verdicts",)),
+    ("study pages", ("gvgai_pcg.study.pages",)),
+    ("study", ("gvgai_pcg.study",)),
     ("commands", ("gvgai_pcg.commands", "gvgai_pcg.cli", "gvgai_pcg:")),
 )
 

@@ -136,7 +136,7 @@ class RunInfo:
         return (TRAINING_SET, *sorted(shared))
 
 
-# A published run (``gvgai_pcg.study.publish.publish``) names its model here instead of holding
+# A published run (``gvgai_pcg.study.sweeps.publish.publish``) names its model here instead of holding
 # it: its results and logs rebuild a report (``--no-evaluate``) without the model file.
 PUBLISHED = "published.json"
 
@@ -240,7 +240,7 @@ def published_run_info(run_dir: Path) -> RunInfo:
     """A published run: its config from ``config.yaml``, its model as ``published.json`` names it,
     and the copy of that model published beside it, where there is one. ``published.json`` names
     the model as a file of the run folder (``"model"``, ``null`` with ``not_published`` when there
-    is none: ``gvgai_pcg.study.portable``), or, in the older form, as the path it had on the
+    is none: ``gvgai_pcg.study.sweeps.portable``), or, in the older form, as the path it had on the
     machine that trained it (``"checkpoint"``, with ``"copied"`` where a copy is beside it)."""
     import json
 

@@ -64,7 +64,7 @@ def plot_curves(
 ) -> list[Path]:
     """One panel per condition; writes ``<out_stem>.png`` and ``.svg`` and returns their paths.
     ``reached_by_game``: per game, the highest d a published PPCG reached (the study's, from
-    ``gvgai_pcg.study.table1.STUDY_REACHED``), dashed beside ours; given by the caller, so the report
+    ``gvgai_pcg.study.verdicts.table1.STUDY_REACHED``), dashed beside ours; given by the caller, so the report
     layer stays below the study's."""
     import matplotlib
 

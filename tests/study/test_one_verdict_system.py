@@ -3,9 +3,9 @@ the same words, Holm's correction over one family, and the same seeds to decide.
 
 from __future__ import annotations
 
-from gvgai_pcg.study import comparison, judging
-from gvgai_pcg.study.claim_rules import Claim, Comparison
-from gvgai_pcg.study.comparison import CurriculumRuns
+from gvgai_pcg.study.verdicts import comparison, judging
+from gvgai_pcg.study.verdicts.claim_rules import Claim, Comparison
+from gvgai_pcg.study.verdicts.comparison import CurriculumRuns
 
 
 def _runs(label: str, values: list[float]) -> CurriculumRuns:

@@ -14,7 +14,7 @@ import pytest
 from gvgai_pcg.evaluation.checkpoints import find_runs
 from gvgai_pcg.rl.atomic_files import recover_folders, staging_folder
 from gvgai_pcg.rl.stop_signal import stop_signals_deferred
-from gvgai_pcg.study import publish as publishing
+from gvgai_pcg.study.sweeps import publish as publishing
 from tests.evaluation.conftest import make_run, write_log
 
 

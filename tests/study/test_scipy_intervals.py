@@ -6,7 +6,7 @@ from scipy import stats
 
 from gvgai_pcg.evaluation import ued
 from gvgai_pcg.report import table
-from gvgai_pcg.study import intervals
+from gvgai_pcg.study.verdicts import intervals
 
 A = [0.1, 0.5, 0.35, 0.8]
 B = [1.0, 2.5, 3.25]
@@ -90,7 +90,7 @@ def test_the_published_curricula_cells_keep_their_numbers_to_1e9():
     from gvgai_pcg.evaluation.checkpoints import find_runs
     from gvgai_pcg.evaluation.protocol import Protocol
     from gvgai_pcg.study import BUDGETS
-    from gvgai_pcg.study.comparison import collect_runs
+    from gvgai_pcg.study.verdicts.comparison import collect_runs
 
     published = Path(__file__).resolve().parents[2] / "results" / "curricula"
     if not (published / "runs").is_dir():

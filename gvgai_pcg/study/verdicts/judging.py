@@ -2,9 +2,9 @@
 
 On our runs (per-seed values) each comparison gets its two-sided 95 % t interval over seeds
 (Welch's for a difference), and Holm's correction runs over every comparison of every claim judged
-together (family-wise alpha 0.05, ``gvgai_pcg.study.intervals``). With ``level_sampling``, a
+together (family-wise alpha 0.05, ``gvgai_pcg.study.verdicts.intervals``). With ``level_sampling``, a
 comparison that carries per-level values also carries the level-sampling variance of those sets,
-from the per-level records (``gvgai_pcg.study.intervals``, module docstring); a maximum or minimum
+from the per-level records (``gvgai_pcg.study.verdicts.intervals``, module docstring); a maximum or minimum
 over sets keeps the interval over seeds. On the study's own Table 1 (point estimates) each
 comparison is decided by the estimate's side.
 
@@ -13,7 +13,7 @@ so its 95 % interval excludes the bound), **does not hold** when one is decided 
 is **inconclusive** otherwise. Claims about training dynamics ("PPCG never reaches d = 1") are
 **cannot be tested at this budget** while the runs have fewer frames than the study's.
 
-``decide`` is the one verdict system: the curricula comparison (``gvgai_pcg.study.comparison``)
+``decide`` is the one verdict system: the curricula comparison (``gvgai_pcg.study.verdicts.comparison``)
 judges "a curriculum beats PPCG" through it too, with the same words, Holm and seeds to decide.
 """
 
@@ -23,10 +23,18 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from gvgai_pcg.study.claim_rules import Claim, Comparison, claims_of
-from gvgai_pcg.study.intervals import ALPHA, POWER, Estimate, agents_estimate, estimate, holm, seeds_to_decide
-from gvgai_pcg.study.results import GameResults, study_table, table_of
-from gvgai_pcg.study.table1 import TABLE1
+from gvgai_pcg.study.verdicts.claim_rules import Claim, Comparison, claims_of
+from gvgai_pcg.study.verdicts.intervals import (
+    ALPHA,
+    POWER,
+    Estimate,
+    agents_estimate,
+    estimate,
+    holm,
+    seeds_to_decide,
+)
+from gvgai_pcg.study.verdicts.results import GameResults, study_table, table_of
+from gvgai_pcg.study.verdicts.table1 import TABLE1
 
 
 @dataclass

@@ -29,7 +29,7 @@ from gvgai_pcg.evaluation.checkpoints import FINAL_MODEL, is_run_dir, load_state
 from gvgai_pcg.rl.checkpoint import config_differences
 from gvgai_pcg.rl.provenance import SESSIONS_NAME
 from gvgai_pcg.rl.snapshots import SNAPSHOT_DIR, snapshot_frames, snapshot_path, snapshot_paths
-from gvgai_pcg.study.conditions import Budget
+from gvgai_pcg.study.sweeps.conditions import Budget
 
 BORROWED = "borrowed.json"
 

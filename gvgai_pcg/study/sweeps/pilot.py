@@ -12,8 +12,8 @@ training levels are drawn afresh from the d = 0.5 generator every episode, the d
 d = 0.5 test set, so the training score estimates the test score there; the protocol's evaluation
 of the final models confirms it.
 
-    python -m gvgai_pcg.study.pilot results/pilot results/small/runs/zelda-pcg0.5-*
-    python -m gvgai_pcg.study.pilot --page docs/pilot.md results/pilot results/small/runs
+    python -m gvgai_pcg.study.sweeps.pilot results/pilot results/small/runs/zelda-pcg0.5-*
+    python -m gvgai_pcg.study.sweeps.pilot --page docs/pilot.md results/pilot results/small/runs
 """
 
 from __future__ import annotations

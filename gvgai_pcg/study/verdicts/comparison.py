@@ -7,7 +7,7 @@ each generated test set (the study's protocol), and where the UED protocol evalu
 alpha 1 % and 10 % on the UED levels, and with the tail protocol's records the win-rate CVaR at
 1 % and 10 % too (SFL's headline; shown and judged only where a run has it). Every cell of the
 tables is a mean over seeds with its 95 % Student t interval over seeds
-(``gvgai_pcg.study.intervals``).
+(``gvgai_pcg.study.verdicts.intervals``).
 
 The question is three comparisons of each curriculum with PPCG per game (``QUESTIONS``; five
 with the tail protocol's win-rate CVaRs): the difference of means with its Welch t interval,
@@ -28,9 +28,9 @@ from pathlib import Path
 
 from gvgai_pcg.evaluation.checkpoints import run_info
 from gvgai_pcg.evaluation.evaluator import read_records, run_results_path
-from gvgai_pcg.study.claim_rules import Comparison
-from gvgai_pcg.study.intervals import ALPHA, LEVEL, MOST_SEEDS, POWER, Estimate, estimate
-from gvgai_pcg.study.judging import (
+from gvgai_pcg.study.verdicts.claim_rules import Comparison
+from gvgai_pcg.study.verdicts.intervals import ALPHA, LEVEL, MOST_SEEDS, POWER, Estimate, estimate
+from gvgai_pcg.study.verdicts.judging import (
     AGAINST,
     CLAIM,
     DOES_NOT_HOLD,
@@ -39,12 +39,12 @@ from gvgai_pcg.study.judging import (
     UNDECIDED,
     decide,
 )
-from gvgai_pcg.study.table1 import GENERATED_SETS, HUMAN_SETS
+from gvgai_pcg.study.verdicts.table1 import GENERATED_SETS, HUMAN_SETS
 
 BASELINE = "PPCG"
 # the tables' row order, by curriculum (``regimen``): the comparison's, others after
 REGIMEN_ORDER = ("pcg", "ppcg", "dr", "plr", "accel", "sfl")
-# Controls (gvgai_pcg.study.conditions.CURRICULA_CONTROLS): shown in the tables, never judged
+# Controls (gvgai_pcg.study.sweeps.conditions.CURRICULA_CONTROLS): shown in the tables, never judged
 # against the baseline, so that they do not widen Holm's family of the comparison's questions.
 CONTROL_REGIMENS = frozenset({"accel-noselect"})
 ALPHAS = (0.01, 0.1)

@@ -1,7 +1,7 @@
 """The results page: the published tables, curves, claims and runs, written into a Markdown page.
 
 ``docs/results.md`` has a block between ``<!-- results:start -->`` and ``<!-- results:end -->``
-that this module rewrites from a published folder (``gvgai_pcg.study.publish.publish``), so the
+that this module rewrites from a published folder (``gvgai_pcg.study.sweeps.publish.publish``), so the
 page says exactly what the data under ``results/`` says, and which runs it holds.
 """
 
