@@ -20,8 +20,8 @@ from pathlib import Path
 from gvgai_pcg.curricula.registry import get_curriculum
 from gvgai_pcg.evaluation.protocol import LARGE_PROTOCOL, TRAINING_SET, Protocol, protocol_test_sets
 from gvgai_pcg.rl.checkpoint import check_finite, check_identity, identity, read_file
+from gvgai_pcg.rl.earlier_outputs import ASIDE_DIR
 from gvgai_pcg.rl.environment import training_levels
-from gvgai_pcg.rl.run_session import ASIDE_DIR
 
 FINAL_MODEL = "model.pt"
 LAST_CHECKPOINT = Path("checkpoints") / "last.pt"
