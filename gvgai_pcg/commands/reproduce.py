@@ -187,7 +187,7 @@ def run(args: argparse.Namespace) -> int:
     if args.page is not None:
         if outcome.published is None:
             raise ValueError("--page needs --publish (the page is written from the published data)")
-        from gvgai_pcg.rl.provenance import code_commit
+        from gvgai_pcg.rundir.provenance import code_commit
         from gvgai_pcg.study.pages.curricula_page import write_curricula_page
         from gvgai_pcg.study.pages.page import page_images, write_results_page
 

@@ -73,7 +73,7 @@ from gvgai_pcg.games import get_game
 from gvgai_pcg.games.registry import generate_level
 from gvgai_pcg.levels import Level
 from gvgai_pcg.levels.seeds import TEST_SEED_BASE, TRAINING_SEED_SPACE
-from gvgai_pcg.rl.atomic_files import atomic_write_text
+from gvgai_pcg.rundir.atomic_files import atomic_write_text
 
 # Generator seeds of the UED levels: level i has seed UED_SEED_BASE + i. The frozen test sets use
 # [TEST_SEED_BASE, TEST_SEED_BASE + 2^24), training seeds lie below TRAINING_SEED_SPACE.

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 from gvgai_pcg.evaluation.evaluator import LevelRecord
 from gvgai_pcg.evaluation.max_score import mean_max_score
 from gvgai_pcg.evaluation.protocol import TEST_SETS, TRAINING_SET, EvalSet
-from gvgai_pcg.rl.checkpoint import ADDED_KEYS
+from gvgai_pcg.rundir.checkpoint import ADDED_KEYS
 
 COLUMN_LABELS = {name: name.replace("pcg", "PCG ").replace("lv", "Lv ") for name in TEST_SETS}
 COLUMN_LABELS[TRAINING_SET] = "Train"

@@ -2,9 +2,9 @@
 the training loop shared by them, checkpoints."""
 
 from gvgai_pcg.rl.a2c_loss import A2CLoss, nstep_returns
-from gvgai_pcg.rl.checkpoint import CheckpointError
 from gvgai_pcg.rl.models import MODELS, ActorCritic, make_actor_critic
 from gvgai_pcg.rl.training import TrainResult, train
+from gvgai_pcg.rundir.checkpoint import CheckpointError
 
 __all__ = [
     "MODELS",

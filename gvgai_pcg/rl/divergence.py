@@ -18,7 +18,7 @@ from typing import TypeVar
 
 import torch
 
-from gvgai_pcg.rl.checkpoint import nonfinite_names
+from gvgai_pcg.rundir.checkpoint import nonfinite_names
 
 # What torch.distributions.Categorical says when the policy's probabilities are not finite.
 NONFINITE_SAMPLING = "probability tensor contains either"

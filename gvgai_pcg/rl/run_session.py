@@ -42,8 +42,9 @@ from pathlib import Path
 from typing import Any
 
 from gvgai_pcg.log_backends import check_installed
-from gvgai_pcg.rl.atomic_files import atomic_write_text, fsync_directory, remove_stale_temporaries
-from gvgai_pcg.rl.checkpoint import (
+from gvgai_pcg.rl.divergence import DivergenceError, DivergenceGuard
+from gvgai_pcg.rundir.atomic_files import atomic_write_text, fsync_directory, remove_stale_temporaries
+from gvgai_pcg.rundir.checkpoint import (
     CHECKPOINT_NAME,
     PREVIOUS_NAME,
     CheckpointError,
@@ -51,11 +52,10 @@ from gvgai_pcg.rl.checkpoint import (
     load_checkpoint,
     save_checkpoint,
 )
-from gvgai_pcg.rl.divergence import DivergenceError, DivergenceGuard
-from gvgai_pcg.rl.earlier_outputs import ASIDE_DIR, set_aside_earlier_outputs, stamp
-from gvgai_pcg.rl.run_lock import FolderLock
-from gvgai_pcg.rl.run_log import LOG_NAME, read_log
-from gvgai_pcg.rl.stop_signal import StopSignal
+from gvgai_pcg.rundir.earlier_outputs import ASIDE_DIR, set_aside_earlier_outputs, stamp
+from gvgai_pcg.rundir.run_lock import FolderLock
+from gvgai_pcg.rundir.run_log import LOG_NAME, read_log
+from gvgai_pcg.rundir.stop_signal import StopSignal
 
 log = logging.getLogger(__name__)
 

@@ -45,8 +45,8 @@ from gvgai_pcg.evaluation.protocol import Protocol
 from gvgai_pcg.games.registry import find_game_spec
 from gvgai_pcg.report import build_report
 from gvgai_pcg.report.build import usable_run
-from gvgai_pcg.rl.atomic_files import atomic_write_text, copy_tree
-from gvgai_pcg.rl.checkpoint import config_differences
+from gvgai_pcg.rundir.atomic_files import atomic_write_text, copy_tree
+from gvgai_pcg.rundir.checkpoint import config_differences
 from gvgai_pcg.study.pages.claims_page import claims_markdown
 from gvgai_pcg.study.sweeps.borrowed_runs import borrow_runs
 from gvgai_pcg.study.sweeps.conditions import Budget, unregistered

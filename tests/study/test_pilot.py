@@ -6,7 +6,7 @@ import json
 
 import yaml
 
-from gvgai_pcg.rl.run_log import COLUMNS
+from gvgai_pcg.rundir.run_log import COLUMNS
 from gvgai_pcg.study.sweeps.pilot import frames_to_reach, main, read_pilot, score_at, smoothed_scores
 
 

@@ -16,7 +16,7 @@ from hydra import compose, initialize_config_dir
 from gvgai_pcg.config import config_dir
 from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
 from gvgai_pcg.evaluation.protocol import Protocol
-from gvgai_pcg.rl.provenance import code_commit, session_commits
+from gvgai_pcg.rundir.provenance import code_commit, session_commits
 from gvgai_pcg.study import BUDGETS, STUDY_CONDITIONS
 from gvgai_pcg.study.pages.page import write_results_page
 from gvgai_pcg.study.pipeline import (

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import yaml
 
-from gvgai_pcg.rl.atomic_files import atomic_write_text
+from gvgai_pcg.rundir.atomic_files import atomic_write_text
 from gvgai_pcg.study.pages.page import replace_block
 
 LIST_NAME = "awaiting-retraining.json"

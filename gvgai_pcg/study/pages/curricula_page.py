@@ -17,7 +17,7 @@ from gvgai_pcg.evaluation.protocol import Protocol
 from gvgai_pcg.games.registry import get_game_spec
 from gvgai_pcg.generators import get_generator
 from gvgai_pcg.levels import human_levels
-from gvgai_pcg.rl.atomic_files import atomic_copy
+from gvgai_pcg.rundir.atomic_files import atomic_copy
 from gvgai_pcg.study.pages.page import _runs_table, replace_block
 from gvgai_pcg.study.pages.ued_by_difficulty import write_solved_by_difficulty
 from gvgai_pcg.study.sweeps.borrowed_runs import borrowed_lines

@@ -14,9 +14,9 @@ import re
 from pathlib import Path
 
 from gvgai_pcg.evaluation.checkpoints import read_run_config
-from gvgai_pcg.rl.atomic_files import atomic_copy, atomic_write_text
-from gvgai_pcg.rl.provenance import session_commits
-from gvgai_pcg.rl.run_log import read_log
+from gvgai_pcg.rundir.atomic_files import atomic_copy, atomic_write_text
+from gvgai_pcg.rundir.provenance import session_commits
+from gvgai_pcg.rundir.run_log import read_log
 
 START, END = "<!-- results:start -->", "<!-- results:end -->"
 

@@ -16,7 +16,7 @@ from pathlib import Path
 from gvgai_pcg.evaluation.checkpoints import find_runs
 from gvgai_pcg.evaluation.ued import evaluate_run_ued
 from gvgai_pcg.report.build import usable_run
-from gvgai_pcg.rl.atomic_files import atomic_write_text
+from gvgai_pcg.rundir.atomic_files import atomic_write_text
 from gvgai_pcg.study.verdicts.comparison import ALPHAS, BASELINE, collect_runs, comparison_markdown
 
 UED_TABLE = "ued.md"

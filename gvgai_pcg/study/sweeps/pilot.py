@@ -25,8 +25,8 @@ from pathlib import Path
 
 import yaml
 
-from gvgai_pcg.rl.atomic_files import atomic_write_text
-from gvgai_pcg.rl.run_log import read_log
+from gvgai_pcg.rundir.atomic_files import atomic_write_text
+from gvgai_pcg.rundir.run_log import read_log
 
 WINDOW_FRAMES = 500_000  # the training score is averaged over this many frames (about 100 episodes)
 

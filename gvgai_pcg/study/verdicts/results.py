@@ -17,7 +17,7 @@ from pathlib import Path
 from gvgai_pcg.evaluation.checkpoints import run_info
 from gvgai_pcg.evaluation.evaluator import random_results_path, read_records, run_results_path
 from gvgai_pcg.report.table import differing_keys, training_config
-from gvgai_pcg.rl.run_log import read_log
+from gvgai_pcg.rundir.run_log import read_log
 from gvgai_pcg.study.verdicts.table1 import (
     GENERATED_SETS,
     LATE_FRAMES,

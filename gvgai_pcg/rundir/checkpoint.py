@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 import torch
 
-from gvgai_pcg.rl.atomic_files import atomic_write, fsync_directory, temporary_path
+from gvgai_pcg.rundir.atomic_files import atomic_write, fsync_directory, temporary_path
 
 FORMAT_VERSION = 2
 # How torch's weights-only unpickler names a global it refused to construct.

@@ -12,9 +12,9 @@ import os
 import time
 from pathlib import Path
 
-from gvgai_pcg.rl.atomic_files import fsync_directory
-from gvgai_pcg.rl.run_lock import LOCK_NAME
-from gvgai_pcg.rl.run_log import LOG_NAME, read_log
+from gvgai_pcg.rundir.atomic_files import fsync_directory
+from gvgai_pcg.rundir.run_lock import LOCK_NAME
+from gvgai_pcg.rundir.run_log import LOG_NAME, read_log
 
 log = logging.getLogger(__name__)
 
