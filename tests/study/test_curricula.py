@@ -308,8 +308,8 @@ def test_the_page_sets_the_held_levels_beside_the_generators_and_the_human_ones(
 @pytest.mark.slow
 def test_the_smoke_comparison_trains_evaluates_publishes_and_writes_the_page(tmp_path):
     from gvgai_pcg.evaluation.checkpoints import find_runs
-    from gvgai_pcg.study import reproduce
     from gvgai_pcg.study.pages.curricula_page import END, START, write_curricula_page
+    from gvgai_pcg.study.pipeline import reproduce
 
     budget = BUDGETS["curricula-smoke"]
     conditions = ["zelda-pcg1", "zelda-ppcg", "zelda-dr"]
