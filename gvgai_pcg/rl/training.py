@@ -1,16 +1,18 @@
 """The training loop shared by every learner, on one natively batched env (or a collector's
 workers).
 
-The loop reads like the algorithm: collect a rollout of ``n_steps`` steps of all envs, hand it to
-the learner (``gvgai_pcg.rl.learners``: A2C, PPO, a plug-in's), which takes its update, then log
-and checkpoint. Everything around the update is here and the same for every learner: the env and
-its level source, the network, the episode log (``log.csv``) and the update log
-(``updates.csv``, from the first update on), checkpoints, snapshots, and after each update the
-curriculum hook: a level source with ``observe`` gets the batch's per-level signals
-(``gvgai_pcg.curricula.signals``), with the learner's per-step ``advantage``, ``state_value`` and
-``value_target`` (``Update.signals``) averaged over each level's steps; one with ``trains_on``
-also says, before the update, which steps the learner may take gradients from (the rollout's
-``train_mask``: PLR⊥ trains on replayed levels only). A run lives in one
+The loop reads like the algorithm: set up the curriculum's run (``CurriculumRun``, which owns
+the level choice), the envs, the agent and the collector; then per batch collect a rollout of
+``n_steps`` steps of all envs, let the curriculum mark the steps to learn from, hand the rollout
+to the learner (``gvgai_pcg.rl.learners``: A2C, PPO, a plug-in's), which takes its update, give
+the curriculum its signals, log and checkpoint. Everything around the update is here and the same
+for every learner: the env and its level source, the network, the episode log (``log.csv``) and
+the update log (``updates.csv``, from the first update on), checkpoints, snapshots, and the
+curriculum's hooks (``CurriculumHooks``): before the update the run's ``trains_on`` (the
+rollout's ``train_mask``: PLR⊥ trains on replayed levels only); after it, for a curriculum that
+learns, the batch's per-level signals (``gvgai_pcg.curricula.signals``) with the learner's
+per-step ``advantage``, ``state_value`` and ``value_target`` (``Update.signals``) averaged over
+each level's steps, and for one that plays the policy (SFL) the acting policy. A run lives in one
 directory and continues from its checkpoint when started again: same frame count, same
 difficulty, the logs cut back to the checkpoint.
 
@@ -35,6 +37,7 @@ from pathlib import Path
 import numpy as np
 import torch
 from omegaconf import DictConfig, OmegaConf
+from tensordict import TensorDictBase
 from torchrl.collectors import MultiSyncCollector
 from torchrl.envs import EnvBase
 from torchrl.modules import ProbabilisticActor
@@ -164,10 +167,7 @@ def _train(
     tracker = EpisodeTracker(workers * int(cfg.env.num_envs))
     losses_since_row: list[torch.Tensor] = []
     losses_since_update_row: list[torch.Tensor] = []
-    # the curriculum's hooks: each batch's per-level signals to a curriculum that learns; the
-    # acting policy after each update to one that plays it (SFL)
-    feedback = feedback_for(levels)
-    plays_policy = levels.plays_policy
+    hooks = CurriculumHooks(levels, obs_key, cfg.device)
     every = int(cfg.checkpoint.every_frames)
     next_checkpoint = (frames // every + 1) * every
     snapshots = Snapshots(run_dir, int(cfg.checkpoint.get("keep_every_frames", 0)), frames)
@@ -198,9 +198,7 @@ def _train(
         rollout = rollout.reshape(-1, rollout.shape[-1])  # [envs, n_steps] (workers stacked)
         tracker.update(rollout)
 
-        # --- curriculum: the steps to learn from (PLR⊥ keeps new levels' out of the gradient) ---
-        if feedback is not None:
-            feedback.mark_trained_steps(rollout)
+        hooks.before_update(rollout)
 
         # --- update: the learner's, checked by the divergence guard before each step ---
         check = functools.partial(session.guard.check_update, frames=frames + rollout.numel())
@@ -213,15 +211,7 @@ def _train(
         stacked = update.stacked()
         losses_since_row.append(stacked)
         losses_since_update_row.append(stacked)
-
-        # --- curriculum: what happened on each level; the new policy to one that plays it ---
-        if feedback is not None:
-            signals = update.signals or {}
-            feedback(
-                rollout, **{key: signals.get(key) for key in ("advantage", "state_value", "value_target")}
-            )
-        if plays_policy:
-            levels.between_updates(acting_policy(net, obs_key, cfg.device), frames)
+        hooks.after_update(rollout, update, net, frames)
 
         # --- update log: the first update, then every log.every_update_frames ---
         if frames >= next_update_row:
@@ -311,6 +301,32 @@ def _train(
         stopped_by,
         update_log.path,
     )
+
+
+class CurriculumHooks:
+    """The loop's two calls to the curriculum's run: ``before_update`` (the steps the learner may
+    take gradients from: PLR⊥ keeps new levels out) and ``after_update`` (what happened on each
+    level, with the learner's per-step signals; then the new policy, to a curriculum that plays
+    it). Signals are computed only for a curriculum that learns, a policy built only for one that
+    plays it."""
+
+    LEARNING = ("advantage", "state_value", "value_target")
+
+    def __init__(self, run: CurriculumRun, obs_key: str, device: str) -> None:
+        self.run, self.obs_key, self.device = run, obs_key, device
+        self.feedback = feedback_for(run)
+        self.plays_policy = run.plays_policy
+
+    def before_update(self, rollout: TensorDictBase) -> None:
+        if self.feedback is not None:
+            self.feedback.mark_trained_steps(rollout)
+
+    def after_update(self, rollout: TensorDictBase, update, net: torch.nn.Module, frames: int) -> None:
+        if self.feedback is not None:
+            signals = update.signals or {}
+            self.feedback(rollout, **{key: signals.get(key) for key in self.LEARNING})
+        if self.plays_policy:
+            self.run.between_updates(acting_policy(net, self.obs_key, self.device), frames)
 
 
 def acting_policy(net: torch.nn.Module, obs_key: str, device: str):
