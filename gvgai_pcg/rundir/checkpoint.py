@@ -2,8 +2,9 @@
 that a file can neither run code nor be used where it does not belong.
 
 A checkpoint (``checkpoints/last.pt``) holds everything needed to continue a run as if it had
-not stopped: the model, the optimizer, the difficulty (the ``DifficultyTransform``'s state), the
-frame and episode counters, the number of log rows written before it, the RNG states and the
+not stopped: the model, the optimizer, the curriculum's shared state (``CurriculumRun.state_dict``:
+PPCG's d, PLR's buffer; under ``curriculum``, or ``difficulty`` in checkpoints written before),
+the frame and episode counters, the number of log rows written before it, the RNG states and the
 resolved config. A final model (``model.pt``) holds the weights, the config and the frames. Both
 carry the format version and their identity (game, observation kind, model and width), and
 hold tensors and plain data only (no NumPy arrays, no classes), so they load with
@@ -42,6 +43,8 @@ PREVIOUS_NAME = "prev.pt"
 # Config sections that may change between a run and its resumption (budget, bookkeeping). Not
 # ``collector``: its workers multiply the batch of an update and the pace of the difficulty, as
 # ``env.num_envs`` does.
+# The curriculum's shared state: its key, and the key it had before (PPCG's d was all it held).
+CURRICULUM_KEY, LEGACY_CURRICULUM_KEY = "curriculum", "difficulty"
 MAY_CHANGE = ("total_frames", "device", "threads", "checkpoint", "log", "out_dir", "run_name")
 
 
@@ -336,15 +339,21 @@ def load_checkpoint(path: Path, config: dict[str, Any], level_set: str | None = 
     return state
 
 
-def restore(
-    state: dict[str, Any], model: torch.nn.Module, optimizer: torch.optim.Optimizer, difficulty
-) -> None:
-    """Load the saved model, optimizer, difficulty and RNG states into the live objects."""
+def curriculum_state(state: dict[str, Any]) -> dict[str, Any] | None:
+    """The curriculum's shared state a checkpoint holds (``None``: none), under its key or, in a
+    checkpoint written before the key was named for what it holds, under ``difficulty``."""
+    if CURRICULUM_KEY in state:
+        return state[CURRICULUM_KEY]
+    return state.get(LEGACY_CURRICULUM_KEY)
+
+
+def restore(state: dict[str, Any], model: torch.nn.Module, optimizer: torch.optim.Optimizer, run) -> None:
+    """Load the saved model, optimizer, curriculum (``run``: a ``CurriculumRun``) and RNG states
+    into the live objects."""
     try:
         model.load_state_dict(state["model"])
         optimizer.load_state_dict(state["optimizer"])
-        if difficulty is not None:
-            difficulty.load_state_dict(state["difficulty"])
+        run.load_state_dict(curriculum_state(state))
     except (RuntimeError, KeyError, ValueError) as error:
         raise CheckpointError(f"the checkpoint does not fit this run's model/optimizer: {error}") from error
     set_rng_states(state["rng"])

@@ -94,7 +94,7 @@ def test_sigterm_to_a_run_with_collector_workers_stops_it_and_it_resumes(tmp_pat
     assert first.returncode == 143, err[-3000:]
     assert err.strip().splitlines()[-1].startswith("gvgai-pcg train: stopped by SIGTERM at ")
     saved = torch.load(run_dir / "checkpoints" / "last.pt", weights_only=True)
-    assert saved["difficulty"]["shared_difficulty"][0] > 0
+    assert saved["curriculum"]["shared_difficulty"][0] > 0
     second = subprocess.run(
         [*command, f"total_frames={saved['frames'] + 160}"], capture_output=True, text=True, timeout=300
     )

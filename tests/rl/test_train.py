@@ -112,7 +112,7 @@ def test_a_killed_run_resumes_at_its_checkpoint(tmp_path):
         if first.poll() is None:
             first.kill()
     saved = torch.load(checkpoint, weights_only=False)
-    saved_difficulty = float(saved["difficulty"]["shared_difficulty"][0])
+    saved_difficulty = float(saved["curriculum"]["shared_difficulty"][0])
     assert saved_difficulty > 0.0
     rows_at_kill = read_log(run_dir / "log.csv")
 
@@ -143,7 +143,7 @@ def test_collector_workers_move_one_difficulty(make_config, tmp_path):
     )
     train(cfg, tmp_path / "run")
     saved = torch.load(tmp_path / "run" / "checkpoints" / "last.pt", weights_only=False)
-    assert float(saved["difficulty"]["shared_difficulty"][0]) == pytest.approx(0.16 * 5, abs=1e-6)
+    assert float(saved["curriculum"]["shared_difficulty"][0]) == pytest.approx(0.16 * 5, abs=1e-6)
 
 
 def test_a_finished_run_started_again_trains_no_further(make_config, tmp_path):

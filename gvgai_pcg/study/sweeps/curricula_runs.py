@@ -17,6 +17,7 @@ from gvgai_pcg.games.registry import get_game_spec
 from gvgai_pcg.games.render import level_pictures
 from gvgai_pcg.levels import human_level
 from gvgai_pcg.rundir.atomic_files import atomic_savefig
+from gvgai_pcg.rundir.checkpoint import curriculum_state
 from gvgai_pcg.rundir.run_log import read_log
 
 REPLAY_PICTURE = "replay.png"
@@ -49,11 +50,11 @@ def replay_levels_of(run: Path, k: int = REPLAY_LEVELS) -> list:
     curriculum = registered_curricula().get(config.get("regimen", {}).get("name"))
     if curriculum is None or not checkpoint.is_file():
         return []  # not this checkout's curriculum, or nothing trained
-    state = curriculum.make_state(config["game"]["name"], config["regimen"])
-    saved = load_state(checkpoint).get("difficulty")
-    if state is not None and saved is not None:
-        state.load_state_dict(saved)
-    return list(curriculum.replay_levels(state, k))[:k]
+    run = curriculum.start(config["game"]["name"], config["regimen"])
+    saved = curriculum_state(load_state(checkpoint))
+    if run.state is not None and saved is not None:
+        run.load_state_dict(saved)
+    return list(curriculum.replay_levels(run.state, k))[:k]
 
 
 def write_levels_picture(levels: Sequence, path: Path, title: str = "") -> Path | None:
