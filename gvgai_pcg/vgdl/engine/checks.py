@@ -10,6 +10,7 @@ table) stops here.
 
 from __future__ import annotations
 
+from gvgai_pcg.vgdl.engine.layout import held_resources
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.java_classes import defaults_of
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
@@ -24,6 +25,7 @@ SPRITE_KERNELS: dict[str, tuple[str, frozenset[str]]] = {
     "OrientedFlicker": (RECORD, frozenset({"limit", "singleton"})),
     "ShootAvatar": (RECORD, frozenset({"stype", "speed"})),
     "RandomNPC": (TABLE, frozenset({"speed", "cooldown", "cons"})),
+    "Resource": (GRID, frozenset({"limit", "value"})),
 }
 # Parameters that change only how a sprite is drawn.
 COSMETIC = frozenset(
@@ -34,7 +36,12 @@ EFFECT_KERNELS: dict[str, frozenset[str]] = {
     "stepBack": frozenset(),
     "killSprite": frozenset({"scoreChange"}),
     "transformTo": frozenset({"scoreChange", "stype", "killSecond"}),
+    "collectResource": frozenset({"scoreChange"}),
+    "killIfOtherHasMore": frozenset({"scoreChange", "resource", "limit"}),
+    "killIfFromAbove": frozenset({"scoreChange"}),
 }
+# Effects that read or change a record's resources (``resources``).
+RESOURCE_EFFECTS = frozenset({"collectResource", "killIfOtherHasMore"})
 TERMINATION_KERNELS = {"SpriteCounter": frozenset({"stype", "limit", "win"})}
 
 
@@ -137,7 +144,13 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
     seconds = {plan.types[name].representation for name in rule.seconds}
     if rule.name != "stepBack" and GRID in representations and GRID in seconds:
         raise VGDLError(path, line, f"{rule.name} between two static types is not implemented")
-    if rule.name == "transformTo":
+    if rule.name in RESOURCE_EFFECTS:
+        _check_resource_rule(plan, rule)
+    if rule.name == "killIfFromAbove" and GRID in representations | seconds:
+        raise VGDLError(path, line, "killIfFromAbove with a still (grid) type is not implemented")
+    if rule.name == "transformTo" and any(held_resources(plan, name) for name in rule.firsts):
+        raise VGDLError(path, line, "transformTo of a sprite holding resources is not implemented")
+    if rule.name == "transformTo" and not _into_grid(plan, rule):
         stype = rule.values.get("stype")
         target = plan.types.get(stype) if isinstance(stype, str) else None
         if (
@@ -155,9 +168,53 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
             raise VGDLError(
                 path, line, f"{rule.name} among sprites of one group is implemented for one table only"
             )
-    elif rule.kind not in ("P", "A"):
+    elif rule.kind not in ("P", "A") and not (rule.kind == "X" and rule.name == "collectResource"):
         raise VGDLError(
             path, line, f"{rule.name}: a rule of kind {rule.kind} ({rule.why}) is not implemented"
+        )
+
+
+def _into_grid(plan: Plan, rule: RulePlan) -> bool:
+    """transformTo from table types on whole cells into a grid type (``transform_grid``); refuses
+    the rest of what goes into a grid."""
+    stype = rule.values.get("stype")
+    target = plan.types.get(stype) if isinstance(stype, str) else None
+    if target is None or target.representation != GRID:
+        return False
+    firsts = [plan.types[name] for name in rule.firsts]
+    if (
+        any(sprite.representation != TABLE or not sprite.aligned for sprite in firsts)
+        or rule.values.get("killSecond")
+        or stype in rule.firsts + rule.seconds
+    ):
+        raise VGDLError(
+            plan.path,
+            rule.line,
+            "transformTo into a still (grid) type is implemented from table types on whole cells, "
+            "without killSecond, into a type the rule does not name",
+        )
+    return True
+
+
+def _check_resource_rule(plan: Plan, rule: RulePlan) -> None:
+    """collectResource and killIfOtherHasMore: a grid type as first (collectResource: a Resource),
+    avatar records on whole cells holding the resource as seconds."""
+    firsts = [plan.types[name] for name in rule.firsts]
+    seconds = [plan.types[name] for name in rule.seconds]
+    resource = rule.firsts[0] if rule.name == "collectResource" else str(rule.values.get("resource"))
+    if (
+        len(firsts) != 1
+        or firsts[0].representation != GRID
+        or (rule.name == "collectResource" and firsts[0].java_class != "Resource")
+        or any(sprite.representation != RECORD or not sprite.aligned for sprite in seconds)
+        or any(resource not in held_resources(plan, name) for name in rule.seconds)
+        or plan.types[resource].values.get("resource_name") is not None
+    ):
+        raise VGDLError(
+            plan.path,
+            rule.line,
+            f"{rule.name} is implemented from one still (grid) type onto records on whole cells "
+            "that collect the resource",
         )
 
 

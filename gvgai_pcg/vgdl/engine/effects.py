@@ -20,7 +20,10 @@ from gvgai_pcg.games.geometry import NONE, aligned_cell, covered_cells
 from gvgai_pcg.games.rules import step_back_in_order
 from gvgai_pcg.vgdl.engine.checks import score_of
 from gvgai_pcg.vgdl.engine.frame import Entry, Frame, Side, sides
+from gvgai_pcg.vgdl.engine.from_above import kill_if_from_above
 from gvgai_pcg.vgdl.engine.layout import FLICKERS, Layout
+from gvgai_pcg.vgdl.engine.resources import collect_resource, kill_if_other_has_more
+from gvgai_pcg.vgdl.engine.transform_grid import transform_into_grid
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.layout import GRID, RECORD
 from gvgai_pcg.vgdl.plan import RulePlan
@@ -43,8 +46,7 @@ def make_rules(layout: Layout) -> tuple[Rule, ...]:
             tuple(sides(layout, rule.firsts)),
             tuple(sides(layout, rule.seconds)),
             score_of(layout.plan, rule),
-            f"{layout.plan.path}:{rule.line}: {rule.name} into {rule.values.get('stype')!r}, "
-            "which already holds its one sprite",
+            _overflow(layout, rule),
         )
         if rule.kind == "F" and (len(made.firsts) != 1 or made.seconds != made.firsts):
             raise VGDLError(
@@ -52,6 +54,14 @@ def make_rules(layout: Layout) -> tuple[Rule, ...]:
             )
         rules.append(made)
     return tuple(rules)
+
+
+def _overflow(layout: Layout, rule: RulePlan) -> str:
+    made = str(rule.values.get("stype"))
+    where = f"{layout.plan.path}:{rule.line}: {rule.name} into {made!r}"
+    if made in layout.grids:
+        return f"{where} off the grid of every level of the batch, where no cell holds it"
+    return f"{where}, which already holds its one sprite"
 
 
 def apply_rule(frame: Frame, rule: Rule) -> None:
@@ -119,6 +129,9 @@ def transform_to(frame: Frame, rule: Rule) -> None:
     list order with ``killSecond``; once, since it is then killed. A disabled first is not
     transformed but scores for every second it overlaps (Java adds the score anyway)."""
     made = str(rule.plan.values["stype"])
+    if made in frame.layout.grids:
+        transform_into_grid(frame, rule)
+        return
     target = frame.entry(made)
     for first in rule.firsts:
         record = frame.entry(first.key)
@@ -188,4 +201,7 @@ KERNELS: dict[str, Callable[[Frame, Rule], None]] = {
     "stepBack": step_back,
     "killSprite": kill_sprite,
     "transformTo": transform_to,
+    "collectResource": collect_resource,
+    "killIfOtherHasMore": kill_if_other_has_more,
+    "killIfFromAbove": kill_if_from_above,
 }

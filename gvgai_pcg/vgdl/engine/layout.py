@@ -17,7 +17,13 @@ sprite's slot in its group's table, ``stream`` is ``1 + `` the rank of its group
 groups that draw (in drawing order of each group's first kind). Every draw of one sprite in one
 tick therefore has its own key, whatever the batch, and Zelda's three monster types (one group,
 the only one that draws) draw exactly what the hand-written engine draws with its one monster
-table and stream 1.
+table and stream 1. Where a hand-written engine numbers its sprites in another order of the kinds
+(Boulderdash: butterflies before crabs, its update order, where the slots put crabs first), a
+game names that order (``draw_order``) and each sprite draws with its rank in it (``draw``), the
+slots keeping Java's processing order.
+
+**Resources.** A record that a ``collectResource`` can give to holds one count per resource
+type, ``resource_<type>`` (Java's resources map; the snapshot lists the counts above zero).
 """
 
 from __future__ import annotations
@@ -70,6 +76,7 @@ class Layout:
     places: Mapping[str, Place]
     avatars: tuple[str, ...]  # record types of an avatar class
     orientation: Mapping[str, int]  # each type's default direction code
+    draw_order: tuple[str, ...] = ()  # kinds in the order they take draw keys (``draw``)
 
     def group(self, key: str) -> TableGroup:
         return next(group for group in self.tables if group.key == key)
@@ -79,8 +86,9 @@ class Layout:
         return GRID if key in self.grids else RECORD if key in self.records else TABLE
 
 
-def make_layout(game: GameDescription, plan: Plan) -> Layout:
-    """The state layout of ``plan`` (``game`` gives the parents that group the tables)."""
+def make_layout(game: GameDescription, plan: Plan, draw_order: tuple[str, ...] = ()) -> Layout:
+    """The state layout of ``plan`` (``game`` gives the parents that group the tables); a drawing
+    group's kinds named in ``draw_order`` take draw keys in that order (see the docstring)."""
     types = existing_types(plan)
     grids = tuple(name for name in types if plan.types[name].representation == GRID)
     records = tuple(name for name in types if plan.types[name].representation == RECORD)
@@ -104,12 +112,22 @@ def make_layout(game: GameDescription, plan: Plan) -> Layout:
             stream += 1
         tables.append(TableGroup(key, kinds, java_class, stream if java_class in DRAWING_CLASSES else 0))
         places.update({name: Place(TABLE, key, code) for code, name in enumerate(kinds)})
+    drawing = {name for group in tables if group.stream for name in group.kinds}
+    stray = [name for name in draw_order if name not in drawing]
+    if stray:
+        raise ValueError(f"draw_order names {stray[0]!r}, which is no kind of a table that draws")
     avatars = tuple(name for name in records if is_avatar(game.types[name]))
     orientation = {
         name: DIRECTION_CODES[getattr(sprite.values.get("orientation"), "name", "DNONE")]
         for name, sprite in plan.types.items()
     }
-    return Layout(plan, types, grids, records, tuple(tables), places, avatars, orientation)
+    return Layout(plan, types, grids, records, tuple(tables), places, avatars, orientation, draw_order)
+
+
+def held_resources(plan: Plan, name: str) -> tuple[str, ...]:
+    """The resource types a ``collectResource`` can give to sprites of type ``name``."""
+    held = [rule.firsts for rule in plan.pairs if rule.name == "collectResource" and name in rule.seconds]
+    return tuple(dict.fromkeys(resource for firsts in held for resource in firsts))
 
 
 def existing_types(plan: Plan) -> tuple[str, ...]:
@@ -207,6 +225,8 @@ def _record(
     }
     if layout.plan.types[name].java_class in FLICKERS:
         values["age"] = torch.zeros(batch, dtype=torch.int64)
+    for resource in held_resources(layout.plan, name):
+        values[f"resource_{resource}"] = torch.zeros(batch, dtype=torch.int64)
     return on_device(device, values, [batch])
 
 
@@ -236,4 +256,19 @@ def _table(
     table.update({"lastx": table.get("x").clone(), "lasty": table.get("y").clone()})
     if group.java_class == "RandomNPC":
         table.update({"lastmove": zeros, "counter": zeros.clone(), "prev": torch.full_like(zeros, NONE)})
+    if group.stream:
+        table.set("draw", _draw_ranks(layout, group, table))
     return table
+
+
+def _draw_ranks(layout: Layout, group: TableGroup, table: TensorDict) -> torch.Tensor:
+    """Each slot's draw key: its rank by (kind in ``draw_order``, slot), the free slots last in
+    slot order; without a ``draw_order`` for the group, the slot itself."""
+    named = [name for name in layout.draw_order if name in group.kinds]
+    order = named + [name for name in group.kinds if name not in named]
+    rank = torch.tensor([order.index(name) for name in group.kinds], device=table.device)
+    kind, alive = table.get("kind"), table.get("alive")
+    slots = kind.shape[1]
+    slot = torch.arange(slots, device=kind.device).expand_as(kind)
+    key = torch.where(alive, rank[kind] * slots + slot, len(order) * slots + slot)
+    return key.argsort(dim=1).argsort(dim=1)
