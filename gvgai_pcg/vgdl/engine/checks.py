@@ -82,6 +82,7 @@ def check_engine(game: GameDescription, plan: Plan) -> None:
         raise VGDLError(path, rule.line, "timed effects are not implemented by the generic step yet")
     for rule in plan.pairs:
         _check_rule(plan, rule)
+    _check_off_grid(plan)
     for termination in plan.terminations:
         settable = TERMINATION_KERNELS.get(termination.java_class)
         if settable is None:
@@ -194,6 +195,28 @@ def _into_grid(plan: Plan, rule: RulePlan) -> bool:
             "without killSecond, into a type the rule does not name",
         )
     return True
+
+
+def _check_off_grid(plan: Plan) -> None:
+    """A grid type that a table transforms into also has sprites off the array (``off_grid``):
+    read only as a second, a termination's count or collectResource's
+    first."""
+    made: dict[str, set[str]] = {}
+    for rule in plan.pairs:
+        stype = rule.values.get("stype")
+        if rule.name == "transformTo" and isinstance(stype, str) and plan.types[stype].representation == GRID:
+            made.setdefault(stype, set()).update(rule.firsts)
+    for rule in plan.pairs:
+        reads_first = rule.name not in ("stepBack", "collectResource") and set(rule.firsts) & set(made)
+        reads_second = (
+            rule.name == "transformTo" and rule.values.get("killSecond") and set(rule.seconds) & set(made)
+        )
+        if reads_first or reads_second:
+            raise VGDLError(
+                plan.path,
+                rule.line,
+                f"{rule.name} of a type that transformTo makes from table sprites is not implemented",
+            )
 
 
 def _check_resource_rule(plan: Plan, rule: RulePlan) -> None:

@@ -46,7 +46,8 @@ def make_rules(layout: Layout) -> tuple[Rule, ...]:
             tuple(sides(layout, rule.firsts)),
             tuple(sides(layout, rule.seconds)),
             score_of(layout.plan, rule),
-            _overflow(layout, rule),
+            f"{layout.plan.path}:{rule.line}: {rule.name} into {rule.values.get('stype')!r}, "
+            "which already holds its one sprite",
         )
         if rule.kind == "F" and (len(made.firsts) != 1 or made.seconds != made.firsts):
             raise VGDLError(
@@ -54,14 +55,6 @@ def make_rules(layout: Layout) -> tuple[Rule, ...]:
             )
         rules.append(made)
     return tuple(rules)
-
-
-def _overflow(layout: Layout, rule: RulePlan) -> str:
-    made = str(rule.values.get("stype"))
-    where = f"{layout.plan.path}:{rule.line}: {rule.name} into {made!r}"
-    if made in layout.grids:
-        return f"{where} off the grid of every level of the batch, where no cell holds it"
-    return f"{where}, which already holds its one sprite"
 
 
 def apply_rule(frame: Frame, rule: Rule) -> None:

@@ -32,6 +32,7 @@ from gvgai_pcg.vgdl.engine.effects import apply_rule, make_rules
 from gvgai_pcg.vgdl.engine.frame import Frame
 from gvgai_pcg.vgdl.engine.layout import Layout, compile_state, held_resources, make_layout
 from gvgai_pcg.vgdl.engine.npcs import update_npcs
+from gvgai_pcg.vgdl.engine.off_grid import off_key
 from gvgai_pcg.vgdl.engine.terminations import check_terminations
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.layout import GRID, RECORD
@@ -187,6 +188,10 @@ class VGDLGame(Game):
                     grid = s.get(name)
                     for row, column in grid.nonzero().tolist():
                         sprites += [[name, 10 * column, 10 * row]] * int(grid[row, column])
+                if name in layout.spills:
+                    off = s.get(off_key(name))
+                    for slot in off.get("alive").nonzero().flatten().tolist():
+                        sprites.append([name, off.get("x")[slot].item(), off.get("y")[slot].item()])
             elif place.representation == RECORD:
                 record = s.get(name)
                 if name not in layout.avatars and record.get("alive").item():

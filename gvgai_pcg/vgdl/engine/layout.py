@@ -29,7 +29,7 @@ type, ``resource_<type>`` (Java's resources map; the snapshot lists the counts a
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import torch
@@ -38,6 +38,8 @@ from tensordict import TensorDict
 from gvgai_pcg.games.base import char_codes, char_entities, common_state, on_device
 from gvgai_pcg.games.geometry import CELL, DOWN, LEFT, NONE, RIGHT, UP
 from gvgai_pcg.levels import Level
+from gvgai_pcg.vgdl.engine.off_grid import off_key
+from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE, is_avatar
 from gvgai_pcg.vgdl.model import GameDescription
 from gvgai_pcg.vgdl.plan import Plan
@@ -77,6 +79,8 @@ class Layout:
     avatars: tuple[str, ...]  # record types of an avatar class
     orientation: Mapping[str, int]  # each type's default direction code
     draw_order: tuple[str, ...] = ()  # kinds in the order they take draw keys (``draw``)
+    # grid types a table transforms into -> that table: their sprites off the array (``off_grid``)
+    spills: Mapping[str, str] = field(default_factory=dict)
 
     def group(self, key: str) -> TableGroup:
         return next(group for group in self.tables if group.key == key)
@@ -121,7 +125,19 @@ def make_layout(game: GameDescription, plan: Plan, draw_order: tuple[str, ...] =
         name: DIRECTION_CODES[getattr(sprite.values.get("orientation"), "name", "DNONE")]
         for name, sprite in plan.types.items()
     }
-    return Layout(plan, types, grids, records, tuple(tables), places, avatars, orientation, draw_order)
+    spills: dict[str, str] = {}
+    for rule in plan.pairs:
+        made = rule.values.get("stype")
+        if rule.name != "transformTo" or made not in grids:
+            continue
+        for source in {places[name].key for name in rule.firsts if name in places}:
+            if spills.setdefault(str(made), source) != source:
+                raise VGDLError(
+                    plan.path, rule.line, f"transformTo into {made} from two tables is not implemented"
+                )
+    return Layout(
+        plan, types, grids, records, tuple(tables), places, avatars, orientation, draw_order, spills
+    )
 
 
 def held_resources(plan: Plan, name: str) -> tuple[str, ...]:
@@ -170,6 +186,11 @@ def compile_state(
         state[name] = _record(layout, name, codes, mapping, levels, device)
     for group in layout.tables:
         state[group.key] = _table(layout, group, levels, mapping, device)
+    for name, source in layout.spills.items():
+        table = state[source]
+        zeros = torch.zeros(table.batch_size, dtype=torch.int64, device=device)
+        values = {"x": zeros, "y": zeros.clone(), "alive": zeros.bool()}
+        state[off_key(name)] = TensorDict(values, batch_size=table.batch_size, device=device)
     return on_device(device, state, [batch])
 
 

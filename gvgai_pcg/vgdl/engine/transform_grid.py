@@ -2,8 +2,8 @@
 becomes a diamond): the new sprite is one more in the count of the first's cell.
 
 The first is on whole cells (``checks``), so its cell is one grid cell, as long as it is on the
-grid's array: a sprite that has walked off every level of the batch would make a sprite that no
-cell can hold, which stops the tick with an error instead of being dropped.
+grid's array; off it, the new sprite goes to the grid type's table of sprites off the array, in
+the first's slot (``off_grid``).
 """
 
 from __future__ import annotations
@@ -12,9 +12,9 @@ from typing import TYPE_CHECKING
 
 import torch
 
-from gvgai_pcg._private_apis import assert_async
 from gvgai_pcg.games.geometry import aligned_cell
 from gvgai_pcg.vgdl.engine.frame import Frame
+from gvgai_pcg.vgdl.engine.off_grid import off_key, put_off_grid
 
 if TYPE_CHECKING:
     from gvgai_pcg.vgdl.engine.effects import Rule
@@ -33,7 +33,8 @@ def transform_into_grid(frame: Frame, rule: Rule) -> None:
         )
         index, inside = aligned_cell(x, y, height, width)
         index, inside = index.squeeze(-1), inside.squeeze(-1)
-        assert_async(~(fire & ~inside).any(), rule.overflow)
+        off = frame.entry(off_key(made))
+        off.update(put_off_grid(off.values, fire & ~inside, x, y))
         added = torch.zeros(batch, height * width, dtype=grid.dtype, device=grid.device)
         added = added.scatter_add(1, index, (fire & inside).to(grid.dtype))
         grid = grid + added.view(grid.shape)
