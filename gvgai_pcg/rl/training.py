@@ -44,20 +44,20 @@ from gvgai_pcg.engine.step_plan import compile_pays_back
 from gvgai_pcg.engine.threads import threads_for_batch
 from gvgai_pcg.levels.sets import level_set_fingerprint
 from gvgai_pcg.progress import progress
-from gvgai_pcg.rl.checkpoint import restore, save_model
 from gvgai_pcg.rl.curves import plot_curve
 from gvgai_pcg.rl.environment import EnvFactory, make_difficulty
 from gvgai_pcg.rl.learners import learner_class
 from gvgai_pcg.rl.learners.base import Learner
 from gvgai_pcg.rl.main_guard import refuse_without_main_guard
 from gvgai_pcg.rl.models import actor_critic_for, as_tensordict_module
-from gvgai_pcg.rl.provenance import record_session
 from gvgai_pcg.rl.rollout import ActingRollouts
-from gvgai_pcg.rl.run_log import EpisodeTracker, RunLog
 from gvgai_pcg.rl.run_session import RunSession, open_run
-from gvgai_pcg.rl.snapshots import Snapshots
-from gvgai_pcg.rl.stop_signal import StopSignal, ignoring_stop_signals
-from gvgai_pcg.rl.update_log import UpdateLog, mean_losses
+from gvgai_pcg.rundir.checkpoint import restore, save_model
+from gvgai_pcg.rundir.provenance import record_session
+from gvgai_pcg.rundir.run_log import EpisodeTracker, RunLog
+from gvgai_pcg.rundir.snapshots import Snapshots
+from gvgai_pcg.rundir.stop_signal import StopSignal, ignoring_stop_signals
+from gvgai_pcg.rundir.update_log import UpdateLog, mean_losses
 
 log = logging.getLogger(__name__)
 

@@ -102,7 +102,7 @@ def test_its_config_composes_and_is_checked():
 
 def test_it_trains_and_resumes_with_its_buffer(tmp_path, monkeypatch):
     from gvgai_pcg.rl import train
-    from gvgai_pcg.rl.checkpoint import read_file
+    from gvgai_pcg.rundir.checkpoint import read_file
 
     monkeypatch.setenv("GVGAI_PCG_COMPILE", "0")
     options = [

@@ -16,8 +16,8 @@ import yaml
 from omegaconf import OmegaConf
 
 from gvgai_pcg.config import compose_config, validate
-from gvgai_pcg.rl.checkpoint import config_differences
 from gvgai_pcg.rl.environment import make_difficulty, training_levels, training_source
+from gvgai_pcg.rundir.checkpoint import config_differences
 
 ROOT = Path(__file__).resolve().parents[2]
 RUNS = sorted((ROOT / "results" / "small" / "runs").glob("*/config.yaml"))

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import torch
 
-from gvgai_pcg.rl.checkpoint import (
+from gvgai_pcg.rundir.checkpoint import (
     FORMAT_VERSION,
     CheckpointError,
     NonFiniteModelError,
@@ -132,7 +132,7 @@ def test_a_model_of_another_game_or_observation_is_refused(tmp_path):
 
 
 def test_a_checkpoint_from_before_level_sets_resumes_under_the_pcg_defaults():
-    from gvgai_pcg.rl.checkpoint import config_differences
+    from gvgai_pcg.rundir.checkpoint import config_differences
 
     before = {"regimen": {"name": "pcg", "difficulty": 1.0, "win_rule": "game", "tag": "pcg1.0"}}
     now = {"regimen": {**before["regimen"], "num_levels": 0, "start_seed": 0}}

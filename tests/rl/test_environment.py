@@ -12,7 +12,7 @@ from gvgai_pcg.generators import generate_level
 from gvgai_pcg.levels import Level
 from gvgai_pcg.rl import train
 from gvgai_pcg.rl.environment import EnvFactory, make_difficulty, training_levels
-from gvgai_pcg.rl.run_log import read_log
+from gvgai_pcg.rundir.run_log import read_log
 
 TINY = ["env.num_envs=8", "env.max_steps=20", "total_frames=400", "log.every_episodes=8", "log.curve=false"]
 

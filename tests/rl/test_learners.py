@@ -23,8 +23,8 @@ from gvgai_pcg.rl.learners import get_learner_spec, learner_class, register_lear
 from gvgai_pcg.rl.learners import registry as learner_registry
 from gvgai_pcg.rl.learners.ppo import PPO
 from gvgai_pcg.rl.models import as_tensordict_module, make_actor_critic
-from gvgai_pcg.rl.run_log import read_log
-from gvgai_pcg.rl.update_log import read_updates
+from gvgai_pcg.rundir.run_log import read_log
+from gvgai_pcg.rundir.update_log import read_updates
 from tests.rl import toy_learner
 
 REPO = Path(__file__).resolve().parents[2]

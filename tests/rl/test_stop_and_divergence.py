@@ -16,7 +16,7 @@ import torch
 from gvgai_pcg.cli import main
 from gvgai_pcg.rl import train
 from gvgai_pcg.rl.divergence import DivergenceError, DivergenceGuard
-from gvgai_pcg.rl.run_log import EpisodeTracker, read_log
+from gvgai_pcg.rundir.run_log import EpisodeTracker, read_log
 from tests.rl.conftest import needs_generated_levels
 from tests.waiting import PATIENCE_S
 

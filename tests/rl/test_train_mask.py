@@ -17,8 +17,8 @@ from gvgai_pcg.rl.a2c_loss import A2CLoss
 from gvgai_pcg.rl.learners.a2c import A2C
 from gvgai_pcg.rl.learners.ppo import PPO
 from gvgai_pcg.rl.models import as_tensordict_module, make_actor_critic
-from gvgai_pcg.rl.run_log import RunLog, read_log
-from gvgai_pcg.rl.update_log import UpdateLog, mean_losses, read_updates
+from gvgai_pcg.rundir.run_log import RunLog, read_log
+from gvgai_pcg.rundir.update_log import UpdateLog, mean_losses, read_updates
 from tests.rl.test_a2c_loss import TableNet
 from tests.rl.test_learners import _rollout
 

@@ -2,10 +2,9 @@
 refused in one line naming the file, the line and the feature, never run as something else.
 
 ``support`` lists the features some hand-written engine implements; the generic step has kernels
-for the classes, effects, terminations and parameters below (what Zelda uses), and for the
-representations the plan gives them there. A description that passes ``check_supported`` but
-needs anything else (an EOS rule, a Missile, a parameter off its Java default, a creation into a
-table) stops here.
+for the classes, effects (EOS rules too), terminations and parameters below (what Zelda and
+Frogs use), and for the representations the plan gives them there. A description that passes
+``check_supported`` but needs anything else (a parameter off its Java default, say) stops here.
 """
 
 from __future__ import annotations
@@ -26,6 +25,9 @@ SPRITE_KERNELS: dict[str, tuple[str, frozenset[str]]] = {
     "ShootAvatar": (RECORD, frozenset({"stype", "speed"})),
     "RandomNPC": (TABLE, frozenset({"speed", "cooldown", "cons"})),
     "Resource": (GRID, frozenset({"limit", "value"})),
+    "MovingAvatar": (RECORD, frozenset()),
+    "Missile": (TABLE, frozenset({"speed", "orientation"})),
+    "SpawnPoint": (GRID, frozenset({"stype", "prob", "cooldown"})),
 }
 # Parameters that change only how a sprite is drawn.
 COSMETIC = frozenset(
@@ -39,6 +41,14 @@ EFFECT_KERNELS: dict[str, frozenset[str]] = {
     "collectResource": frozenset({"scoreChange"}),
     "killIfOtherHasMore": frozenset({"scoreChange", "resource", "limit"}),
     "killIfFromAbove": frozenset({"scoreChange"}),
+    "shieldFrom": frozenset({"scoreChange", "stype", "ftype", "istype", "iftype"}),
+    "pullWithIt": frozenset(),
+}
+# Per effect an EOS rule may apply (``eos``), the parameters its kernel reads.
+EDGE_KERNELS: dict[str, frozenset[str]] = {
+    "stepBack": frozenset(),
+    "killSprite": frozenset({"scoreChange"}),
+    "wrapAround": frozenset({"scoreChange"}),
 }
 # Effects that read or change a record's resources (``resources``).
 RESOURCE_EFFECTS = frozenset({"collectResource", "killIfOtherHasMore"})
@@ -76,8 +86,12 @@ def check_engine(game: GameDescription, plan: Plan) -> None:
                 )
         if sprite.java_class == "ShootAvatar":
             _check_shooter(plan, name)
+        if sprite.java_class == "Missile":
+            _check_missile(plan, name)
+        if sprite.java_class == "SpawnPoint":
+            _check_spawner(plan, name)
     for rule in plan.eos:
-        raise VGDLError(path, rule.line, "EOS rules are not implemented by the generic step yet")
+        _check_edge_rule(plan, rule)
     for rule in plan.timed:
         raise VGDLError(path, rule.line, "timed effects are not implemented by the generic step yet")
     for rule in plan.pairs:
@@ -127,6 +141,49 @@ def _check_shooter(plan: Plan, name: str) -> None:
         )
 
 
+def _check_missile(plan: Plan, name: str) -> None:
+    orientation = getattr(plan.types[name].values.get("orientation"), "name", None)
+    if orientation not in ("DLEFT", "DRIGHT", "DUP", "DDOWN", "DNONE"):
+        raise VGDLError(
+            plan.path, plan.types[name].line, f"{name}: a Missile oriented {orientation} is not implemented"
+        )
+
+
+def _check_spawner(plan: Plan, name: str) -> None:
+    stype = plan.types[name].values.get("stype")
+    made = plan.types.get(stype) if isinstance(stype, str) else None
+    if made is None or made.representation != TABLE or made.java_class != "Missile":
+        raise VGDLError(
+            plan.path,
+            plan.types[name].line,
+            f"{name}: a SpawnPoint is implemented for an stype of one Missile type held in a table",
+        )
+
+
+def _check_edge_rule(plan: Plan, rule: RulePlan) -> None:
+    path, line = plan.path, rule.line
+    settable = EDGE_KERNELS.get(rule.name)
+    if settable is None:
+        raise VGDLError(path, line, f"EOS effect {rule.name} is not implemented by the generic step yet")
+    defaults = defaults_of("effect", rule.java_class)
+    for key, value in rule.values.items():
+        if key in settable or key in ("scoreChange", "counter", "counterElse"):
+            continue
+        if key in defaults and value != defaults[key]:
+            raise VGDLError(path, line, f"EOS {rule.name}: parameter {key}={value} is not implemented")
+    if rule.name == "stepBack" and score_of(plan, rule) != 0:
+        raise VGDLError(path, line, "stepBack with a scoreChange is not implemented")
+    for name in rule.firsts:
+        sprite = plan.types[name]
+        oriented = sprite.representation == RECORD or sprite.java_class == "Missile"
+        if rule.name == "wrapAround" and sprite.representation != GRID and not oriented:
+            raise VGDLError(
+                path,
+                line,
+                f"EOS wrapAround of {name} (a {sprite.java_class}, no orientation held) is not implemented",
+            )
+
+
 def _check_rule(plan: Plan, rule: RulePlan) -> None:
     path, line = plan.path, rule.line
     settable = EFFECT_KERNELS.get(rule.name)
@@ -163,6 +220,12 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
             raise VGDLError(
                 path, line, "transformTo is implemented from one record type (the avatar) into another"
             )
+    if rule.name == "shieldFrom":
+        _check_shield(plan, rule)
+        return
+    if rule.name == "pullWithIt":
+        _check_pull(plan, rule)
+        return
     if rule.kind == "F":
         same = set(rule.firsts) == set(rule.seconds)
         if rule.name != "stepBack" or not same or representations != {TABLE}:
@@ -238,6 +301,34 @@ def _check_resource_rule(plan: Plan, rule: RulePlan) -> None:
             rule.line,
             f"{rule.name} is implemented from one still (grid) type onto records on whole cells "
             "that collect the resource",
+        )
+
+
+def _check_shield(plan: Plan, rule: RulePlan) -> None:
+    if any(plan.types[name].representation == GRID for name in rule.firsts):
+        raise VGDLError(plan.path, rule.line, "shieldFrom of a still (grid) type is not implemented")
+    if str(rule.values.get("ftype")) not in EFFECT_KERNELS:
+        raise VGDLError(plan.path, rule.line, f"shieldFrom: ftype={rule.values.get('ftype')} has no kernel")
+
+
+def _check_pull(plan: Plan, rule: RulePlan) -> None:
+    firsts = [plan.types[name] for name in rule.firsts]
+    seconds = {plan.types[name].java_class for name in rule.seconds}
+    same_line = [other for other in plan.pairs if other.effect == rule.effect]
+    if (
+        len(firsts) != 1
+        or firsts[0].representation != RECORD
+        or firsts[0].java_class != "MovingAvatar"
+        or seconds != {"Missile"}
+        or any(plan.types[name].representation != TABLE for name in rule.seconds)
+        or len(same_line) != 1
+        or score_of(plan, rule) != 0
+    ):
+        raise VGDLError(
+            plan.path,
+            rule.line,
+            "pullWithIt is implemented for a MovingAvatar pulled by Missiles (one table), one pair a "
+            "line, no score",
         )
 
 

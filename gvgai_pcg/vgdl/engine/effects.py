@@ -22,7 +22,9 @@ from gvgai_pcg.vgdl.engine.checks import score_of
 from gvgai_pcg.vgdl.engine.frame import Entry, Frame, Side, sides
 from gvgai_pcg.vgdl.engine.from_above import kill_if_from_above
 from gvgai_pcg.vgdl.engine.layout import FLICKERS, Layout
+from gvgai_pcg.vgdl.engine.pull import pull_with_it
 from gvgai_pcg.vgdl.engine.resources import collect_resource, kill_if_other_has_more
+from gvgai_pcg.vgdl.engine.shield import shield_from
 from gvgai_pcg.vgdl.engine.transform_grid import transform_into_grid
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.layout import GRID, RECORD
@@ -53,12 +55,20 @@ def make_rules(layout: Layout) -> tuple[Rule, ...]:
             raise VGDLError(
                 layout.plan.path, rule.line, f"{rule.name} among sprites of several tables is not implemented"
             )
+        if rule.name == "pullWithIt" and len(made.seconds) != 1:
+            raise VGDLError(
+                layout.plan.path, rule.line, "pullWithIt by sprites of several tables is not implemented"
+            )
         rules.append(made)
     return tuple(rules)
 
 
 def apply_rule(frame: Frame, rule: Rule) -> None:
+    """The rule's kernel; in envs where a shieldFrom shields the rule (its pair's first and second
+    and its effect), no first is eligible (Java skips the rule)."""
+    frame.skip = frame.shields.get((rule.plan.first, rule.plan.second, rule.plan.name))
     KERNELS[rule.plan.name](frame, rule)
+    frame.skip = None
 
 
 def step_back(frame: Frame, rule: Rule) -> None:
@@ -197,4 +207,6 @@ KERNELS: dict[str, Callable[[Frame, Rule], None]] = {
     "collectResource": collect_resource,
     "killIfOtherHasMore": kill_if_other_has_more,
     "killIfFromAbove": kill_if_from_above,
+    "shieldFrom": shield_from,
+    "pullWithIt": pull_with_it,
 }

@@ -22,7 +22,7 @@ from gvgai_pcg.vgdl.engine.off_grid import off_key, off_overlaps
 from gvgai_pcg.vgdl.layout import GRID, RECORD
 
 # The entries every state has that a tick reads or writes.
-COMMON = ("seed", "tick", "score", "won", "lost")
+COMMON = ("seed", "tick", "score", "won", "lost", "height", "width")
 
 
 @dataclass(frozen=True)
@@ -85,6 +85,9 @@ class Frame:
         self.changed: dict[str, torch.Tensor] = {}
         self.killed: dict[str, torch.Tensor] = {}  # per entry: [B] / [B, K] bool, grids [B, H, W] uint8
         self.disabled: dict[str, torch.Tensor] = {}  # per avatar record, [B] bool
+        # shieldFrom's shields, per (first leaf, stype, effect name): [B] bool (``shield``)
+        self.shields: dict[tuple[str, str, str], torch.Tensor] = {}
+        self.skip: torch.Tensor | None = None  # [B]: envs where the rule being applied is shielded
 
     def value(self, key: str) -> torch.Tensor:
         """A top-level entry: a common one (``tick``, ``score``...) or a grid."""
@@ -134,10 +137,14 @@ class Frame:
         return mask.unsqueeze(-1) if side.representation == RECORD else mask
 
     def eligible(self, side: Side) -> torch.Tensor:
-        """Sprites that may still be a rule's first: present and not killed (a disabled avatar is)."""
-        if side.key not in self.killed:
-            return self.present(side)
-        return self.present(side) & ~self.killed_mask(side)
+        """Sprites that may still be a rule's first: present and not killed (a disabled avatar is),
+        in an env where the rule is not shielded."""
+        eligible = self.present(side)
+        if side.key in self.killed:
+            eligible = eligible & ~self.killed_mask(side)
+        if self.skip is not None:
+            eligible = eligible & ~self.skip.unsqueeze(-1)
+        return eligible
 
     def kill(self, side: Side, mask: torch.Tensor) -> None:
         """Mark ``mask`` (shaped like ``present``) killed; an avatar record is disabled instead."""

@@ -2,10 +2,11 @@
 
 The tick is Java's ``gameCycle`` (CORPUS.md, "Java's tick") for any description whose features
 have kernels here (``checks``): ``tick += 1``; the avatar first (``avatar``); every other type in
-reverse drawing order (``npcs``); the collision rules pair by pair in Java's order, each pair's
-effects in line order (``effects``); cleanup of the killed sprites (``frame``); the terminations
-in declaration order (``terminations``). Every loop here is over the plan's types or rules, so it
-unrolls when the tick is traced: there is no loop over envs or sprites.
+reverse drawing order (``npcs``); the EOS rules (``eos``); the collision rules pair by pair in
+Java's order, each pair's effects in line order (``effects``); cleanup of the killed sprites
+(``frame``); the terminations in declaration order (``terminations``). Every loop here is over
+the plan's types or rules, so it unrolls when the tick is traced: there is no loop over envs or
+sprites.
 
 Each description gets a class of its own (``VGDLGame.from_text``): the engine compiles one tick
 per game class (``engine.compiled.engine_tick``).
@@ -21,7 +22,7 @@ from pathlib import Path
 import torch
 from tensordict import TensorDict
 
-from gvgai_pcg.games.actions import SHOOT_ACTIONS
+from gvgai_pcg.games.actions import MOVE_ACTIONS, SHOOT_ACTIONS
 from gvgai_pcg.games.base import Game, GridLayer, SpriteArt, SpriteLayer, golden_record, single_sprite_layer
 from gvgai_pcg.games.geometry import DIRECTION_NAMES
 from gvgai_pcg.games.spec import StepFacts
@@ -29,6 +30,7 @@ from gvgai_pcg.levels import Level
 from gvgai_pcg.vgdl.engine.avatar import update_avatars
 from gvgai_pcg.vgdl.engine.checks import check_engine
 from gvgai_pcg.vgdl.engine.effects import apply_rule, make_rules
+from gvgai_pcg.vgdl.engine.eos import apply_edge_rules, make_edge_rules
 from gvgai_pcg.vgdl.engine.frame import Frame
 from gvgai_pcg.vgdl.engine.layout import Layout, compile_state, held_resources, make_layout
 from gvgai_pcg.vgdl.engine.npcs import update_npcs
@@ -41,7 +43,7 @@ from gvgai_pcg.vgdl.parser import parse_vgdl
 from gvgai_pcg.vgdl.plan import compile_plan
 
 # Each avatar class's Gym action set.
-ACTION_SETS = {"ShootAvatar": SHOOT_ACTIONS}
+ACTION_SETS = {"ShootAvatar": SHOOT_ACTIONS, "MovingAvatar": MOVE_ACTIONS}
 # Effects that remove their first sprite, and those that also remove their second.
 KILLS_FIRST = frozenset(
     {"killSprite", "transformTo", "collectResource", "killIfOtherHasMore", "killIfFromAbove"}
@@ -115,6 +117,7 @@ class VGDLGame(Game):
 
     def __init__(self) -> None:
         self.rules = make_rules(self.layout)
+        self.edge_rules = make_edge_rules(self.layout)
         self.changing = _changing_types(self.layout)
         # the tables a stepBack among their own sprites resolves in slot order
         self.ordered = tuple(
@@ -140,6 +143,7 @@ class VGDLGame(Game):
         frame.put("tick", frame.value("tick") + 1)
         update_avatars(frame, action)
         update_npcs(frame)
+        apply_edge_rules(frame, self.edge_rules)
         for rule in self.rules:
             apply_rule(frame, rule)
         frame.cleanup()
@@ -208,8 +212,9 @@ class VGDLGame(Game):
 
 
 def _changing_types(layout: Layout) -> frozenset[str]:
-    """Grid types some rule removes or adds to: the others never change and are left out of a snapshot."""
-    changing = set()
+    """Grid types some rule removes or adds to, and spawners (they act: the traces list them); the others
+    never change and are left out of a snapshot."""
+    changing = {name for name in layout.grids if layout.plan.types[name].java_class == "SpawnPoint"}
     for rule in layout.plan.pairs:
         if rule.name in KILLS_FIRST:
             changing.update(rule.firsts)
@@ -221,8 +226,9 @@ def _changing_types(layout: Layout) -> frozenset[str]:
 
 
 def _drawn(layout: Layout, name: str) -> bool:
-    """Whether a type gets an observation channel: any but a still type no rule names."""
-    if layout.places[name].representation != GRID:
+    """Whether a type gets an observation channel: any but a still type no rule names (a
+    spawner acts, so it has one)."""
+    if layout.places[name].representation != GRID or layout.plan.types[name].java_class == "SpawnPoint":
         return True
     return any(name in rule.firsts or name in rule.seconds for rule in layout.plan.pairs)
 

@@ -24,6 +24,15 @@ slots keeping Java's processing order.
 
 **Resources.** A record that a ``collectResource`` can give to holds one count per resource
 type, ``resource_<type>`` (Java's resources map; the snapshot lists the counts above zero).
+
+The still spawners (grid ``SpawnPoint`` types) draw as one more such group,
+ranked by their first type in drawing order, keyed by their cell (``SPAWNER_ROW``): Frogs' two
+forests draw what the hand-written Frogs draws.
+
+**Missiles** (tables) carry ``ori`` (their direction code, the kind's default), ``fresh`` (the
+first update, which does not move, is still to come) and ``born`` (Java's list order: a level
+sprite's slot, then ``(tick + 1) * BORN_TICK + rank`` for one created during play), since slots
+are reused and so are not list order.
 """
 
 from __future__ import annotations
@@ -46,9 +55,17 @@ from gvgai_pcg.vgdl.plan import Plan
 
 # Java's direction constants as the package's direction codes.
 DIRECTION_CODES = {"DLEFT": LEFT, "DRIGHT": RIGHT, "DDOWN": DOWN, "DUP": UP, "DNONE": NONE, "DNIL": NONE}
-# Classes whose sprites draw a random number at each update.
+# Classes whose sprites draw a random number at each update, held in a table; and those held
+# in a grid, whose draws are keyed by their cell (``SPAWNER_ROW``).
 DRAWING_CLASSES = frozenset({"RandomNPC"})
+DRAWING_GRID_CLASSES = frozenset({"SpawnPoint"})
+# A still spawner's draw slot: ``y * SPAWNER_ROW + x`` in px, whatever the level's width.
+SPAWNER_ROW = 1 << 16
 FLICKERS = frozenset({"Flicker", "OrientedFlicker"})
+# Record classes that keep Java's ``lastmove`` (a pull goes through its cooldown gate).
+COUNTING_MOVES = frozenset({"MovingAvatar"})
+# A created sprite's ``born``: ``(tick + 1) * BORN_TICK + its rank among the tick's creations``.
+BORN_TICK = 1 << 20
 
 
 @dataclass(frozen=True)
@@ -78,6 +95,7 @@ class Layout:
     places: Mapping[str, Place]
     avatars: tuple[str, ...]  # record types of an avatar class
     orientation: Mapping[str, int]  # each type's default direction code
+    spawner_stream: int = 0  # the rng stream of the still spawners' draws; 0 if none
     draw_order: tuple[str, ...] = ()  # kinds in the order they take draw keys (``draw``)
     # grid types a table transforms into -> that table: their sprites off the array (``off_grid``)
     spills: Mapping[str, str] = field(default_factory=dict)
@@ -107,11 +125,21 @@ def make_layout(game: GameDescription, plan: Plan, draw_order: tuple[str, ...] =
     classes_per_parent: dict[str, int] = {}
     for parent, _ in grouped:
         classes_per_parent[parent] = classes_per_parent.get(parent, 0) + 1
-    tables, stream = [], 0
+    tables, stream, spawner_stream = [], 0, 0
+    first_spawner = next(
+        (name for name in grids if plan.types[name].java_class in DRAWING_GRID_CLASSES), None
+    )
     for (parent, java_class), members in grouped.items():
         order = game.types[parent].subtypes if parent in game.types else (parent,)
         kinds = tuple(sorted(members, key=order.index))
         key = parent if classes_per_parent[parent] == 1 else f"{parent}_{java_class}"
+        if (
+            first_spawner is not None
+            and not spawner_stream
+            and types.index(first_spawner) < types.index(members[0])
+        ):
+            stream += 1
+            spawner_stream = stream
         if java_class in DRAWING_CLASSES:
             stream += 1
         tables.append(TableGroup(key, kinds, java_class, stream if java_class in DRAWING_CLASSES else 0))
@@ -135,8 +163,20 @@ def make_layout(game: GameDescription, plan: Plan, draw_order: tuple[str, ...] =
                 raise VGDLError(
                     plan.path, rule.line, f"transformTo into {made} from two tables is not implemented"
                 )
+    if first_spawner is not None and not spawner_stream:
+        spawner_stream = stream + 1
     return Layout(
-        plan, types, grids, records, tuple(tables), places, avatars, orientation, draw_order, spills
+        plan,
+        types,
+        grids,
+        records,
+        tuple(tables),
+        places,
+        avatars,
+        orientation,
+        spawner_stream,
+        draw_order=draw_order,
+        spills=spills,
     )
 
 
@@ -148,14 +188,14 @@ def held_resources(plan: Plan, name: str) -> tuple[str, ...]:
 
 def existing_types(plan: Plan) -> tuple[str, ...]:
     """The types whose sprites can exist: those a level character places, and, as a fixed point,
-    the ``stype`` of a ShootAvatar or a ``transformTo`` whose source can exist. The rest (Zelda's
-    ``avatar``, a parent type with a class that nothing places) get no state and no work."""
+    the ``stype`` of a ShootAvatar, a SpawnPoint or a ``transformTo`` whose source can exist. The
+    rest (Zelda's ``avatar``, a parent type with a class that nothing places) get no state and no work."""
     found = {name for types in plan.level_mapping.values() for name in types if name in plan.types}
     while True:
         made = {
             str(plan.types[name].values["stype"])
             for name in found
-            if plan.types[name].java_class == "ShootAvatar"
+            if plan.types[name].java_class in ("ShootAvatar", "SpawnPoint")
         }
         made |= {
             str(rule.values["stype"])
@@ -177,11 +217,17 @@ def compile_state(
     batch, height, width = codes.shape
     _check_characters(codes, mapping, levels)
     state: dict[str, object] = dict(common_state(levels, seeds, device))
+    spawners = np.zeros(256, dtype=np.int64)
     for name in layout.grids:
         per_char = np.zeros(256, dtype=np.uint8)
         for char, types in mapping.items():
             per_char[ord(char)] = types.count(name)
+            if layout.plan.types[name].java_class in DRAWING_GRID_CLASSES:
+                spawners[ord(char)] += types.count(name)
         state[name] = torch.from_numpy(per_char[codes]).to(device)
+    if (spawners > 1).any():  # their draws are keyed by cell: two in one cell would draw alike
+        char = chr(int(np.flatnonzero(spawners > 1)[0]))
+        raise ValueError(f"level character {char!r} places two spawners in one cell; the engine holds one")
     for name in layout.records:
         state[name] = _record(layout, name, codes, mapping, levels, device)
     for group in layout.tables:
@@ -248,6 +294,8 @@ def _record(
         values["age"] = torch.zeros(batch, dtype=torch.int64)
     for resource in held_resources(layout.plan, name):
         values[f"resource_{resource}"] = torch.zeros(batch, dtype=torch.int64)
+    if layout.plan.types[name].java_class in COUNTING_MOVES:
+        values["lastmove"] = torch.zeros(batch, dtype=torch.int64)
     return on_device(device, values, [batch])
 
 
@@ -271,12 +319,23 @@ def _table(
     placing = np.zeros(256, dtype=np.int64)
     placing[[ord(char) for char in kinds]] = 1
     largest = int(placing[char_codes(levels)].reshape(len(levels), -1).sum(1).max(initial=0))
+    if any(layout.plan.types[name].created_by for name in group.kinds):
+        largest = max(largest, max(_created_capacity(layout, group, level) for level in levels))
     table = char_entities(levels, kinds, device, capacity=table_slots(largest))
     batch, slots = table.batch_size
     zeros = torch.zeros(batch, slots, dtype=torch.int64, device=device)
     table.update({"lastx": table.get("x").clone(), "lasty": table.get("y").clone()})
     if group.java_class == "RandomNPC":
         table.update({"lastmove": zeros, "counter": zeros.clone(), "prev": torch.full_like(zeros, NONE)})
+    if group.java_class == "Missile":
+        default = torch.tensor([layout.orientation[name] for name in group.kinds], dtype=torch.int64)
+        table.update(
+            {
+                "ori": default.to(device)[table.get("kind")],
+                "fresh": table.get("alive").clone(),
+                "born": torch.arange(slots, device=device).expand(batch, slots).clone(),
+            }
+        )
     if group.stream:
         table.set("draw", _draw_ranks(layout, group, table))
     return table
@@ -293,3 +352,10 @@ def _draw_ranks(layout: Layout, group: TableGroup, table: TensorDict) -> torch.T
     slot = torch.arange(slots, device=kind.device).expand_as(kind)
     key = torch.where(alive, rank[kind] * slots + slot, len(order) * slots + slot)
     return key.argsort(dim=1).argsort(dim=1)
+
+
+def _created_capacity(layout: Layout, group: TableGroup, level: Level) -> int:
+    """Slots the plan's capacity formulas (``gvgai_pcg.vgdl.layout.Capacity``) give ``group`` for
+    ``level``: the table is sized once, and a creation that finds it full is an error."""
+    slots = layout.plan.table_slots(level.rows)
+    return sum(slots.get(name, 0) for name in group.kinds)

@@ -1,8 +1,9 @@
 """Every other sprite's update, type by type in Java's update order (reverse drawing order).
 
-Grid types never change on their own. A table group is updated whole, at the first of its kinds
-in that order: its classes' updates touch only the sprite itself, and its draws are keyed by slot
-(``layout``'s draw-key rule), so the order of its sprites within the phase changes nothing.
+Grid types never change on their own; a grid of spawners creates sprites (``spawn``). A table
+group is updated whole, at the first of its kinds in that order: its classes' updates touch only
+the sprite itself, and its draws are keyed by slot (``layout``'s draw-key rule), so the order of
+its sprites within the phase changes nothing.
 """
 
 from __future__ import annotations
@@ -14,7 +15,9 @@ from gvgai_pcg.games.geometry import NONE, direction_dx, direction_dy
 from gvgai_pcg.games.lookup import lookup
 from gvgai_pcg.vgdl.engine.frame import Frame
 from gvgai_pcg.vgdl.engine.layout import FLICKERS, TableGroup
-from gvgai_pcg.vgdl.layout import RECORD, TABLE
+from gvgai_pcg.vgdl.engine.missiles import missile
+from gvgai_pcg.vgdl.engine.spawn import spawn_point
+from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
 
 DIRECTIONS = 4  # RandomNPC draws one of the four base directions
 
@@ -31,8 +34,12 @@ def update_npcs(frame: Frame) -> None:
             group = layout.group(place.key)
             if group.java_class == "RandomNPC":
                 random_npc(frame, group)
+            elif group.java_class == "Missile":
+                missile(frame, group)
         elif place.representation == RECORD and layout.plan.types[name].java_class in FLICKERS:
             flicker(frame, name)
+        elif place.representation == GRID and layout.plan.types[name].java_class == "SpawnPoint":
+            spawn_point(frame, name)
 
 
 def random_npc(frame: Frame, group: TableGroup) -> None:

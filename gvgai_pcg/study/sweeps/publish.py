@@ -2,7 +2,7 @@
 that is committed beside the code (``results/<budget>``).
 
 Each run, and the report, is built in a staging folder beside its place and swapped in
-(``gvgai_pcg.rl.atomic_files``), so a publish cut short by a signal, a full disk or a kill leaves
+(``gvgai_pcg.rundir.atomic_files``), so a publish cut short by a signal, a full disk or a kill leaves
 the published folder as it was, and the next publish repairs what a SIGKILL left.
 """
 
@@ -23,11 +23,17 @@ from gvgai_pcg.evaluation.checkpoints import (
     run_info,
 )
 from gvgai_pcg.evaluation.evaluator import read_records, run_results_path
-from gvgai_pcg.rl.atomic_files import atomic_copy, copy_tree, recover_folders, staging_folder, swap_in_folder
-from gvgai_pcg.rl.checkpoint import config_differences
-from gvgai_pcg.study.borrowed_runs import BORROWED
-from gvgai_pcg.study.curricula_runs import REPLAY_PICTURE, REPLAY_STATS
-from gvgai_pcg.study.portable import make_portable, write_portable_model
+from gvgai_pcg.rundir.atomic_files import (
+    atomic_copy,
+    copy_tree,
+    recover_folders,
+    staging_folder,
+    swap_in_folder,
+)
+from gvgai_pcg.rundir.checkpoint import config_differences
+from gvgai_pcg.study.sweeps.borrowed_runs import BORROWED
+from gvgai_pcg.study.sweeps.curricula_runs import REPLAY_PICTURE, REPLAY_STATS
+from gvgai_pcg.study.sweeps.portable import make_portable, write_portable_model
 
 WRITER_LOCKS = shutil.ignore_patterns(".lock", ".*.lock")  # the evaluator's, never published
 
@@ -73,7 +79,7 @@ def refuse_publishing_into_the_sweep(out: Path, dest: Path, runs: Sequence[Path]
 def publish(out: Path, dest: Path, protocol=None, runs: Sequence[Path] | None = None) -> Path:
     """Copy what rebuilds the report into ``dest``: each run's config, log, evaluation results and
     its model (whatever its size, as weights and plain data only) with a ``published.json`` naming
-    it, all naming nothing outside the run folder (``gvgai_pcg.study.portable``), the random
+    it, all naming nothing outside the run folder (``gvgai_pcg.study.sweeps.portable``), the random
     agent's results, and the report.
     ``gvgai-pcg report --no-evaluate DEST/runs --cache-dir DEST/random`` then rebuilds the tables
     and curves from ``dest`` alone. With ``protocol``, only runs with its

@@ -1,6 +1,6 @@
 """The curricula comparison's page: ``docs/results-curricula.md``'s block between
 ``<!-- curricula:start -->`` and ``<!-- curricula:end -->``, written from the published folder
-(``results/curricula``) alone: the runs, the tables and the answer (``gvgai_pcg.study.comparison``,
+(``results/curricula``) alone: the runs, the tables and the answer (``gvgai_pcg.study.verdicts.comparison``,
 recomputed from the published records), the curves of d over training and the levels each
 curriculum replays at the end, and what the levels it holds contain beside the generator's and the
 human ones.
@@ -17,13 +17,18 @@ from gvgai_pcg.evaluation.protocol import Protocol
 from gvgai_pcg.games.registry import get_game_spec
 from gvgai_pcg.generators import get_generator
 from gvgai_pcg.levels import human_levels
-from gvgai_pcg.rl.atomic_files import atomic_copy
-from gvgai_pcg.study.borrowed_runs import borrowed_lines
-from gvgai_pcg.study.comparison import collect_runs, comparison_markdown
-from gvgai_pcg.study.conditions import Budget
-from gvgai_pcg.study.curricula_runs import REPLAY_PICTURE, REPLAY_STATS, level_count_summary, write_curves
-from gvgai_pcg.study.page import _runs_table, replace_block
-from gvgai_pcg.study.ued_by_difficulty import write_solved_by_difficulty
+from gvgai_pcg.rundir.atomic_files import atomic_copy
+from gvgai_pcg.study.pages.page import _runs_table, replace_block
+from gvgai_pcg.study.pages.ued_by_difficulty import write_solved_by_difficulty
+from gvgai_pcg.study.sweeps.borrowed_runs import borrowed_lines
+from gvgai_pcg.study.sweeps.conditions import Budget
+from gvgai_pcg.study.sweeps.curricula_runs import (
+    REPLAY_PICTURE,
+    REPLAY_STATS,
+    level_count_summary,
+    write_curves,
+)
+from gvgai_pcg.study.verdicts.comparison import collect_runs, comparison_markdown
 
 START, END = "<!-- curricula:start -->", "<!-- curricula:end -->"
 

@@ -1,7 +1,7 @@
 """The results page: the published tables, curves, claims and runs, written into a Markdown page.
 
 ``docs/results.md`` has a block between ``<!-- results:start -->`` and ``<!-- results:end -->``
-that this module rewrites from a published folder (``gvgai_pcg.study.publish.publish``), so the
+that this module rewrites from a published folder (``gvgai_pcg.study.sweeps.publish.publish``), so the
 page says exactly what the data under ``results/`` says, and which runs it holds.
 """
 
@@ -14,9 +14,9 @@ import re
 from pathlib import Path
 
 from gvgai_pcg.evaluation.checkpoints import read_run_config
-from gvgai_pcg.rl.atomic_files import atomic_copy, atomic_write_text
-from gvgai_pcg.rl.provenance import session_commits
-from gvgai_pcg.rl.run_log import read_log
+from gvgai_pcg.rundir.atomic_files import atomic_copy, atomic_write_text
+from gvgai_pcg.rundir.provenance import session_commits
+from gvgai_pcg.rundir.run_log import read_log
 
 START, END = "<!-- results:start -->", "<!-- results:end -->"
 

@@ -2,9 +2,9 @@
 
 On our runs (per-seed values) each comparison gets its two-sided 95 % t interval over seeds
 (Welch's for a difference), and Holm's correction runs over every comparison of every claim judged
-together (family-wise alpha 0.05, ``gvgai_pcg.study.intervals``). With ``level_sampling``, a
+together (family-wise alpha 0.05, ``gvgai_pcg.study.verdicts.intervals``). With ``level_sampling``, a
 comparison that carries per-level values also carries the level-sampling variance of those sets,
-from the per-level records (``gvgai_pcg.study.intervals``, module docstring); a maximum or minimum
+from the per-level records (``gvgai_pcg.study.verdicts.intervals``, module docstring); a maximum or minimum
 over sets keeps the interval over seeds. On the study's own Table 1 (point estimates) each
 comparison is decided by the estimate's side.
 
@@ -12,6 +12,9 @@ A claim **holds** when every comparison is decided on the claim's side (Holm-adj
 so its 95 % interval excludes the bound), **does not hold** when one is decided against it, and
 is **inconclusive** otherwise. Claims about training dynamics ("PPCG never reaches d = 1") are
 **cannot be tested at this budget** while the runs have fewer frames than the study's.
+
+``decide`` is the one verdict system: the curricula comparison (``gvgai_pcg.study.verdicts.comparison``)
+judges "a curriculum beats PPCG" through it too, with the same words, Holm and seeds to decide.
 """
 
 from __future__ import annotations
@@ -20,10 +23,18 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from gvgai_pcg.study.claim_rules import Claim, Comparison, claims_of
-from gvgai_pcg.study.intervals import ALPHA, POWER, Estimate, agents_estimate, estimate, holm, seeds_to_decide
-from gvgai_pcg.study.results import GameResults, study_table, table_of
-from gvgai_pcg.study.table1 import TABLE1
+from gvgai_pcg.study.verdicts.claim_rules import Claim, Comparison, claims_of
+from gvgai_pcg.study.verdicts.intervals import (
+    ALPHA,
+    POWER,
+    Estimate,
+    agents_estimate,
+    estimate,
+    holm,
+    seeds_to_decide,
+)
+from gvgai_pcg.study.verdicts.results import GameResults, study_table, table_of
+from gvgai_pcg.study.verdicts.table1 import TABLE1
 
 
 @dataclass
@@ -50,42 +61,84 @@ def _estimate_text(comparison: Comparison, value: Estimate, adjusted: float | No
     return f"{text} {interval}, Holm p {adjusted:.3g} {claim}"
 
 
-def judge(claims: Sequence[Claim], point: bool = False) -> list[Verdict]:
-    """Each claim's verdict. Per-seed tables: every comparison of every claim is one family for
-    Holm's correction. Point estimates: each comparison is decided by the estimate's side."""
-    tested = [(i, c) for i, claim in enumerate(claims) if not claim.status for c in claim.comparisons]
+HOLDS, DOES_NOT_HOLD, INCONCLUSIVE = "holds", "does not hold", "inconclusive"
+CLAIM, AGAINST, UNDECIDED = "claim", "against", "?"  # a comparison's side once judged
+
+
+@dataclass(frozen=True)
+class Decision:
+    """One comparison judged within its family: its estimate, Holm-adjusted p (nan for point
+    estimates), the side it is decided on, and for an undecided one what would decide it."""
+
+    value: Estimate
+    adjusted_p: float
+    side: str  # CLAIM, AGAINST or UNDECIDED
+    need: tuple[int | None, str] | None = None  # ``intervals.seeds_to_decide``'s answer
+
+    @property
+    def on_claim_side(self) -> bool:
+        return self.side == CLAIM
+
+
+def decide(comparisons: Sequence[Comparison], point: bool = False) -> list[Decision]:
+    """Every comparison of one family. Per-seed values: Holm's correction over them all, and an
+    undecided one's seeds to decide it at Bonferroni's alpha / K (Holm never needs more). Point
+    estimates: decided by the estimate's side. Data with no spread that sit on a (strict) claim's
+    bound are decided against it without a test."""
     values = [
         agents_estimate(c.agents, c.bound)
         if c.agents and not point
         else estimate(c.a, c.b, c.bound, point, c.levels)
-        for _, c in tested
+        for c in comparisons
     ]
     adjusted, rejected = holm([v.p for v in values]) if not point else ([math.nan] * len(values), [])
-    outcomes: dict[int, list[str]] = {}
-    texts: dict[int, list[str]] = {}
-    needs: dict[int, list[tuple[int | None, str]]] = {}
-    against: dict[int, list[str]] = {}  # undecided comparisons whose estimate lies against the claim
-    for k, ((i, comparison), value) in enumerate(zip(tested, values, strict=True)):
+    decisions = []
+    for k, (comparison, value) in enumerate(zip(comparisons, values, strict=True)):
         on_claim_side = value.value > comparison.bound if comparison.above else value.value < comparison.bound
         decided = value.value != comparison.bound if point else rejected[k]
-        outcomes.setdefault(i, []).append("?" if not decided else "claim" if on_claim_side else "against")
-        note = ""
-        if not decided and not point:  # Bonferroni's alpha / K: Holm never needs more seeds than it
-            bonferroni = ALPHA / len(tested)
+        if decided:
+            decisions.append(Decision(value, adjusted[k], CLAIM if on_claim_side else AGAINST))
+        elif not point and value.has_interval and value.low == value.high:
+            decisions.append(Decision(value, adjusted[k], AGAINST))  # no spread, on the bound
+        elif point:
+            decisions.append(Decision(value, adjusted[k], UNDECIDED))
+        else:
             need = (
                 (None, "each agent's own episodes, not more seeds, decide it")
                 if comparison.agents
                 else seeds_to_decide(
-                    comparison.a, comparison.b, comparison.bound, bonferroni, comparison.levels
+                    comparison.a, comparison.b, comparison.bound, ALPHA / len(comparisons), comparison.levels
                 )
             )
-            needs.setdefault(i, []).append(need)
-            note = _need_text(*need)
+            decisions.append(Decision(value, adjusted[k], UNDECIDED, need))
+    return decisions
+
+
+def judge(claims: Sequence[Claim], point: bool = False) -> list[Verdict]:
+    """Each claim's verdict. Per-seed tables: every comparison of every claim is one family for
+    Holm's correction (``decide``). Point estimates: each comparison is decided by the estimate's
+    side."""
+    tested = [(i, c) for i, claim in enumerate(claims) if not claim.status for c in claim.comparisons]
+    decisions = decide([c for _, c in tested], point)
+    outcomes: dict[int, list[str]] = {}
+    texts: dict[int, list[str]] = {}
+    needs: dict[int, list[tuple[int | None, str]]] = {}
+    against: dict[int, list[str]] = {}  # undecided comparisons whose estimate lies against the claim
+    for (i, comparison), decision in zip(tested, decisions, strict=True):
+        value = decision.value
+        outcomes.setdefault(i, []).append(decision.side)
+        note = ""
+        if decision.need is not None:
+            needs.setdefault(i, []).append(decision.need)
+            note = _need_text(*decision.need)
+            on_claim_side = (
+                value.value > comparison.bound if comparison.above else value.value < comparison.bound
+            )
             if value.value != comparison.bound and not on_claim_side:
                 against.setdefault(i, []).append(comparison.what)
                 note = f"the estimate lies against the claim; {note}"
         texts.setdefault(i, []).append(
-            _estimate_text(comparison, value, None if point else adjusted[k], note)
+            _estimate_text(comparison, value, None if point else decision.adjusted_p, note)
         )
     verdicts = []
     for i, claim in enumerate(claims):
@@ -94,14 +147,14 @@ def judge(claims: Sequence[Claim], point: bool = False) -> list[Verdict]:
             continue
         outcome = outcomes.get(i, [])
         verdict = (
-            "does not hold"
-            if "against" in outcome
-            else "holds"
-            if outcome and set(outcome) == {"claim"}
-            else "inconclusive"
+            DOES_NOT_HOLD
+            if AGAINST in outcome
+            else HOLDS
+            if outcome and set(outcome) == {CLAIM}
+            else INCONCLUSIVE
         )
         evidence = "; ".join(texts.get(i, []))
-        if verdict == "inconclusive" and needs.get(i):
+        if verdict == INCONCLUSIVE and needs.get(i):
             evidence += f". Undecided at this budget: {seeds_needed_text(needs[i])}"
             if against.get(i):
                 evidence += (

@@ -32,8 +32,7 @@ from typing import Any
 import numpy as np
 import torch
 
-from gvgai_pcg.rl.atomic_files import atomic_write, fsync_directory, temporary_path
-from gvgai_pcg.rl.divergence import nonfinite_names
+from gvgai_pcg.rundir.atomic_files import atomic_write, fsync_directory, temporary_path
 
 FORMAT_VERSION = 2
 # How torch's weights-only unpickler names a global it refused to construct.
@@ -44,6 +43,15 @@ PREVIOUS_NAME = "prev.pt"
 # ``collector``: its workers multiply the batch of an update and the pace of the difficulty, as
 # ``env.num_envs`` does.
 MAY_CHANGE = ("total_frames", "device", "threads", "checkpoint", "log", "out_dir", "run_name")
+
+
+def nonfinite_names(tensors: dict[str, torch.Tensor]) -> list[str]:
+    """The names of the floating-point tensors in ``tensors`` holding NaN or inf."""
+    return [
+        name
+        for name, value in tensors.items()
+        if isinstance(value, torch.Tensor) and value.is_floating_point() and not bool(value.isfinite().all())
+    ]
 
 
 class CheckpointError(ValueError):

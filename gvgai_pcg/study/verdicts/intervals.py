@@ -16,7 +16,8 @@ mean over seeds, or the difference of two conditions' on the same levels). The d
 over the levels, s^2 / L, once for all seeds: resampling levels within each seed would divide it by
 the seeds again and hide most of it. For a mean this is what a bootstrap over levels estimates, in
 closed form (no Monte Carlo error). The interval is then a t interval with Welch-Satterthwaite
-degrees of freedom over both sources, or the interval over seeds alone where that is wider (with
+degrees of freedom over both sources (written out here: scipy's Welch test takes two samples, not
+a sum of several variance terms), or the interval over seeds alone where that is wider (with
 3-5 seeds the estimated df can grow enough to narrow it), with the larger of the two p values; it
 is conservative by the seed-by-level noise counted in both terms
 (``tests/study/test_level_intervals.py`` measures its coverage on a simulated hierarchy).
@@ -77,6 +78,26 @@ def _from_t(value: float, se: float, df: float, bound: float, seeds: int) -> Est
     return Estimate(value, float(low), float(high), p, seeds)
 
 
+def _scipy_test(
+    a: Sequence[float], b: Sequence[float] | None, value: float, bound: float, seeds: int, se: float
+) -> Estimate:
+    """The interval over seeds alone: scipy's one-sample t test (one condition) or Welch's test (a
+    difference, ``a`` shifted by ``bound`` since scipy tests a zero difference); ``se`` only spots
+    the no-spread case, where scipy's statistic is undefined (``_from_t`` decides it)."""
+    if se <= NO_SPREAD * max(1.0, abs(value)):
+        return _from_t(value, se, 1.0, bound, seeds)
+    if b is None:
+        test = stats.ttest_1samp(a, bound)
+        shift = 0.0
+    else:
+        test = stats.ttest_ind([x - bound for x in a], b, equal_var=False)
+        shift = bound
+    interval = test.confidence_interval(LEVEL)
+    return Estimate(
+        value, float(interval.low) + shift, float(interval.high) + shift, float(test.pvalue), seeds
+    )
+
+
 def level_terms(levels: Sequence[Sequence[float]]) -> list[tuple[float, int]]:
     """Each test set's level-sampling variance of the mean of its per-level values, s^2 / L, with
     its degrees of freedom L - 1 (a set of one level adds nothing)."""
@@ -117,7 +138,7 @@ def estimate(
     terms = [(var_a / len(a), len(a) - 1)]
     if b is not None:
         terms.append((_mean_var(b)[1] / len(b), len(b) - 1))
-    over_seeds = _from_t(value, *_satterthwaite(terms), bound, seeds)
+    over_seeds = _scipy_test(a, b, value, bound, seeds, _satterthwaite(terms)[0])
     sampled = level_terms(levels)
     if not sampled:
         return over_seeds

@@ -20,7 +20,7 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from gvgai_pcg.rl.atomic_files import atomic_write_text, fsync_file
+from gvgai_pcg.rundir.atomic_files import atomic_write_text, fsync_file
 
 UPDATE_COLUMNS = ("frames", "updates", "policy_loss", "value_loss", "entropy", "fps", "time")
 UPDATES_NAME = "updates.csv"

@@ -20,7 +20,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import BinaryIO
 
-from gvgai_pcg.rl.stop_signal import stop_signals_deferred
+from gvgai_pcg.rundir.stop_signal import stop_signals_deferred
 
 
 def fsync_directory(directory: Path) -> None:

@@ -4,7 +4,7 @@
 log) into per-game ``GameResults``: per condition and test set, each seed's mean score and win
 rate. ``table_of`` turns those into the ``Table`` the claim rules read (``claim_rules``): scores
 normalised per test set, ``(score - random) / (max - random)``, with each side's own Random and
-Max rows; ``study_table`` does the same for the study's own Table 1 (``gvgai_pcg.study.table1``),
+Max rows; ``study_table`` does the same for the study's own Table 1 (``gvgai_pcg.study.verdicts.table1``),
 whose cells are point estimates over 120 episodes (the paper gives no per-seed values).
 """
 
@@ -17,8 +17,14 @@ from pathlib import Path
 from gvgai_pcg.evaluation.checkpoints import run_info
 from gvgai_pcg.evaluation.evaluator import random_results_path, read_records, run_results_path
 from gvgai_pcg.report.table import differing_keys, training_config
-from gvgai_pcg.rl.run_log import read_log
-from gvgai_pcg.study.table1 import GENERATED_SETS, LATE_FRAMES, STUDY_FRAMES, STUDY_REACHED, study_normalised
+from gvgai_pcg.rundir.run_log import read_log
+from gvgai_pcg.study.verdicts.table1 import (
+    GENERATED_SETS,
+    LATE_FRAMES,
+    STUDY_FRAMES,
+    STUDY_REACHED,
+    study_normalised,
+)
 
 
 @dataclass

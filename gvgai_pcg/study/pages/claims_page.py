@@ -8,8 +8,9 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from gvgai_pcg.study.claim_rules import THRESHOLDS
-from gvgai_pcg.study.intervals import (
+from gvgai_pcg.study.pages.table1_compare import difficulty_markdown, side_by_side_markdown
+from gvgai_pcg.study.verdicts.claim_rules import THRESHOLDS
+from gvgai_pcg.study.verdicts.intervals import (
     ALPHA,
     LEVEL,
     MOST_SEEDS,
@@ -17,10 +18,9 @@ from gvgai_pcg.study.intervals import (
     SEEDS_AND_LEVELS_INTERVAL,
     random_estimate,
 )
-from gvgai_pcg.study.judging import Verdict, study_verdicts
-from gvgai_pcg.study.results import GameResults
-from gvgai_pcg.study.table1 import STUDY_EPISODES
-from gvgai_pcg.study.table1_compare import difficulty_markdown, side_by_side_markdown
+from gvgai_pcg.study.verdicts.judging import Verdict, study_verdicts
+from gvgai_pcg.study.verdicts.results import GameResults
+from gvgai_pcg.study.verdicts.table1 import STUDY_EPISODES
 
 
 def statistics_note(verdicts: Sequence[tuple[str, Verdict]], level_sampling: bool = False) -> str:

@@ -78,12 +78,12 @@ class Budget:
             that only their regimen has, as SFL's pool size in a smoke budget).
         extra: the conditions ``--extra`` adds (the study's: those it skipped).
         controls: conditions run only when ``--conditions`` names them (no table shows them).
-        comparison: ``study`` (the study's claims) or ``curricula`` (``gvgai_pcg.study.comparison``).
+        comparison: ``study`` (the study's claims) or ``curricula`` (``gvgai_pcg.study.verdicts.comparison``).
         page: the docs page whose results block ``--page`` writes by default.
         ued: the UED protocol's settings (``gvgai_pcg.evaluation.ued.UEDProtocol``) where the
             comparison evaluates with it too; empty: not.
         level_sampling: the claims' intervals include the generated test sets' level-sampling
-            error (``gvgai_pcg.study.intervals``); off for ``small``, whose page predates it.
+            error (``gvgai_pcg.study.verdicts.intervals``); off for ``small``, whose page predates it.
     """
 
     name: str

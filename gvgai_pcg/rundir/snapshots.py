@@ -14,7 +14,7 @@ from typing import Any
 
 import torch
 
-from gvgai_pcg.rl.checkpoint import save_model
+from gvgai_pcg.rundir.checkpoint import save_model
 
 SNAPSHOT_DIR = "snapshots"
 

@@ -26,10 +26,10 @@ from pathlib import Path
 from omegaconf import OmegaConf
 
 from gvgai_pcg.evaluation.checkpoints import FINAL_MODEL, is_run_dir, load_state, read_run_config, run_info
-from gvgai_pcg.rl.checkpoint import config_differences
-from gvgai_pcg.rl.provenance import SESSIONS_NAME
-from gvgai_pcg.rl.snapshots import SNAPSHOT_DIR, snapshot_frames, snapshot_path, snapshot_paths
-from gvgai_pcg.study.conditions import Budget
+from gvgai_pcg.rundir.checkpoint import config_differences
+from gvgai_pcg.rundir.provenance import SESSIONS_NAME
+from gvgai_pcg.rundir.snapshots import SNAPSHOT_DIR, snapshot_frames, snapshot_path, snapshot_paths
+from gvgai_pcg.study.sweeps.conditions import Budget
 
 BORROWED = "borrowed.json"
 

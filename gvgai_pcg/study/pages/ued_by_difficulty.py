@@ -13,8 +13,8 @@ import csv
 from collections.abc import Sequence
 from pathlib import Path
 
-from gvgai_pcg.rl.atomic_files import atomic_savefig
-from gvgai_pcg.study.comparison import ued_record
+from gvgai_pcg.rundir.atomic_files import atomic_savefig
+from gvgai_pcg.study.verdicts.comparison import ued_record
 
 BINS = 10  # bins of d: [0, 0.1), [0.1, 0.2), ..., [0.9, 1]
 

@@ -21,7 +21,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from gvgai_pcg.evaluation.checkpoints import PUBLISHED, load_state
-from gvgai_pcg.rl.atomic_files import atomic_write
+from gvgai_pcg.rundir.atomic_files import atomic_write
 
 DEFAULT_OUT_DIR = "runs"  # conf/config.yaml's out_dir
 NOT_PUBLISHED = (

@@ -12,8 +12,8 @@ training levels are drawn afresh from the d = 0.5 generator every episode, the d
 d = 0.5 test set, so the training score estimates the test score there; the protocol's evaluation
 of the final models confirms it.
 
-    python -m gvgai_pcg.study.pilot results/pilot results/small/runs/zelda-pcg0.5-*
-    python -m gvgai_pcg.study.pilot --page docs/pilot.md results/pilot results/small/runs
+    python -m gvgai_pcg.study.sweeps.pilot results/pilot results/small/runs/zelda-pcg0.5-*
+    python -m gvgai_pcg.study.sweeps.pilot --page docs/pilot.md results/pilot results/small/runs
 """
 
 from __future__ import annotations
@@ -25,8 +25,8 @@ from pathlib import Path
 
 import yaml
 
-from gvgai_pcg.rl.atomic_files import atomic_write_text
-from gvgai_pcg.rl.run_log import read_log
+from gvgai_pcg.rundir.atomic_files import atomic_write_text
+from gvgai_pcg.rundir.run_log import read_log
 
 WINDOW_FRAMES = 500_000  # the training score is averaged over this many frames (about 100 episodes)
 

@@ -16,8 +16,8 @@ from gvgai_pcg.evaluation.checkpoints import LAST_CHECKPOINT, load_state, read_r
 from gvgai_pcg.games.registry import get_game_spec
 from gvgai_pcg.games.render import level_pictures
 from gvgai_pcg.levels import human_level
-from gvgai_pcg.rl.atomic_files import atomic_savefig
-from gvgai_pcg.rl.run_log import read_log
+from gvgai_pcg.rundir.atomic_files import atomic_savefig
+from gvgai_pcg.rundir.run_log import read_log
 
 REPLAY_PICTURE = "replay.png"
 REPLAY_LEVELS = 4

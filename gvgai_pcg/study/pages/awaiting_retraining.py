@@ -6,7 +6,7 @@ Their records still rebuild every published table; only replaying or evaluating 
 the model. A test holds the list to what ``results/`` holds: a listed run has no model, every
 other run folder has one.
 
-``python -m gvgai_pcg.study.awaiting_retraining [RESULTS]`` writes the list again from ``RESULTS``
+``python -m gvgai_pcg.study.pages.awaiting_retraining [RESULTS]`` writes the list again from ``RESULTS``
 (default ``results``), and its block on each budget's page (``PAGES``).
 """
 
@@ -18,8 +18,8 @@ from pathlib import Path
 
 import yaml
 
-from gvgai_pcg.rl.atomic_files import atomic_write_text
-from gvgai_pcg.study.page import replace_block
+from gvgai_pcg.rundir.atomic_files import atomic_write_text
+from gvgai_pcg.study.pages.page import replace_block
 
 LIST_NAME = "awaiting-retraining.json"
 MODEL = "model.pt"

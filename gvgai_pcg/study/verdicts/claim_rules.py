@@ -3,10 +3,10 @@
 The claims are those of ``shared/study/TABLE1.md`` ("The claims", the paper's words). Each is a
 few *comparisons* of a per-seed statistic (a condition's normalised score on a test set, or a
 difference of two conditions') with a bound, every bound a named threshold below, justified in
-one line. The rules read a ``Table`` (``gvgai_pcg.study.results``): the study's own Table 1 (point
+one line. The rules read a ``Table`` (``gvgai_pcg.study.verdicts.results``): the study's own Table 1 (point
 estimates, on which every claim must hold: ``tests/study/test_claims.py``) or our runs (per-seed
 values). A rule only states the comparisons, or a status that needs none ("not run", "does not
-apply", "cannot be tested at this budget"); ``gvgai_pcg.study.judging`` decides them.
+apply", "cannot be tested at this budget"); ``gvgai_pcg.study.verdicts.judging`` decides them.
 
 With level sampling, a comparison that is a linear statistic of generated-set scores (one
 condition's, a difference of two, a mean over sets) also carries the per-level values of those
@@ -18,8 +18,8 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field, replace
 
-from gvgai_pcg.study.results import Table
-from gvgai_pcg.study.table1 import GENERATED_SETS, HUMAN_SETS, LATE_FRAMES, STUDY_FRAMES
+from gvgai_pcg.study.verdicts.results import Table
+from gvgai_pcg.study.verdicts.table1 import GENERATED_SETS, HUMAN_SETS, LATE_FRAMES, STUDY_FRAMES
 
 # Thresholds, in fractions of the gap from the random agent (0) to the maximum (1). Each is read
 # off the paper's words and set so that the study's own numbers satisfy them (said where generous).

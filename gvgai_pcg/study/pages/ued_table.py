@@ -5,7 +5,7 @@ while its model is unchanged, and only read with ``--no-evaluate``). Then, per g
 curriculum's scores and UED metrics (solved rate, mean score, score CVaR at 1 % and 10 %) over
 seeds with their 95 % t intervals, and each curriculum against a baseline (PPCG unless told
 otherwise) with Welch intervals and Holm's correction over every comparison: the tables and
-verdicts of ``docs/results-curricula.md`` (``gvgai_pcg.study.comparison``), on the user's runs.
+verdicts of ``docs/results-curricula.md`` (``gvgai_pcg.study.verdicts.comparison``), on the user's runs.
 """
 
 from __future__ import annotations
@@ -16,8 +16,8 @@ from pathlib import Path
 from gvgai_pcg.evaluation.checkpoints import find_runs
 from gvgai_pcg.evaluation.ued import evaluate_run_ued
 from gvgai_pcg.report.build import usable_run
-from gvgai_pcg.rl.atomic_files import atomic_write_text
-from gvgai_pcg.study.comparison import ALPHAS, BASELINE, collect_runs, comparison_markdown
+from gvgai_pcg.rundir.atomic_files import atomic_write_text
+from gvgai_pcg.study.verdicts.comparison import ALPHAS, BASELINE, collect_runs, comparison_markdown
 
 UED_TABLE = "ued.md"
 

@@ -1,7 +1,7 @@
 """The study's Table 1 beside ours, normalised with each side's own Random and Max rows, and
 PPCG's difficulty in training beside what the study's Figure 2 says of it.
 
-Generated into the results page (``gvgai_pcg.study.page``) from the published runs, so the
+Generated into the results page (``gvgai_pcg.study.pages.page``) from the published runs, so the
 comparison always says what the data say.
 """
 
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from gvgai_pcg.study.table1 import (
+from gvgai_pcg.study.verdicts.table1 import (
     BOULDERDASH_GENERATED_MAX,
     BOULDERDASH_HUMAN_MAX,
     BOULDERDASH_PRINTED_MAX,

@@ -7,7 +7,7 @@ each generated test set (the study's protocol), and where the UED protocol evalu
 alpha 1 % and 10 % on the UED levels, and with the tail protocol's records the win-rate CVaR at
 1 % and 10 % too (SFL's headline; shown and judged only where a run has it). Every cell of the
 tables is a mean over seeds with its 95 % Student t interval over seeds
-(``gvgai_pcg.study.intervals``).
+(``gvgai_pcg.study.verdicts.intervals``).
 
 The question is three comparisons of each curriculum with PPCG per game (``QUESTIONS``; five
 with the tail protocol's win-rate CVaRs): the difference of means with its Welch t interval,
@@ -28,22 +28,23 @@ from pathlib import Path
 
 from gvgai_pcg.evaluation.checkpoints import run_info
 from gvgai_pcg.evaluation.evaluator import read_records, run_results_path
-from gvgai_pcg.study.intervals import (
-    ALPHA,
-    LEVEL,
-    MOST_SEEDS,
-    POWER,
-    Estimate,
-    estimate,
-    holm,
-    seeds_to_decide,
+from gvgai_pcg.study.verdicts.claim_rules import Comparison
+from gvgai_pcg.study.verdicts.intervals import ALPHA, LEVEL, MOST_SEEDS, POWER, Estimate, estimate
+from gvgai_pcg.study.verdicts.judging import (
+    AGAINST,
+    CLAIM,
+    DOES_NOT_HOLD,
+    HOLDS,
+    INCONCLUSIVE,
+    UNDECIDED,
+    decide,
 )
-from gvgai_pcg.study.table1 import GENERATED_SETS, HUMAN_SETS
+from gvgai_pcg.study.verdicts.table1 import GENERATED_SETS, HUMAN_SETS
 
 BASELINE = "PPCG"
 # the tables' row order, by curriculum (``regimen``): the comparison's, others after
 REGIMEN_ORDER = ("pcg", "ppcg", "dr", "plr", "accel", "sfl")
-# Controls (gvgai_pcg.study.conditions.CURRICULA_CONTROLS): shown in the tables, never judged
+# Controls (gvgai_pcg.study.sweeps.conditions.CURRICULA_CONTROLS): shown in the tables, never judged
 # against the baseline, so that they do not widen Holm's family of the comparison's questions.
 CONTROL_REGIMENS = frozenset({"accel-noselect"})
 ALPHAS = (0.01, 0.1)
@@ -68,7 +69,7 @@ QUESTIONS = {
     "wincvar1": "the worst 1 % of the UED levels by win rate (SFL's CVaR, 10 + 10 episodes)",
     "wincvar10": "the worst 10 % of the UED levels by win rate (SFL's CVaR, 10 + 10 episodes)",
 }
-HOLDS, DOES_NOT_HOLD, INCONCLUSIVE, NOT_MEASURED = "holds", "does not hold", "inconclusive", "not measured"
+NOT_MEASURED = "not measured"  # the other verdict words are the claims' (``judging``)
 
 
 @dataclass
@@ -179,14 +180,13 @@ def collect_runs(
     return games
 
 
-def _seeds_agree(values: Sequence[float]) -> bool:
-    return len(values) > 1 and max(values) == min(values)
-
-
 def judge(games: dict[str, dict[str, CurriculumRuns]], baseline: str = BASELINE) -> list[Verdict]:
-    """Every curriculum against ``baseline`` on every game and question, Holm over them all."""
+    """Every curriculum against ``baseline`` on every game and question, one family for Holm: each
+    is the claim "the curriculum's mean is above the baseline's", judged as the study's claims are
+    (``judging.decide``: decided on its side, against it, which includes no spread on either side
+    with the curriculum not ahead, or undecided with the seeds that would decide it)."""
     verdicts: list[Verdict] = []
-    tested: list[tuple[int, Estimate]] = []
+    tested: list[tuple[int, Comparison]] = []
     for game, curricula in sorted(games.items()):
         base = curricula.get(baseline)
         for label, runs in sorted(curricula.items()):
@@ -197,27 +197,23 @@ def judge(games: dict[str, dict[str, CurriculumRuns]], baseline: str = BASELINE)
                 if not ours or not theirs:
                     verdicts.append(Verdict(game, label, metric, NOT_MEASURED))
                     continue
-                difference = estimate(ours, theirs, 0.0)
-                tested.append((len(verdicts), difference))
-                verdicts.append(Verdict(game, label, metric, INCONCLUSIVE, difference))
-    adjusted, rejected = holm([d.p for _, d in tested])
-    for (i, difference), p, reject in zip(tested, adjusted, rejected, strict=True):
+                tested.append(
+                    (len(verdicts), Comparison(metric, tuple(ours), tuple(theirs), 0.0, above=True))
+                )
+                verdicts.append(Verdict(game, label, metric, INCONCLUSIVE))
+    outcomes = {CLAIM: HOLDS, AGAINST: DOES_NOT_HOLD, UNDECIDED: INCONCLUSIVE}
+    for (i, _), decision in zip(tested, decide([c for _, c in tested]), strict=True):
         v = verdicts[i]
-        ours, theirs = games[v.game][v.label].values[v.metric], games[v.game][baseline].values[v.metric]
-        if reject:
-            outcome = HOLDS if difference.value > 0 else DOES_NOT_HOLD
-        elif _seeds_agree(ours) and _seeds_agree(theirs) and difference.value <= 0:
-            outcome = DOES_NOT_HOLD  # every seed of each side the same value: not ahead on any
-        else:
-            outcome = INCONCLUSIVE
         decides = ""
-        if outcome == INCONCLUSIVE and difference.has_interval:  # Holm never needs more than alpha / K
-            seeds, why = seeds_to_decide(ours, theirs, 0.0, ALPHA / len(tested))
+        if decision.need is not None and decision.value.has_interval:
+            seeds, why = decision.need
             decides = why or (
                 f"about {seeds} seeds each would decide it at {POWER * 100:.0f} % power, if the means and "
                 "spreads seen held"
             )
-        verdicts[i] = Verdict(v.game, v.label, v.metric, outcome, difference, p, decides)
+        verdicts[i] = Verdict(
+            v.game, v.label, v.metric, outcomes[decision.side], decision.value, decision.adjusted_p, decides
+        )
     return verdicts
 
 

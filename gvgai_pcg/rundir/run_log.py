@@ -18,7 +18,7 @@ from pathlib import Path
 import torch
 from tensordict import TensorDictBase
 
-from gvgai_pcg.rl.atomic_files import atomic_write_text, fsync_file
+from gvgai_pcg.rundir.atomic_files import atomic_write_text, fsync_file
 
 COLUMNS = (
     "frames",
