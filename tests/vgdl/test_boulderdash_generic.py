@@ -147,3 +147,9 @@ def test_gvgai_boulderdash_description_equals_the_hand_written():
     game = VGDLGame.from_file(GAMES / "boulderdash.txt", draw_order=DRAW_ORDER)
     levels = human_levels("boulderdash")[:2] + small_levels()
     assert_same_play(game, levels, ticks=40, compiled=False, seed=3)
+
+
+@pytest.mark.parametrize("path", golden_files("boulderdash_offgrid"), ids=lambda p: p.stem)
+def test_generic_boulderdash_replays_the_off_grid_traces_alone(path):
+    # alone, the trace's small unbordered level is the whole array, and its tick runs compiled
+    assert_replays(path, False, own_boulderdash())
