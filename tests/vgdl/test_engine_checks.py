@@ -73,8 +73,8 @@ def test_an_effect_parameter_off_its_default_is_refused():
 
 
 def test_an_effect_without_kernel_is_refused():
-    message = refusal(description(rules="        rat avatar > killIfFromAbove"))
-    assert message == "mine.txt:20: effect killIfFromAbove is not implemented by the generic step yet"
+    message = refusal(description(rules="        rat avatar > wrapAround"))
+    assert message == "mine.txt:20: effect wrapAround is not implemented by the generic step yet"
 
 
 def test_a_pull_by_something_else_than_missiles_is_refused():

@@ -9,6 +9,7 @@ Frogs use), and for the representations the plan gives them there. A description
 
 from __future__ import annotations
 
+from gvgai_pcg.vgdl.engine.layout import held_resources
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.java_classes import defaults_of
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
@@ -23,6 +24,7 @@ SPRITE_KERNELS: dict[str, tuple[str, frozenset[str]]] = {
     "OrientedFlicker": (RECORD, frozenset({"limit", "singleton"})),
     "ShootAvatar": (RECORD, frozenset({"stype", "speed"})),
     "RandomNPC": (TABLE, frozenset({"speed", "cooldown", "cons"})),
+    "Resource": (GRID, frozenset({"limit", "value"})),
     "MovingAvatar": (RECORD, frozenset()),
     "Missile": (TABLE, frozenset({"speed", "orientation"})),
     "SpawnPoint": (GRID, frozenset({"stype", "prob", "cooldown"})),
@@ -36,6 +38,9 @@ EFFECT_KERNELS: dict[str, frozenset[str]] = {
     "stepBack": frozenset(),
     "killSprite": frozenset({"scoreChange"}),
     "transformTo": frozenset({"scoreChange", "stype", "killSecond"}),
+    "collectResource": frozenset({"scoreChange"}),
+    "killIfOtherHasMore": frozenset({"scoreChange", "resource", "limit"}),
+    "killIfFromAbove": frozenset({"scoreChange"}),
     "shieldFrom": frozenset({"scoreChange", "stype", "ftype", "istype", "iftype"}),
     "pullWithIt": frozenset(),
 }
@@ -45,6 +50,8 @@ EDGE_KERNELS: dict[str, frozenset[str]] = {
     "killSprite": frozenset({"scoreChange"}),
     "wrapAround": frozenset({"scoreChange"}),
 }
+# Effects that read or change a record's resources (``resources``).
+RESOURCE_EFFECTS = frozenset({"collectResource", "killIfOtherHasMore"})
 TERMINATION_KERNELS = {"SpriteCounter": frozenset({"stype", "limit", "win"})}
 
 
@@ -89,6 +96,7 @@ def check_engine(game: GameDescription, plan: Plan) -> None:
         raise VGDLError(path, rule.line, "timed effects are not implemented by the generic step yet")
     for rule in plan.pairs:
         _check_rule(plan, rule)
+    _check_off_grid(plan)
     for termination in plan.terminations:
         settable = TERMINATION_KERNELS.get(termination.java_class)
         if settable is None:
@@ -194,7 +202,13 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
     seconds = {plan.types[name].representation for name in rule.seconds}
     if rule.name != "stepBack" and GRID in representations and GRID in seconds:
         raise VGDLError(path, line, f"{rule.name} between two static types is not implemented")
-    if rule.name == "transformTo":
+    if rule.name in RESOURCE_EFFECTS:
+        _check_resource_rule(plan, rule)
+    if rule.name == "killIfFromAbove" and GRID in representations | seconds:
+        raise VGDLError(path, line, "killIfFromAbove with a still (grid) type is not implemented")
+    if rule.name == "transformTo" and any(held_resources(plan, name) for name in rule.firsts):
+        raise VGDLError(path, line, "transformTo of a sprite holding resources is not implemented")
+    if rule.name == "transformTo" and not _into_grid(plan, rule):
         stype = rule.values.get("stype")
         target = plan.types.get(stype) if isinstance(stype, str) else None
         if (
@@ -218,9 +232,75 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
             raise VGDLError(
                 path, line, f"{rule.name} among sprites of one group is implemented for one table only"
             )
-    elif rule.kind not in ("P", "A"):
+    elif rule.kind not in ("P", "A") and not (rule.kind == "X" and rule.name == "collectResource"):
         raise VGDLError(
             path, line, f"{rule.name}: a rule of kind {rule.kind} ({rule.why}) is not implemented"
+        )
+
+
+def _into_grid(plan: Plan, rule: RulePlan) -> bool:
+    """transformTo from table types on whole cells into a grid type (``transform_grid``); refuses
+    the rest of what goes into a grid."""
+    stype = rule.values.get("stype")
+    target = plan.types.get(stype) if isinstance(stype, str) else None
+    if target is None or target.representation != GRID:
+        return False
+    firsts = [plan.types[name] for name in rule.firsts]
+    if (
+        any(sprite.representation != TABLE or not sprite.aligned for sprite in firsts)
+        or rule.values.get("killSecond")
+        or stype in rule.firsts + rule.seconds
+    ):
+        raise VGDLError(
+            plan.path,
+            rule.line,
+            "transformTo into a still (grid) type is implemented from table types on whole cells, "
+            "without killSecond, into a type the rule does not name",
+        )
+    return True
+
+
+def _check_off_grid(plan: Plan) -> None:
+    """A grid type that a table transforms into also has sprites off the array (``off_grid``):
+    read only as a second, a termination's count or collectResource's
+    first."""
+    made: dict[str, set[str]] = {}
+    for rule in plan.pairs:
+        stype = rule.values.get("stype")
+        if rule.name == "transformTo" and isinstance(stype, str) and plan.types[stype].representation == GRID:
+            made.setdefault(stype, set()).update(rule.firsts)
+    for rule in plan.pairs:
+        reads_first = rule.name not in ("stepBack", "collectResource") and set(rule.firsts) & set(made)
+        reads_second = (
+            rule.name == "transformTo" and rule.values.get("killSecond") and set(rule.seconds) & set(made)
+        )
+        if reads_first or reads_second:
+            raise VGDLError(
+                plan.path,
+                rule.line,
+                f"{rule.name} of a type that transformTo makes from table sprites is not implemented",
+            )
+
+
+def _check_resource_rule(plan: Plan, rule: RulePlan) -> None:
+    """collectResource and killIfOtherHasMore: a grid type as first (collectResource: a Resource),
+    avatar records on whole cells holding the resource as seconds."""
+    firsts = [plan.types[name] for name in rule.firsts]
+    seconds = [plan.types[name] for name in rule.seconds]
+    resource = rule.firsts[0] if rule.name == "collectResource" else str(rule.values.get("resource"))
+    if (
+        len(firsts) != 1
+        or firsts[0].representation != GRID
+        or (rule.name == "collectResource" and firsts[0].java_class != "Resource")
+        or any(sprite.representation != RECORD or not sprite.aligned for sprite in seconds)
+        or any(resource not in held_resources(plan, name) for name in rule.seconds)
+        or plan.types[resource].values.get("resource_name") is not None
+    ):
+        raise VGDLError(
+            plan.path,
+            rule.line,
+            f"{rule.name} is implemented from one still (grid) type onto records on whole cells "
+            "that collect the resource",
         )
 
 

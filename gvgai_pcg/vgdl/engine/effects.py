@@ -20,9 +20,12 @@ from gvgai_pcg.games.geometry import NONE, aligned_cell, covered_cells
 from gvgai_pcg.games.rules import step_back_in_order
 from gvgai_pcg.vgdl.engine.checks import score_of
 from gvgai_pcg.vgdl.engine.frame import Entry, Frame, Side, sides
+from gvgai_pcg.vgdl.engine.from_above import kill_if_from_above
 from gvgai_pcg.vgdl.engine.layout import FLICKERS, Layout
 from gvgai_pcg.vgdl.engine.pull import pull_with_it
+from gvgai_pcg.vgdl.engine.resources import collect_resource, kill_if_other_has_more
 from gvgai_pcg.vgdl.engine.shield import shield_from
+from gvgai_pcg.vgdl.engine.transform_grid import transform_into_grid
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.layout import GRID, RECORD
 from gvgai_pcg.vgdl.plan import RulePlan
@@ -129,6 +132,9 @@ def transform_to(frame: Frame, rule: Rule) -> None:
     list order with ``killSecond``; once, since it is then killed. A disabled first is not
     transformed but scores for every second it overlaps (Java adds the score anyway)."""
     made = str(rule.plan.values["stype"])
+    if made in frame.layout.grids:
+        transform_into_grid(frame, rule)
+        return
     target = frame.entry(made)
     for first in rule.firsts:
         record = frame.entry(first.key)
@@ -198,6 +204,9 @@ KERNELS: dict[str, Callable[[Frame, Rule], None]] = {
     "stepBack": step_back,
     "killSprite": kill_sprite,
     "transformTo": transform_to,
+    "collectResource": collect_resource,
+    "killIfOtherHasMore": kill_if_other_has_more,
+    "killIfFromAbove": kill_if_from_above,
     "shieldFrom": shield_from,
     "pullWithIt": pull_with_it,
 }

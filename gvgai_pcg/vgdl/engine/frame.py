@@ -18,6 +18,7 @@ from tensordict import TensorDict
 from gvgai_pcg._private_apis import entries, write_entries
 from gvgai_pcg.games.geometry import aligned_cell, covered_cells, overlaps, overlaps_aligned
 from gvgai_pcg.vgdl.engine.layout import Layout
+from gvgai_pcg.vgdl.engine.off_grid import off_key, off_overlaps
 from gvgai_pcg.vgdl.layout import GRID, RECORD
 
 # The entries every state has that a tick reads or writes.
@@ -77,7 +78,8 @@ class Frame:
     def __init__(self, layout: Layout, state: TensorDict) -> None:
         self.layout, self.state = layout, state
         top = entries(state)
-        keys = (*layout.records, *(group.key for group in layout.tables))
+        spills = (off_key(name) for name in layout.spills)
+        keys = (*layout.records, *(group.key for group in layout.tables), *spills)
         self.entries = {key: Entry(entries(top[key])) for key in keys}
         self.values = {key: top[key] for key in (*COMMON, *layout.grids)}
         self.changed: dict[str, torch.Tensor] = {}
@@ -208,6 +210,9 @@ class Frame:
         for second in seconds:
             if second.representation == GRID:
                 total = total + self.cell_counts(second.key, x, y, aligned)[1].sum(-1)
+                if second.key in self.layout.spills:  # its sprites off the array
+                    off = self.entry(off_key(second.key)).values
+                    total = total + off_overlaps(off, None, x, y, aligned).sum(-1)
             else:
                 total = total + self.overlap_matrix(x, y, aligned, first, second).sum(-1)
         return total

@@ -32,8 +32,9 @@ from gvgai_pcg.vgdl.engine.checks import check_engine
 from gvgai_pcg.vgdl.engine.effects import apply_rule, make_rules
 from gvgai_pcg.vgdl.engine.eos import apply_edge_rules, make_edge_rules
 from gvgai_pcg.vgdl.engine.frame import Frame
-from gvgai_pcg.vgdl.engine.layout import Layout, compile_state, make_layout
+from gvgai_pcg.vgdl.engine.layout import Layout, compile_state, held_resources, make_layout
 from gvgai_pcg.vgdl.engine.npcs import update_npcs
+from gvgai_pcg.vgdl.engine.off_grid import off_key
 from gvgai_pcg.vgdl.engine.terminations import check_terminations
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.layout import GRID, RECORD
@@ -44,8 +45,10 @@ from gvgai_pcg.vgdl.plan import compile_plan
 # Each avatar class's Gym action set.
 ACTION_SETS = {"ShootAvatar": SHOOT_ACTIONS, "MovingAvatar": MOVE_ACTIONS}
 # Effects that remove their first sprite, and those that also remove their second.
-KILLS_FIRST = frozenset({"killSprite", "transformTo"})
-_GAMES: dict[tuple[str, str, str | None], VGDLGame] = {}
+KILLS_FIRST = frozenset(
+    {"killSprite", "transformTo", "collectResource", "killIfOtherHasMore", "killIfFromAbove"}
+)
+_GAMES: dict[tuple[str, str, str | None, tuple[str, ...]], VGDLGame] = {}
 # The widest table whose same-table stepBack ticks compiled: compiled, ``step_back_in_order`` runs
 # one round per slot (no early exit in a graph), so its cost grows as slots cubed, while eagerly it
 # stops when nothing changes; the hand-written Zelda draws the line at the same width
@@ -64,28 +67,36 @@ class VGDLGame(Game):
     description: GameDescription
 
     @classmethod
-    def from_text(cls, text: str, path: str = "<vgdl>", name: str | None = None) -> VGDLGame:
-        """The game of a description's text; the same text, path and name give the same game
-        (its compiled tick is compiled once)."""
-        key = (text, path, name)
+    def from_text(
+        cls, text: str, path: str = "<vgdl>", name: str | None = None, draw_order: tuple[str, ...] = ()
+    ) -> VGDLGame:
+        """The game of a description's text; the same text, path, name and draw order give the
+        same game (its compiled tick is compiled once). ``draw_order``: the kinds of a drawing
+        table in the order they take draw keys (``layout``), to draw what a hand-written engine
+        draws."""
+        key = (text, path, name, tuple(draw_order))
         if key not in _GAMES:
-            _GAMES[key] = cls.from_description(parse_vgdl(text, path), name)
+            _GAMES[key] = cls.from_description(parse_vgdl(text, path), name, tuple(draw_order))
         return _GAMES[key]
 
     @classmethod
-    def from_file(cls, path: str | Path, name: str | None = None) -> VGDLGame:
+    def from_file(
+        cls, path: str | Path, name: str | None = None, draw_order: tuple[str, ...] = ()
+    ) -> VGDLGame:
         try:
             text = Path(path).read_text(encoding="utf-8")
         except UnicodeDecodeError as error:
             raise VGDLError(str(path), 0, f"not UTF-8 text ({error.reason})") from None
-        return cls.from_text(text, str(path), name)
+        return cls.from_text(text, str(path), name, draw_order)
 
     @classmethod
-    def from_description(cls, description: GameDescription, name: str | None = None) -> VGDLGame:
+    def from_description(
+        cls, description: GameDescription, name: str | None = None, draw_order: tuple[str, ...] = ()
+    ) -> VGDLGame:
         """A game of a class of its own: refuses, in one line, what has no kernel."""
         plan = compile_plan(description)
         check_engine(description, plan)
-        layout = make_layout(description, plan)
+        layout = make_layout(description, plan, draw_order)
         avatar_classes = {plan.types[avatar].java_class for avatar in layout.avatars}
         if len(avatar_classes) != 1:
             raise VGDLError(
@@ -167,7 +178,11 @@ class VGDLGame(Game):
                     "x": record.get("x").item(),
                     "y": record.get("y").item(),
                     "orientation": DIRECTION_NAMES[record.get("ori").item()],
-                    "resources": {},
+                    "resources": {
+                        resource: record.get(f"resource_{resource}").item()
+                        for resource in held_resources(layout.plan, name)
+                        if record.get(f"resource_{resource}").item()
+                    },
                 }
         sprites = []
         for name in layout.types:
@@ -177,6 +192,10 @@ class VGDLGame(Game):
                     grid = s.get(name)
                     for row, column in grid.nonzero().tolist():
                         sprites += [[name, 10 * column, 10 * row]] * int(grid[row, column])
+                if name in layout.spills:
+                    off = s.get(off_key(name))
+                    for slot in off.get("alive").nonzero().flatten().tolist():
+                        sprites.append([name, off.get("x")[slot].item(), off.get("y")[slot].item()])
             elif place.representation == RECORD:
                 record = s.get(name)
                 if name not in layout.avatars and record.get("alive").item():
@@ -193,7 +212,7 @@ class VGDLGame(Game):
 
 
 def _changing_types(layout: Layout) -> frozenset[str]:
-    """Grid types some rule removes, and spawners (they act: the traces list them); the others
+    """Grid types some rule removes or adds to, and spawners (they act: the traces list them); the others
     never change and are left out of a snapshot."""
     changing = {name for name in layout.grids if layout.plan.types[name].java_class == "SpawnPoint"}
     for rule in layout.plan.pairs:
@@ -201,6 +220,8 @@ def _changing_types(layout: Layout) -> frozenset[str]:
             changing.update(rule.firsts)
         if rule.values.get("killSecond"):
             changing.update(rule.seconds)
+        if rule.name == "transformTo":
+            changing.add(str(rule.values.get("stype")))
     return frozenset(name for name in changing & set(layout.grids))
 
 

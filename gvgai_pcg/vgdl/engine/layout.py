@@ -17,7 +17,15 @@ sprite's slot in its group's table, ``stream`` is ``1 + `` the rank of its group
 groups that draw (in drawing order of each group's first kind). Every draw of one sprite in one
 tick therefore has its own key, whatever the batch, and Zelda's three monster types (one group,
 the only one that draws) draw exactly what the hand-written engine draws with its one monster
-table and stream 1. The still spawners (grid ``SpawnPoint`` types) draw as one more such group,
+table and stream 1. Where a hand-written engine numbers its sprites in another order of the kinds
+(Boulderdash: butterflies before crabs, its update order, where the slots put crabs first), a
+game names that order (``draw_order``) and each sprite draws with its rank in it (``draw``), the
+slots keeping Java's processing order.
+
+**Resources.** A record that a ``collectResource`` can give to holds one count per resource
+type, ``resource_<type>`` (Java's resources map; the snapshot lists the counts above zero).
+
+The still spawners (grid ``SpawnPoint`` types) draw as one more such group,
 ranked by their first type in drawing order, keyed by their cell (``SPAWNER_ROW``): Frogs' two
 forests draw what the hand-written Frogs draws.
 
@@ -30,7 +38,7 @@ are reused and so are not list order.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import torch
@@ -39,6 +47,8 @@ from tensordict import TensorDict
 from gvgai_pcg.games.base import char_codes, char_entities, common_state, on_device
 from gvgai_pcg.games.geometry import CELL, DOWN, LEFT, NONE, RIGHT, UP
 from gvgai_pcg.levels import Level
+from gvgai_pcg.vgdl.engine.off_grid import off_key
+from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE, is_avatar
 from gvgai_pcg.vgdl.model import GameDescription
 from gvgai_pcg.vgdl.plan import Plan
@@ -86,6 +96,9 @@ class Layout:
     avatars: tuple[str, ...]  # record types of an avatar class
     orientation: Mapping[str, int]  # each type's default direction code
     spawner_stream: int = 0  # the rng stream of the still spawners' draws; 0 if none
+    draw_order: tuple[str, ...] = ()  # kinds in the order they take draw keys (``draw``)
+    # grid types a table transforms into -> that table: their sprites off the array (``off_grid``)
+    spills: Mapping[str, str] = field(default_factory=dict)
 
     def group(self, key: str) -> TableGroup:
         return next(group for group in self.tables if group.key == key)
@@ -95,8 +108,9 @@ class Layout:
         return GRID if key in self.grids else RECORD if key in self.records else TABLE
 
 
-def make_layout(game: GameDescription, plan: Plan) -> Layout:
-    """The state layout of ``plan`` (``game`` gives the parents that group the tables)."""
+def make_layout(game: GameDescription, plan: Plan, draw_order: tuple[str, ...] = ()) -> Layout:
+    """The state layout of ``plan`` (``game`` gives the parents that group the tables); a drawing
+    group's kinds named in ``draw_order`` take draw keys in that order (see the docstring)."""
     types = existing_types(plan)
     grids = tuple(name for name in types if plan.types[name].representation == GRID)
     records = tuple(name for name in types if plan.types[name].representation == RECORD)
@@ -130,14 +144,46 @@ def make_layout(game: GameDescription, plan: Plan) -> Layout:
             stream += 1
         tables.append(TableGroup(key, kinds, java_class, stream if java_class in DRAWING_CLASSES else 0))
         places.update({name: Place(TABLE, key, code) for code, name in enumerate(kinds)})
+    drawing = {name for group in tables if group.stream for name in group.kinds}
+    stray = [name for name in draw_order if name not in drawing]
+    if stray:
+        raise ValueError(f"draw_order names {stray[0]!r}, which is no kind of a table that draws")
     avatars = tuple(name for name in records if is_avatar(game.types[name]))
     orientation = {
         name: DIRECTION_CODES[getattr(sprite.values.get("orientation"), "name", "DNONE")]
         for name, sprite in plan.types.items()
     }
+    spills: dict[str, str] = {}
+    for rule in plan.pairs:
+        made = rule.values.get("stype")
+        if rule.name != "transformTo" or made not in grids:
+            continue
+        for source in {places[name].key for name in rule.firsts if name in places}:
+            if spills.setdefault(str(made), source) != source:
+                raise VGDLError(
+                    plan.path, rule.line, f"transformTo into {made} from two tables is not implemented"
+                )
     if first_spawner is not None and not spawner_stream:
         spawner_stream = stream + 1
-    return Layout(plan, types, grids, records, tuple(tables), places, avatars, orientation, spawner_stream)
+    return Layout(
+        plan,
+        types,
+        grids,
+        records,
+        tuple(tables),
+        places,
+        avatars,
+        orientation,
+        spawner_stream,
+        draw_order=draw_order,
+        spills=spills,
+    )
+
+
+def held_resources(plan: Plan, name: str) -> tuple[str, ...]:
+    """The resource types a ``collectResource`` can give to sprites of type ``name``."""
+    held = [rule.firsts for rule in plan.pairs if rule.name == "collectResource" and name in rule.seconds]
+    return tuple(dict.fromkeys(resource for firsts in held for resource in firsts))
 
 
 def existing_types(plan: Plan) -> tuple[str, ...]:
@@ -186,6 +232,11 @@ def compile_state(
         state[name] = _record(layout, name, codes, mapping, levels, device)
     for group in layout.tables:
         state[group.key] = _table(layout, group, levels, mapping, device)
+    for name, source in layout.spills.items():
+        table = state[source]
+        zeros = torch.zeros(table.batch_size, dtype=torch.int64, device=device)
+        values = {"x": zeros, "y": zeros.clone(), "alive": zeros.bool()}
+        state[off_key(name)] = TensorDict(values, batch_size=table.batch_size, device=device)
     return on_device(device, state, [batch])
 
 
@@ -241,6 +292,8 @@ def _record(
     }
     if layout.plan.types[name].java_class in FLICKERS:
         values["age"] = torch.zeros(batch, dtype=torch.int64)
+    for resource in held_resources(layout.plan, name):
+        values[f"resource_{resource}"] = torch.zeros(batch, dtype=torch.int64)
     if layout.plan.types[name].java_class in COUNTING_MOVES:
         values["lastmove"] = torch.zeros(batch, dtype=torch.int64)
     return on_device(device, values, [batch])
@@ -283,7 +336,22 @@ def _table(
                 "born": torch.arange(slots, device=device).expand(batch, slots).clone(),
             }
         )
+    if group.stream:
+        table.set("draw", _draw_ranks(layout, group, table))
     return table
+
+
+def _draw_ranks(layout: Layout, group: TableGroup, table: TensorDict) -> torch.Tensor:
+    """Each slot's draw key: its rank by (kind in ``draw_order``, slot), the free slots last in
+    slot order; without a ``draw_order`` for the group, the slot itself."""
+    named = [name for name in layout.draw_order if name in group.kinds]
+    order = named + [name for name in group.kinds if name not in named]
+    rank = torch.tensor([order.index(name) for name in group.kinds], device=table.device)
+    kind, alive = table.get("kind"), table.get("alive")
+    slots = kind.shape[1]
+    slot = torch.arange(slots, device=kind.device).expand_as(kind)
+    key = torch.where(alive, rank[kind] * slots + slot, len(order) * slots + slot)
+    return key.argsort(dim=1).argsort(dim=1)
 
 
 def _created_capacity(layout: Layout, group: TableGroup, level: Level) -> int:

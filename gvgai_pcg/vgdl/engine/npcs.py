@@ -52,8 +52,7 @@ def random_npc(frame: Frame, group: TableGroup) -> None:
     cooldown = lookup(tuple(max(1, int(types[name].values["cooldown"])) for name in group.kinds), kind)
     step = lookup(tuple(types[name].step_px for name in group.kinds), kind)
     counter, prev = table.get("counter"), table.get("prev")
-    slots = torch.arange(counter.shape[1], device=counter.device)
-    drawn = rng.randint(frame.value("seed"), frame.value("tick"), slots, group.stream, DIRECTIONS)
+    drawn = rng.randint(frame.value("seed"), frame.value("tick"), table.get("draw"), group.stream, DIRECTIONS)
     draw = counter >= cons
     direction = torch.where(draw, drawn, prev)
     counter = torch.where(draw, torch.zeros_like(counter), counter + 1)
