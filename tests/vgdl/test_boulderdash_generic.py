@@ -127,6 +127,7 @@ def test_a_butterfly_turned_off_the_grid_leaves_its_diamond_there():
     assert total > 0
 
 
+@pytest.mark.slow  # a minute of compiling (the in-order stepBack of a 64-slot boulder table unrolls)
 def test_generic_boulderdash_equals_the_hand_written_compiled():
     levels = generated(1)[:2] + small_levels()
     assert_same_play(own_boulderdash(), levels, ticks=40, compiled=True, seed=1)
