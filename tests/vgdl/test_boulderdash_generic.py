@@ -1,6 +1,7 @@
 """The generic step runs Boulderdash from a VGDL description exactly as the hand-written engine does.
 
-The description is the package's own (``descriptions/boulderdash.txt``, written from RULES.md §7),
+The description is the package's own (``gvgai_pcg/vgdl/descriptions/boulderdash.txt``, written
+from RULES.md §7),
 whose parse must equal Java's parse of GVGAI's boulderdash. On random actions over human,
 generated and small unbordered levels (batched with different sizes, and alone; eager and
 through the engine's compiled tick) both engines give the same golden record, score and outcome
@@ -26,16 +27,17 @@ from gvgai_pcg.levels import Level, human_levels
 from gvgai_pcg.vgdl import parse_file
 from gvgai_pcg.vgdl.engine import VGDLGame
 from gvgai_pcg.vgdl.engine.off_grid import off_key
+from gvgai_pcg.vgdl.registry import registered_game
 from tests.games.golden_replay import assert_replays, golden_files
 
 HERE = Path(__file__).parent
-OWN_BOULDERDASH = HERE / "descriptions" / "boulderdash.txt"
+OWN_BOULDERDASH = registered_game("boulderdash").description
 ROOT = HERE.parents[1]
 GAMES = Path(os.environ.get("GVGAI_VGDL_DIR", ROOT.parent / "shared" / "vgdl" / "games"))
 DATA = Path(os.environ.get("GVGAI_VGDL_DATA", ROOT.parent / "shared" / "vgdl" / "data"))
 STRUCTURE = DATA / "java_structure.jsonl"
 # The hand-written engine's monster slots: butterflies, then crabs (its update order).
-DRAW_ORDER = ("butterfly", "crab")
+DRAW_ORDER = registered_game("boulderdash").draw_order
 # Small levels, most without a border (sprites leave their screen), to batch with full-size ones.
 SMALL_LEVELS = (
     ("A-b", "-c-", "o.x"),

@@ -1,7 +1,7 @@
 """The generic step runs Frogs from a VGDL description exactly as the hand-written engine does.
 
-The description is the package's own (``descriptions/frogs.txt``, written from RULES.md §6), whose
-parse must equal Java's parse of GVGAI's frogs. On random actions over human and generated levels
+The description is the package's own (``gvgai_pcg/vgdl/descriptions/frogs.txt``, written from
+RULES.md §6), whose parse must equal Java's parse of GVGAI's frogs. On random actions over human and generated levels
 (batched with different sizes, and alone; eager and through the engine's compiled tick) both
 engines give the same golden record, score and outcome at every tick, the logs' spawns included
 (the same draws); the Frogs golden traces of the Java engine replay through it; and GVGAI's own
@@ -24,10 +24,11 @@ from gvgai_pcg.games.render import render_tiles
 from gvgai_pcg.levels import Level, human_levels
 from gvgai_pcg.vgdl import parse_file
 from gvgai_pcg.vgdl.engine import VGDLGame
+from gvgai_pcg.vgdl.registry import registered_game
 from tests.games.golden_replay import assert_replays, golden_files
 
 HERE = Path(__file__).parent
-OWN_FROGS = HERE / "descriptions" / "frogs.txt"
+OWN_FROGS = registered_game("frogs").description
 ROOT = HERE.parents[1]
 GAMES = Path(os.environ.get("GVGAI_VGDL_DIR", ROOT.parent / "shared" / "vgdl" / "games"))
 DATA = Path(os.environ.get("GVGAI_VGDL_DATA", ROOT.parent / "shared" / "vgdl" / "data"))

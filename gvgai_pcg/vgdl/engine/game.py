@@ -184,28 +184,36 @@ class VGDLGame(Game):
                         if record.get(f"resource_{resource}").item()
                     },
                 }
-        sprites = []
-        for name in layout.types:
+        shown = (name for name in layout.types if name not in layout.avatars)
+        sprites = self.sprites(
+            s, [n for n in shown if layout.places[n].representation != GRID or n in self.changing]
+        )
+        return golden_record(s, avatar, sprites)
+
+    def sprites(self, s: TensorDict, names: Sequence[str]) -> list[list]:
+        """``[type, x, y]`` of every sprite of the types ``names`` in one env's state ``s``
+        (unbatched), one entry per sprite (a grid cell holding two gives two)."""
+        layout, sprites = self.layout, []
+        for name in names:
             place = layout.places[name]
             if place.representation == GRID:
-                if name in self.changing:
-                    grid = s.get(name)
-                    for row, column in grid.nonzero().tolist():
-                        sprites += [[name, 10 * column, 10 * row]] * int(grid[row, column])
+                grid = s.get(name)
+                for row, column in grid.nonzero().tolist():
+                    sprites += [[name, 10 * column, 10 * row]] * int(grid[row, column])
                 if name in layout.spills:
                     off = s.get(off_key(name))
                     for slot in off.get("alive").nonzero().flatten().tolist():
                         sprites.append([name, off.get("x")[slot].item(), off.get("y")[slot].item()])
             elif place.representation == RECORD:
                 record = s.get(name)
-                if name not in layout.avatars and record.get("alive").item():
+                if record.get("alive").item():
                     sprites.append([name, record.get("x").item(), record.get("y").item()])
             else:
                 table = s.get(place.key)
                 present = table.get("alive") & (table.get("kind") == place.kind)
                 for slot in present.nonzero().flatten().tolist():
                     sprites.append([name, table.get("x")[slot].item(), table.get("y")[slot].item()])
-        return golden_record(s, avatar, sprites)
+        return sprites
 
     def max_score(self, level: Level) -> int:
         raise NotImplementedError(f"{self.name}: the generic step does not derive a maximum score")
