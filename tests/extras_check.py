@@ -35,7 +35,7 @@ def check_logger(name: str) -> None:
     from pathlib import Path
 
     os.environ.setdefault("WANDB_MODE", "offline")
-    from gvgai_pcg.rl.run_log import RunLog
+    from gvgai_pcg.rundir.run_log import RunLog
 
     with tempfile.TemporaryDirectory() as tmp:
         log = RunLog(Path(tmp), [name], resume_frames=None)

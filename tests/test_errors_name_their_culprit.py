@@ -13,8 +13,9 @@ import pytest
 import torch
 
 from gvgai_pcg.evaluation.ued import UEDProtocol
-from gvgai_pcg.study import BUDGETS, reproduce
-from gvgai_pcg.study.borrowed_runs import borrow_run
+from gvgai_pcg.study import BUDGETS
+from gvgai_pcg.study.pipeline import reproduce
+from gvgai_pcg.study.sweeps.borrowed_runs import borrow_run
 from tests.evaluation.conftest import make_run, write_log
 from tests.evaluation.test_held_out import with_snapshots
 from tests.evaluation.test_model_checks import _one_line_error as one_line_error
@@ -63,7 +64,7 @@ def test_a_borrowed_runs_damaged_log_is_named_and_leaves_no_half_run(tmp_path):
 
 
 def test_a_full_disk_during_publish_is_one_line_naming_a_file(tmp_path):
-    from gvgai_pcg.study.publish import publish
+    from gvgai_pcg.study.sweeps.publish import publish
 
     out = tmp_path / "out"
     (out / "report").mkdir(parents=True)

@@ -16,7 +16,7 @@ from omegaconf import OmegaConf
 from gvgai_pcg.cli import main
 from gvgai_pcg.config import compose_config  # also registers the configs' resolvers
 from gvgai_pcg.rl import train
-from gvgai_pcg.rl.run_log import EpisodeTracker
+from gvgai_pcg.rundir.run_log import EpisodeTracker
 
 ROOT = Path(__file__).parents[1]
 TINY = ["regimen=lv", "env.num_envs=8", "env.max_steps=10", "log.every_episodes=8"]

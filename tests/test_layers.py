@@ -29,11 +29,18 @@ The layers, lowest first. A module may import its own layer and the layers below
 8. ``curricula``: the curricula that hand the env its levels, built on the env's level sources.
    The env never imports a curriculum: it reads what it needs from the ``LevelSource`` contract.
 9. ``gym``: the Gymnasium API, which trains on the curricula by name.
-10. ``rl``: models, A2C, the training loop, checkpoints, and ``config``, the training config's
+10. ``rundir``: the run directory's I/O (atomic files, the folder lock, the log, checkpoints and
+   snapshots, provenance, the stop signal, earlier outputs set aside), which ``rl``, ``evaluation``,
+   ``report`` and ``study`` read and write without the training code.
+11. ``rl``: models, A2C, the training loop, the training session, and ``config``, the training config's
    checks and its memory estimate (they ask the models for their names).
-11. ``evaluation``.
-12. ``apps``: ``report``, ``study``, ``bench`` (every benchmark and the device check), ``play``.
-13. ``commands``: ``commands``, ``cli`` and the package root (which registers the Gymnasium ids).
+12. ``evaluation``.
+13. ``apps``: ``report``, ``bench`` (every benchmark and the device check), ``play``.
+14. ``study``, in four layers of its own: ``study.sweeps`` (conditions, budgets, borrowed runs,
+   publishing), ``study.verdicts`` (the runs read into tables, the claims' rules, intervals, the
+   one judging system), ``study.pages`` (the results pages, written from the verdicts), and the
+   package itself with ``pipeline`` and ``sweep_status``, which run a sweep through all three.
+15. ``commands``: ``commands``, ``cli`` and the package root (which registers the Gymnasium ids).
 
 Importing ``a.b.c`` also runs ``a/b/__init__.py``, which has a layer of its own: it may sit
 above some of its modules (``generators`` above the kit ``generators._common``) as long as it
@@ -79,17 +86,14 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("envs", ("gvgai_pcg.envs",)),
     ("curricula", ("gvgai_pcg.curricula",)),
     ("gym", ("gvgai_pcg.gym",)),
+    ("run directory", ("gvgai_pcg.rundir",)),
     ("rl", ("gvgai_pcg.rl", "gvgai_pcg.config")),
     ("evaluation", ("gvgai_pcg.evaluation",)),
-    (
-        "apps",
-        (
-            "gvgai_pcg.report",
-            "gvgai_pcg.study",
-            "gvgai_pcg.bench",
-            "gvgai_pcg.play",
-        ),
-    ),
+    ("apps", ("gvgai_pcg.report", "gvgai_pcg.bench", "gvgai_pcg.play")),
+    ("study sweeps", ("gvgai_pcg.study.sweeps",)),
+    ("study verdicts", ("gvgai_pcg.study.verdicts",)),
+    ("study pages", ("gvgai_pcg.study.pages",)),
+    ("study", ("gvgai_pcg.study",)),
     ("commands", ("gvgai_pcg.commands", "gvgai_pcg.cli", "gvgai_pcg:")),
 )
 
@@ -251,6 +255,25 @@ def test_the_graph_sees_lazy_and_relative_imports():
     """The reader finds an import inside a function (render asks the registry for a game)."""
     assert "gvgai_pcg.games.registry" in imports()["gvgai_pcg.games.render"]
     assert "gvgai_pcg.games.zelda.checks" in imports()["gvgai_pcg.games.zelda"]
+
+
+def test_the_run_directory_needs_no_training_code():
+    """evaluation, report and study read and write run directories through ``rundir``: none of
+    them imports ``rl`` for a file's I/O, and ``rundir`` imports nothing of ``rl``."""
+    io = (
+        "gvgai_pcg.rl.atomic_files",
+        "gvgai_pcg.rl.checkpoint",
+        "gvgai_pcg.rl.run_log",
+        "gvgai_pcg.rl.run_lock",
+    )
+    assert not [name for name in io if name in modules()]
+    assert not [
+        (source, target)
+        for source, targets in imports().items()
+        if source.startswith("gvgai_pcg.rundir")
+        for target in targets
+        if target.startswith("gvgai_pcg.rl")
+    ]
 
 
 def test_the_env_imports_no_curriculum():

@@ -70,6 +70,7 @@ def test_an_installed_wheel_trains_and_evaluates(tmp_path):
         "gvgai_pcg/games/boulderdash/test_sets/boulderdash_pcg1_29.txt",
         "gvgai_pcg/games/frogs/test_sets/manifest_large.csv",
         "gvgai_pcg/games/zelda/test_sets/zelda_pcg1_large.txt",
+        "gvgai_pcg/vgdl/descriptions/zelda.txt",
     ):
         assert name in names
 

@@ -17,7 +17,7 @@ import torch
 from gvgai_pcg.cli import main, say, silence_closed_streams
 from gvgai_pcg.log_backends import BACKENDS
 from gvgai_pcg.progress import PlainProgress
-from gvgai_pcg.rl.run_log import RunLog
+from gvgai_pcg.rundir.run_log import RunLog
 from tests.waiting import PATIENCE_S
 
 # 8 envs x 5 steps = 40 frames a batch; a row per 8 episodes of at most 10 steps
@@ -107,7 +107,7 @@ def test_a_logger_backend_that_fails_mid_run_keeps_the_last_update(tmp_path, mon
 
 def test_a_failure_before_the_first_update_saves_no_checkpoint(tmp_path, monkeypatch, capsys):
     """Nothing was trained: a checkpoint of 0 frames would only make a corrected config a refusal."""
-    from gvgai_pcg.rl.run_log import EpisodeTracker
+    from gvgai_pcg.rundir.run_log import EpisodeTracker
 
     def out_of_memory(self, rollout):
         raise RuntimeError("not enough memory")
@@ -428,7 +428,7 @@ def test_training_into_a_small_tmpfs_is_one_line_and_keeps_the_checkpoint(tmp_pa
 
 
 def test_temporary_files_of_killed_writers_are_removed_and_live_ones_kept(tmp_path):
-    from gvgai_pcg.rl.atomic_files import remove_stale_temporaries
+    from gvgai_pcg.rundir.atomic_files import remove_stale_temporaries
 
     dead = tmp_path / f".last.pt.{2**22 + 1}.tmp"  # above Linux's largest PID: no such process
     mine, other = tmp_path / f".last.pt.{os.getpid()}.tmp", tmp_path / "notes.tmp"
@@ -450,7 +450,7 @@ def test_a_session_removes_what_a_killed_checkpoint_writer_left(tmp_path):
 
 
 def test_a_log_that_is_not_numbers_is_named_with_its_line(tmp_path):
-    from gvgai_pcg.rl.run_log import read_log
+    from gvgai_pcg.rundir.run_log import read_log
 
     log = tmp_path / "log.csv"
     log.write_text("frames,episodes,mean_score\n40,8,0.5\n80,abc,0.5\n120,20,0.5\n")
@@ -571,9 +571,9 @@ def test_a_level_folder_names_an_entry_it_cannot_read(make_link, what, tmp_path)
 
 def test_a_resume_on_changed_level_files_is_refused_in_one_line(tmp_path):
     from gvgai_pcg.levels.sets import level_set_fingerprint
-    from gvgai_pcg.rl.checkpoint import CheckpointError, save_checkpoint
     from gvgai_pcg.rl.run_session import open_run
     from gvgai_pcg.rl.training import own_level_set
+    from gvgai_pcg.rundir.checkpoint import CheckpointError, save_checkpoint
 
     folder = _level_folder(tmp_path / "mine")
     config = {

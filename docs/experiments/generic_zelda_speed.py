@@ -3,7 +3,7 @@ part of the package.)
 
 Ticks B envs of Zelda's five human levels (repeated) with random actions, on one torch thread,
 with each engine: the hand-written ``get_game("zelda")`` and the generic step on the package's own
-description (``tests/vgdl/descriptions/zelda.txt``), each eager and through the engine's compiled
+description (``gvgai_pcg/vgdl/descriptions/zelda.txt``), each eager and through the engine's compiled
 tick. Prints env steps per CPU second of this process (the tick alone: no env wrapper, resets or
 observations), the median of 5 windows of 50 ticks, each from a fresh batch after 10 warm-up
 ticks: CPU time, since the machine may be busy with other runs.
@@ -16,7 +16,6 @@ from __future__ import annotations
 import statistics
 import sys
 import time
-from pathlib import Path
 
 import torch
 
@@ -24,8 +23,8 @@ from gvgai_pcg.engine.compiled import engine_tick
 from gvgai_pcg.games import get_game
 from gvgai_pcg.levels import human_levels
 from gvgai_pcg.vgdl.engine import VGDLGame
+from gvgai_pcg.vgdl.registry import registered_game
 
-DESCRIPTION = Path(__file__).resolve().parents[2] / "tests" / "vgdl" / "descriptions" / "zelda.txt"
 WINDOWS, TICKS, WARM_UP = 5, 50, 10
 
 
@@ -47,7 +46,7 @@ def steps_per_second(game, tick, envs: int) -> float:
 
 def main(sizes: list[int]) -> None:
     torch.set_num_threads(1)
-    games = {"hand-written": get_game("zelda"), "generic": VGDLGame.from_file(DESCRIPTION)}
+    games = {"hand-written": get_game("zelda"), "generic": VGDLGame.from_file(registered_game("zelda").description)}
     print(f"{'envs':>6} {'engine':>13} {'eager':>10} {'compiled':>10}  (env steps per CPU second)")
     for envs in sizes:
         for name, game in games.items():

@@ -203,7 +203,7 @@ def measure_peers(
     return rows, griddly
 
 
-def _load() -> str:
+def load_average() -> str:
     try:
         return "load average " + ", ".join(f"{x:.1f}" for x in os.getloadavg())
     except OSError:
@@ -231,7 +231,7 @@ def peer_lines(rows: list[PeerRow], griddly: Timed | None, load: str | None = No
         "under `vmap` every env computes a reset every step) and bare (no resets). Compile is tracing, "
         "XLA compilation and the first calls of reset and step, timed apart. Steps/s: medians of the "
         "same windows, the slowest in brackets; cores: CPU seconds per wall second over the windows. "
-        f"Measured with {load or _load()} at the end.",
+        f"Measured with {load or load_average()} at the end.",
         "",
         "| B | ours: steps/s | DoorKey, auto-reset | ours / DoorKey | DoorKey, bare step | ours / bare "
         "| cores: ours, auto-reset, bare | compile (s): auto-reset, bare |",

@@ -42,7 +42,7 @@ from omegaconf import DictConfig
 from gvgai_pcg.bench.timing import Stopwatch, time_windows
 from gvgai_pcg.config import ConfigError, check_jobs, config_dir
 from gvgai_pcg.engine.threads import threads_for_batch
-from gvgai_pcg.rl.environment import EnvFactory, make_difficulty
+from gvgai_pcg.rl.environment import EnvFactory
 from gvgai_pcg.rl.learners import learner_class
 from gvgai_pcg.rl.learners.base import Learner
 from gvgai_pcg.rl.models import CHANNELS_LAST_TORSOS, actor_critic_for, as_tensordict_module
@@ -85,7 +85,6 @@ def _env_and_net(cfg: DictConfig):
         int(cfg.env.max_steps),
         cfg.device,
         int(cfg.seed),
-        make_difficulty(cfg.regimen, cfg.game.name),
     )()
     obs_key = cfg.env.obs
     net = actor_critic_for(env, cfg.model, obs_key).to(cfg.device)

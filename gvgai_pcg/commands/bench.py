@@ -7,6 +7,7 @@ from pathlib import Path
 
 import torch
 
+from gvgai_pcg.bench.generic import generic_section
 from gvgai_pcg.bench.jobs import jobs_section
 from gvgai_pcg.bench.peers import peers_report
 from gvgai_pcg.bench.targets import Section, target_lines
@@ -32,6 +33,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--threads", type=int, default=None, help="torch CPU threads (default: torch's)")
     parser.add_argument(
         "--no-peers", action="store_true", help="leave out the peers (gvgai_pcg.bench.peers, .vgdlx)"
+    )
+    parser.add_argument(
+        "--no-generic",
+        action="store_true",
+        help="leave out the generic VGDL step beside the hand-written engines (gvgai_pcg.bench.generic)",
     )
     parser.add_argument(
         "--no-jobs",
@@ -75,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
             min_seconds=args.seconds,
             levels=args.levels,
         )
-        section += _peers(args, device) + _jobs(args, device)
+        section += _peers(args, device) + _generic(args, device) + _jobs(args, device)
         body = section.text + "".join(line + "\n" for line in target_lines(section.checks))
         print(body)
         if args.output:
@@ -93,6 +99,15 @@ def _peers(args: argparse.Namespace, device: str) -> Section:
     sizes = tuple(int(b) for b in args.batch_sizes.split(","))
     section = peers_report(sizes, args.seconds) if "zelda" in games else Section()
     return section + vgdlx_section(games, sizes, args.seconds)
+
+
+def _generic(args: argparse.Namespace, device: str) -> Section:
+    """The generic VGDL step beside each hand-written engine, on the CPU (where its tick compiles)."""
+    if args.no_generic or torch.device(device).type != "cpu":
+        return Section()
+    games = args.games.split(",") if args.games else None
+    sizes = tuple(int(b) for b in args.batch_sizes.split(","))
+    return generic_section(games, sizes, args.seconds)
 
 
 def _jobs(args: argparse.Namespace, device: str) -> Section:

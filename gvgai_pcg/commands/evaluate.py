@@ -384,7 +384,7 @@ def _run_levels(args: argparse.Namespace, agent: str) -> int:
         print(table, file=sys.stderr)
         return 0
     if args.json:  # whole or not at all: a full disk leaves no empty or half file
-        from gvgai_pcg.rl.atomic_files import atomic_write_text
+        from gvgai_pcg.rundir.atomic_files import atomic_write_text
 
         atomic_write_text(Path(args.json), json.dumps(payload, indent=1))
     print(table)

@@ -9,7 +9,7 @@ game as ``results.md``, ``results.csv`` and ``results.html``, and ``curves-<game
 ``--ued`` adds ``ued.md``: the UED protocol on every run (``--ued-levels``, ``--ued-seeds``), and
 per game each curriculum's solved rate, mean score and score CVaR over seeds, with the intervals,
 Welch comparisons against ``--baseline`` (PPCG) and Holm correction of the curricula page
-(``gvgai_pcg.study.ued_table``).
+(``gvgai_pcg.study.pages.ued_table``).
 """
 
 from __future__ import annotations
@@ -27,8 +27,8 @@ from gvgai_pcg.commands.folders import refuse_files_for_folders
 from gvgai_pcg.evaluation.checkpoints import is_run_dir
 from gvgai_pcg.report import build_report
 from gvgai_pcg.report.render import markdown_table
-from gvgai_pcg.study.table1 import STUDY_REACHED
-from gvgai_pcg.study.ued_table import write_ued_table
+from gvgai_pcg.study.pages.ued_table import write_ued_table
+from gvgai_pcg.study.verdicts.table1 import STUDY_REACHED
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -10,7 +10,7 @@ arguments are Hydra overrides for every run (e.g. ``hydra.launcher.partition=gpu
 a condition whose curriculum is not registered yet is refused with one line and the rest run; the
 UED protocol evaluates each run where this checkout has it; ``--page docs/results-curricula.md``
 writes the comparison's page from the published data. ``--borrow-from SWEEP`` takes the runs that
-another sweep trained exactly as this one would (``gvgai_pcg.study.borrowed_runs``).
+another sweep trained exactly as this one would (``gvgai_pcg.study.sweeps.borrowed_runs``).
 
 ``--conditions`` also takes a user's own conditions: a curriculum plug-in's with each game
 (``zelda-<name>``), and those of ``--config-dir DIR`` (``DIR/condition/<name>.yaml``, searched by
@@ -25,7 +25,13 @@ from pathlib import Path
 
 from gvgai_pcg.commands.folders import refuse_files_for_folders
 from gvgai_pcg.config_rules import searchpath_dirs, searchpath_override
-from gvgai_pcg.study.conditions import BUDGETS, conditions_of, known_conditions, unregistered, user_conditions
+from gvgai_pcg.study.sweeps.conditions import (
+    BUDGETS,
+    conditions_of,
+    known_conditions,
+    unregistered,
+    user_conditions,
+)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -181,9 +187,9 @@ def run(args: argparse.Namespace) -> int:
     if args.page is not None:
         if outcome.published is None:
             raise ValueError("--page needs --publish (the page is written from the published data)")
-        from gvgai_pcg.rl.provenance import code_commit
-        from gvgai_pcg.study.curricula_page import write_curricula_page
-        from gvgai_pcg.study.page import page_images, write_results_page
+        from gvgai_pcg.rundir.provenance import code_commit
+        from gvgai_pcg.study.pages.curricula_page import write_curricula_page
+        from gvgai_pcg.study.pages.page import page_images, write_results_page
 
         commit = args.trained_at or code_commit()
         if budget.comparison == "curricula":

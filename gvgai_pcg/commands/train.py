@@ -60,7 +60,7 @@ def _train(cfg) -> None:
     from gvgai_pcg.rl import train
     from gvgai_pcg.rl.divergence import DivergenceError
     from gvgai_pcg.rl.run_session import TrainingStopped
-    from gvgai_pcg.rl.stop_signal import StopSignal
+    from gvgai_pcg.rundir.stop_signal import StopSignal
 
     files = _hydra_files(cfg)
     # checked again here: a job that check_command_line could not compose (-cd, another sweeper)
@@ -183,7 +183,7 @@ def run_raw(argv: list[str]) -> int:
             check_argv(argv, config_dir())  # a missing option or package: before Hydra and torch
             import hydra
 
-            from gvgai_pcg.rl.stop_signal import StopSignal
+            from gvgai_pcg.rundir.stop_signal import StopSignal
 
             check_command_line(argv)
         except (ValueError, FileNotFoundError) as error:  # a bad value; configs not installed

@@ -126,7 +126,7 @@ class GeneratedCurriculum(Curriculum):
     generated = True
     mode = "fixed"
 
-    def start(self, section: Mapping[str, Any]) -> float:
+    def start_difficulty(self, section: Mapping[str, Any]) -> float:
         return float(section.get("start", 0.0))
 
     def make_state(self, game, section):
@@ -135,7 +135,7 @@ class GeneratedCurriculum(Curriculum):
         return DifficultyTransform(
             self.mode,
             alpha=float(section.get("alpha", 0.01)),
-            start=self.start(section),
+            start=self.start_difficulty(section),
             win_rule=section.get("win_rule", "game"),
             game=game,
         )
@@ -150,6 +150,9 @@ class GeneratedCurriculum(Curriculum):
 
         return RowResetTransformedEnv(env, state)
 
+    def episodes_ended(self, state, next_tensordict, finished):
+        state.record(next_tensordict, finished)
+
 
 class FixedDifficulty(GeneratedCurriculum):
     name, summary = "pcg", "PCG X: generated levels at the fixed difficulty X"
@@ -162,7 +165,7 @@ class FixedDifficulty(GeneratedCurriculum):
         "tag": Text(),
     }
 
-    def start(self, section):
+    def start_difficulty(self, section):
         return float(section["difficulty"])
 
     def check(self, section, config):

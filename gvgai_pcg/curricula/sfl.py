@@ -19,10 +19,11 @@ long). One refresh of these defaults with the pilot's trained Zelda model (10M f
 2-core machine (docs/concepts/regimens.md, ``sfl``; docs/benchmarks.md). A level is (generator,
 d, seed), so the buffer keeps three numbers a level.
 
-The refresh needs the policy: the training loop calls ``between_updates(policy, frames)`` of a
-level source that has one, after each update (``gvgai_pcg.rl.training``). The buffer lives in the
-curriculum's ``SharedState`` (shared with collector workers, kept in checkpoints), so a resumed
-run keeps its buffer, and the pools are drawn from the run's seed and the refresh count.
+The refresh needs the policy: after each update the training loop calls its curriculum run's
+``between_updates(policy, frames)``, which calls the level source's (``gvgai_pcg.rl.training``).
+The buffer lives in the curriculum's ``SharedState`` (shared with collector workers, kept in
+checkpoints), so a resumed run keeps its buffer, and the pools are drawn from the run's seed
+and the refresh count.
 """
 
 from __future__ import annotations

@@ -2,9 +2,9 @@
 
 ``LevelSignals`` cuts a batch's rollout (``[..., T]``, TorchRL's layout, with the env's
 ``("next", "level_seed")`` and ``("next", "level_difficulty")``) into level segments: the steps
-one env played on one level within the batch. The training loop gives the result to the level
-source's ``observe(signals)`` where the source has one (``feedback_for(source)`` does both).
-``signals`` is a TensorDict of batch ``[S]`` (one row per segment, by env then time) with these
+one env played on one level within the batch. The training loop gives the result to the
+curriculum's run (``CurriculumRun.observe``) where its source learns (``feedback_for(run)`` does
+both). ``signals`` is a TensorDict of batch ``[S]`` (one row per segment, by env then time) with these
 keys:
 
 ========================  =========  =====================================================
@@ -44,7 +44,7 @@ import torch
 from tensordict import TensorDict, TensorDictBase
 
 if TYPE_CHECKING:
-    from gvgai_pcg.envs.level_sources import LevelSource
+    from gvgai_pcg.curricula.base import CurriculumRun
 
 LEVEL_KEYS = ("level_seed", "level_difficulty")
 LEARNING_KEYS = ("advantage", "advantage_abs", "advantage_positive", "state_value", "value_loss")
@@ -177,36 +177,26 @@ TRAIN_MASK = "train_mask"  # [B, T] bool in a rollout: the steps a learner takes
 
 
 class Feedback:
-    """The learner's side of the hook: ``feedback(rollout, advantage=..., state_value=...,
-    value_target=...)`` after each batch gives the batch's signals to ``source.observe``;
-    ``mark_trained_steps(rollout)`` before the update writes the source's ``trains_on`` (where it
-    has one and it names steps) as the rollout's ``train_mask``, which every learner honours."""
+    """The learner's side of the run's feedback route: ``feedback(rollout, advantage=...,
+    state_value=..., value_target=...)`` after each batch gives the batch's signals to
+    ``run.observe``; ``mark_trained_steps(rollout)`` before the update writes ``run.trains_on``
+    (where it names steps) as the rollout's ``train_mask``, which every learner honours."""
 
-    def __init__(self, source: LevelSource) -> None:
-        self.source, self.signals = source, LevelSignals()
-        self._trains_on = source.trains_on
+    def __init__(self, run: CurriculumRun) -> None:
+        self.run, self.signals = run, LevelSignals()
 
     def mark_trained_steps(self, rollout: TensorDictBase) -> None:
-        mask = self._trains_on(rollout) if self._trains_on is not None else None
+        mask = self.run.trains_on(rollout)
         if mask is not None:
             rollout.set(TRAIN_MASK, mask.reshape(rollout.batch_size).to(torch.bool))
 
     def __call__(self, rollout: TensorDictBase, **learning: torch.Tensor | None) -> TensorDict:
         signals = self.signals(rollout, **learning)
-        self.source.observe(signals)
+        self.run.observe(signals)
         return signals
 
 
-def feedback_for(source: LevelSource) -> Feedback | None:
-    """A ``Feedback`` to ``source`` where it has ``observe`` (a curriculum that learns), else
-    ``None``: the loop then skips the signals altogether."""
-    return Feedback(source) if source.observe is not None else None
-
-
-def observe(source: LevelSource, signals: TensorDict) -> bool:
-    """Give ``signals`` to ``source.observe`` where it has one; whether it had."""
-    hook = source.observe
-    if hook is None:
-        return False
-    hook(signals)
-    return True
+def feedback_for(run: CurriculumRun) -> Feedback | None:
+    """A ``Feedback`` to ``run`` where its curriculum learns (``run.learns``), else ``None``: the
+    loop then skips the signals altogether."""
+    return Feedback(run) if run.learns else None

@@ -105,10 +105,15 @@ class DifficultyTransform(Transform):
             self.episodes[0] += len(outcomes)
         return value
 
+    def record(self, next_tensordict: TensorDictBase, finished: torch.Tensor) -> None:
+        """The episodes ``finished`` (``[B]`` bool) ended at this step: move the difficulty once
+        per episode, in env order. The step calls it (the training env), and so does the
+        Gymnasium env, which steps its env unwrapped (``Curriculum.episodes_ended``)."""
+        if bool(finished.any()):
+            self.update(self.wins(next_tensordict)[finished].tolist())
+
     def _step(self, tensordict: TensorDictBase, next_tensordict: TensorDictBase) -> TensorDictBase:
-        done = next_tensordict.get("done").reshape(-1)
-        if done.any():
-            self.update(self.wins(next_tensordict)[done].tolist())
+        self.record(next_tensordict, next_tensordict.get("done").reshape(-1))
         return self._write(next_tensordict)
 
     def _write(self, tensordict: TensorDictBase) -> TensorDictBase:

@@ -60,9 +60,9 @@ class LevelSource(ABC):
     ``level_difficulty``. None: the env reports its own difficulty."""
 
     observe: Callable[[TensorDictBase], None] | None = None
-    """``observe(signals)``, for a source that learns from training: the training loop gives it
-    what happened on each level after each batch (``gvgai_pcg.curricula.signals``). None: the
-    loop computes no signals at all."""
+    """``observe(signals)``, for a source that learns from training: the curriculum's run gives it
+    what happened on each level after each batch (``gvgai_pcg.curricula.signals``), or each
+    finished episode of a Gymnasium env. None: no signals are computed at all."""
 
     trains_on: Callable[[TensorDictBase], torch.Tensor | None] | None = None
     """``trains_on(rollout)``, for a source with ``observe`` that keeps steps out of the gradient
@@ -71,7 +71,7 @@ class LevelSource(ABC):
 
     between_updates: Callable[[Any, int], bool] | None = None
     """``between_updates(policy, frames)``, for a source that plays the learner's policy itself
-    (SFL): the training loop calls it after each update with the acting policy
+    (SFL): the curriculum's run calls it after each update with the acting policy
     (``gvgai_pcg.curricula.base.ActingPolicy``). None: no acting policy is built for it."""
 
     @abstractmethod

@@ -6,7 +6,7 @@ network's ``model`` state dict, the resolved ``config`` and the ``frames`` train
 only reads them and says which model a run's evaluation plays (``gvgai_pcg.evaluation.policy``
 turns it into a policy).
 
-Files are read as tensors and plain data only (``gvgai_pcg.rl.checkpoint.read_file``), and a
+Files are read as tensors and plain data only (``gvgai_pcg.rundir.checkpoint.read_file``), and a
 model is refused, before anything is played or filed, when its weights are not finite (a diverged
 run) or when it is not the run's model: another game, observation kind or architecture than the
 run's ``config.yaml`` says (``evaluate RUN --checkpoint FILE``).
@@ -19,9 +19,9 @@ from pathlib import Path
 
 from gvgai_pcg.curricula.registry import get_curriculum
 from gvgai_pcg.evaluation.protocol import LARGE_PROTOCOL, TRAINING_SET, Protocol, protocol_test_sets
-from gvgai_pcg.rl.checkpoint import check_finite, check_identity, identity, read_file
 from gvgai_pcg.rl.environment import training_levels
-from gvgai_pcg.rl.run_session import ASIDE_DIR
+from gvgai_pcg.rundir.checkpoint import check_finite, check_identity, identity, read_file
+from gvgai_pcg.rundir.earlier_outputs import ASIDE_DIR
 
 FINAL_MODEL = "model.pt"
 LAST_CHECKPOINT = Path("checkpoints") / "last.pt"
@@ -136,7 +136,7 @@ class RunInfo:
         return (TRAINING_SET, *sorted(shared))
 
 
-# A published run (``gvgai_pcg.study.publish.publish``) names its model here instead of holding
+# A published run (``gvgai_pcg.study.sweeps.publish.publish``) names its model here instead of holding
 # it: its results and logs rebuild a report (``--no-evaluate``) without the model file.
 PUBLISHED = "published.json"
 
@@ -240,7 +240,7 @@ def published_run_info(run_dir: Path) -> RunInfo:
     """A published run: its config from ``config.yaml``, its model as ``published.json`` names it,
     and the copy of that model published beside it, where there is one. ``published.json`` names
     the model as a file of the run folder (``"model"``, ``null`` with ``not_published`` when there
-    is none: ``gvgai_pcg.study.portable``), or, in the older form, as the path it had on the
+    is none: ``gvgai_pcg.study.sweeps.portable``), or, in the older form, as the path it had on the
     machine that trained it (``"checkpoint"``, with ``"copied"`` where a copy is beside it)."""
     import json
 

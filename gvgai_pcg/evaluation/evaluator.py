@@ -5,7 +5,7 @@ A trained run's records go to ``<run>/eval/protocol-<key>.jsonl`` (``key`` names
 settings) and are reused while the run's checkpoint and frame count are unchanged; the random
 agent's go to a cache per game and protocol (``<cache>/random/<game>-<key>.jsonl``), since every
 report of a game needs the same baseline. One process at a time evaluates into a run's ``eval/``
-or a cache file (``gvgai_pcg.rl.run_lock``); a second is refused, naming the first, and every file
+or a cache file (``gvgai_pcg.rundir.run_lock``); a second is refused, naming the first, and every file
 is replaced atomically.
 """
 
@@ -24,8 +24,8 @@ from gvgai_pcg.evaluation.protocol import EvalSet, Protocol, protocol_test_sets,
 from gvgai_pcg.evaluation.random_agent import RandomAgent
 from gvgai_pcg.evaluation.runner import Policy, play_episodes
 from gvgai_pcg.games import get_game
-from gvgai_pcg.rl.atomic_files import atomic_write_text
-from gvgai_pcg.rl.run_lock import FolderLock
+from gvgai_pcg.rundir.atomic_files import atomic_write_text
+from gvgai_pcg.rundir.run_lock import FolderLock
 
 EVAL_DIR = "eval"
 

@@ -18,8 +18,8 @@ from gvgai_pcg.evaluation.checkpoints import run_info
 from gvgai_pcg.evaluation.evaluator import EVAL_DIR, LevelRecord, evaluate_run
 from gvgai_pcg.evaluation.protocol import HUMAN_SETS, Protocol
 from gvgai_pcg.rl.curves import smooth
-from gvgai_pcg.rl.run_log import read_log
-from gvgai_pcg.rl.snapshots import snapshot_frames, snapshot_paths
+from gvgai_pcg.rundir.run_log import read_log
+from gvgai_pcg.rundir.snapshots import snapshot_frames, snapshot_paths
 
 SNAPSHOT_EVAL_DIR = "snapshots"
 HUMAN_MEAN = "human"  # the mean over the five human levels, one line of the plot

@@ -20,8 +20,8 @@ from gvgai_pcg.evaluation.checkpoints import RunInfo, load_state
 from gvgai_pcg.evaluation.runner import SAMPLE_KEY, sample_actions
 from gvgai_pcg.games import get_game
 from gvgai_pcg.games.geometry import observation_shape
-from gvgai_pcg.rl.checkpoint import CheckpointError
 from gvgai_pcg.rl.models import ActorCritic, make_actor_critic
+from gvgai_pcg.rundir.checkpoint import CheckpointError
 
 
 def policy_actions(

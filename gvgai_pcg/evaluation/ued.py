@@ -73,7 +73,7 @@ from gvgai_pcg.games import get_game
 from gvgai_pcg.games.registry import generate_level
 from gvgai_pcg.levels import Level
 from gvgai_pcg.levels.seeds import TEST_SEED_BASE, TRAINING_SEED_SPACE
-from gvgai_pcg.rl.atomic_files import atomic_write_text
+from gvgai_pcg.rundir.atomic_files import atomic_write_text
 
 # Generator seeds of the UED levels: level i has seed UED_SEED_BASE + i. The frozen test sets use
 # [TEST_SEED_BASE, TEST_SEED_BASE + 2^24), training seeds lie below TRAINING_SEED_SPACE.
@@ -241,9 +241,15 @@ def play_ued(
 
 
 def wilson_interval(fraction: float, n: int, confidence: float = CONFIDENCE) -> tuple[float, float]:
-    """Wilson's score interval of a proportion ``fraction`` observed over ``n`` trials."""
+    """Wilson's score interval of a proportion ``fraction`` observed over ``n`` trials: scipy's
+    (``binomtest``) on a whole count of successes; written out for a fractional count (a weighted
+    tail's effective count, or a mean of solved fractions), which ``binomtest`` refuses."""
     from scipy import stats
 
+    successes = fraction * n
+    if abs(successes - round(successes)) <= 1e-9 * max(1, n):
+        ci = stats.binomtest(round(successes), n).proportion_ci(confidence, method="wilson")
+        return max(0.0, float(ci.low)), min(1.0, float(ci.high))
     z = float(stats.norm.ppf(0.5 + confidence / 2))
     centre = (fraction + z * z / (2 * n)) / (1 + z * z / n)
     half = z * math.sqrt(fraction * (1 - fraction) / n + z * z / (4 * n * n)) / (1 + z * z / n)
@@ -257,10 +263,9 @@ def t_interval(values: Sequence[float], confidence: float = CONFIDENCE) -> tuple
 
     n = len(values)
     mean = sum(values) / n
-    sd = math.sqrt(sum((v - mean) ** 2 for v in values) / (n - 1)) if n > 1 else 0.0
-    if sd == 0:  # scipy wants a positive scale
+    if n < 2 or max(values) == min(values):  # scipy wants a positive scale
         return mean, mean
-    low, high = stats.t.interval(confidence, n - 1, loc=mean, scale=sd / math.sqrt(n))
+    low, high = stats.t.interval(confidence, n - 1, loc=mean, scale=float(stats.sem(values)))
     return float(low), float(high)
 
 

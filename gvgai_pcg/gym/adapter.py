@@ -4,16 +4,17 @@ It is a thin view of a ``GVGAIEnv`` with a batch of one, so the rules, observati
 step limit are exactly the TorchRL env's: ``reset(seed=s)`` followed by the same actions gives
 the same trajectory as ``GVGAIEnv(game, 1, seed=s)``. The training regimens of the study
 (Lv X, Lv 0-3, PCG X, Progressive PCG) are chosen by name; the difficulty of generated levels
-is owned by a ``DifficultyTransform`` used standalone, so the curriculum rule lives in one place.
+is owned by the curriculum's run (``CurriculumRun``, as in the trainer), so the curriculum rule
+lives in one place.
 Once an episode has ended (``terminated`` or ``truncated``), ``step`` refuses until ``reset``:
 the engine would otherwise go on playing (after a truncation) or stay frozen (after a
 termination) without saying so.
 
-A curriculum whose level source learns (``observe``) gets, after every step, one row per episode
-that ended at it: the level (seed and d), return, win and length (``EpisodeOutcomes``). That is
-all a Gymnasium env knows: it has no learner, so a curriculum that needs one (PLR⊥ and ACCEL
-score levels by the learner's value estimates, SFL plays its policy) is refused by name;
-``gvgai-pcg train`` runs those.
+A curriculum whose level source learns (``observe``) gets, through its run, after every step,
+one row per episode that ended at it: the level (seed and d), return, win and length
+(``EpisodeOutcomes``). That is all a Gymnasium env knows: it has no learner, so a curriculum that
+needs one (PLR⊥ and ACCEL score levels by the learner's value estimates, SFL plays its policy)
+is refused by name; ``gvgai-pcg train`` runs those.
 """
 
 from __future__ import annotations
@@ -39,9 +40,9 @@ from gvgai_pcg.envs.level_sources import LevelSource
 from gvgai_pcg.games import get_game
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.gym.regimens import (
-    regimen_curriculum,
+    given_source,
     regimen_kind,
-    regimen_source,
+    regimen_run,
     regimens_taking,
     unused_arguments,
 )
@@ -168,9 +169,10 @@ class Regimen:
         self.game, self.name, self.finite, self.num_envs = game, regimen, num_levels > 0, num_envs
         # each env's own difficulty from a per-env reset option (NaN: the regimen's)
         self._env_difficulty = torch.full((num_envs,), math.nan, dtype=torch.float64)
-        state = regimen_curriculum(game, regimen, difficulty, alpha, win_rule)
+        # the run owns the level choice, as the trainer's does: its state, source and signals
+        self.run = regimen_run(game, regimen, difficulty, alpha, win_rule, num_levels, start_seed)
         # the difficulty that PCG X and PPCG hand out; another curriculum's state is its own
-        self.curriculum = state if isinstance(state, DifficultyTransform) else None
+        self.curriculum = self.run.state if isinstance(self.run.state, DifficultyTransform) else None
         given: list[Level] | None = None
         if regimen == "levels":
             given = _level_set(game, levels)
@@ -181,10 +183,10 @@ class Regimen:
             given = [human_level(game, i) for i in range(4)]
         elif not kind.generated:
             given = human_levels(game)
-        source = regimen_source(game, regimen, given, difficulty, num_levels, start_seed, state)
+        source = given_source(game, regimen, given or []) if not kind.generated else self.run.learner_source
         self.source = LevelOverrides(source, num_envs)
-        self._observe = source.observe
-        self.outcomes = EpisodeOutcomes(num_envs) if self._observe is not None else None
+        # given levels come from the caller, not the section: only a generated regimen's run learns
+        self.outcomes = EpisodeOutcomes(num_envs) if kind.generated and self.run.learns else None
 
     @property
     def difficulty(self) -> float:
@@ -224,15 +226,15 @@ class Regimen:
     def record(
         self, next_td: TensorDictBase, finished: torch.Tensor, stepped: torch.Tensor | None = None
     ) -> None:
-        """After every step: move the difficulty once per finished episode (``finished``: ``[B]``
-        bool), in env order, and give a learning source the rows of the episodes that ended
-        (``stepped``: the envs that played this step, all by default)."""
-        if self.curriculum is not None and bool(finished.any()):
-            self.curriculum.update(self.curriculum.wins(next_td)[finished].tolist())
+        """After every step, the run's two signals: the episodes that ended (``finished``: ``[B]``
+        bool; PPCG moves its d once per episode, in env order, as its transform does in the
+        trainer's step), and, to a curriculum that learns, their rows (``stepped``: the envs
+        that played this step, all by default)."""
+        self.run.episodes_ended(next_td, finished)
         if self.outcomes is not None:
             rows = self.outcomes(next_td, torch.ones_like(finished) if stepped is None else stepped)
             if rows is not None:
-                self._observe(rows)
+                self.run.observe(rows)
 
     def restart(self, mask: torch.Tensor) -> None:
         """The envs in ``mask`` (``[B]`` bool) start new episodes (a reset)."""

@@ -17,6 +17,7 @@ from typing import Any
 
 from gvgai_pcg.config_rules import config_root
 from gvgai_pcg.curricula import Curriculum, get_curriculum, registered_curricula
+from gvgai_pcg.curricula.base import CurriculumRun
 from gvgai_pcg.curricula.builtin import given_level_source
 from gvgai_pcg.envs.level_sources import LevelSource
 from gvgai_pcg.levels import Level
@@ -87,30 +88,26 @@ def regimens_taking(argument: str) -> list[str]:
     return [name for name in regimen_names() if not unused_arguments(name, **{argument: 0.0})]
 
 
-def regimen_source(
+def regimen_run(
     game: str,
     name: str,
-    given: Sequence[Level] | None = None,
     difficulty: float = 0.0,
+    alpha: float = 0.01,
+    win_rule: str = "game",
     num_levels: int = 0,
     start_seed: int = 0,
-    state: Any = None,
-) -> LevelSource:
-    """The level source of regimen ``name``: for a regimen of given levels, the ``given`` ones
-    (one: every episode; more: one drawn uniformly), named in a warning where one cannot be won;
-    else the curriculum's own source (PCG X with ``num_levels`` >= 1: a fixed set from
-    ``start_seed``)."""
-    curriculum = regimen_kind(name)
-    section = regimen_section(name, difficulty, num_levels=num_levels, start_seed=start_seed)
-    if curriculum.generated:
-        return curriculum.make_source(game, section, state)
-    return given_level_source(name, game, given or [])
+) -> CurriculumRun:
+    """A run of regimen ``name`` (``Curriculum.start``) from the Gymnasium API's arguments: its
+    shared state (PCG X and PPCG: their ``DifficultyTransform``, at ``difficulty`` and moving by
+    ``alpha``), its source (PCG X with ``num_levels`` >= 1: a fixed set from ``start_seed``) and
+    the route of its signals, as the trainer's run of the same section has them."""
+    section = regimen_section(
+        name, difficulty, alpha, num_levels=num_levels, start_seed=start_seed, win_rule=win_rule
+    )
+    return regimen_kind(name).start(game, section)
 
 
-def regimen_curriculum(
-    game: str, name: str, difficulty: float = 0.0, alpha: float = 0.01, win_rule: str = "game"
-) -> Any:
-    """The shared state of regimen ``name`` (PCG X and PPCG: their ``DifficultyTransform``, at
-    ``difficulty`` and moving by ``alpha``), ``None`` where it has none."""
-    section = regimen_section(name, difficulty, alpha, win_rule=win_rule)
-    return regimen_kind(name).make_state(game, section)
+def given_source(game: str, name: str, given: Sequence[Level]) -> LevelSource:
+    """The source of a regimen of given levels on the ``given`` ones (one: every episode; more:
+    one drawn uniformly), named in a warning where one cannot be won."""
+    return given_level_source(name, game, list(given))

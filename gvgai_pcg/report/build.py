@@ -24,8 +24,8 @@ from gvgai_pcg.report.curves import plot_curves, pool_runs
 from gvgai_pcg.report.generalisation import LEVEL_COUNT_FIGURE, level_count_curves, plot_level_counts
 from gvgai_pcg.report.render import html_report, markdown_report, write_csv
 from gvgai_pcg.report.table import GameTable, RunResults, build_table
-from gvgai_pcg.rl.atomic_files import atomic_write_text
-from gvgai_pcg.rl.checkpoint import NonFiniteModelError
+from gvgai_pcg.rundir.atomic_files import atomic_write_text
+from gvgai_pcg.rundir.checkpoint import NonFiniteModelError
 
 log = logging.getLogger(__name__)
 

@@ -3,7 +3,7 @@ score of its runs with a ±1 std band across runs, and the mean difficulty on a 
 where the caller gives it, the highest d a published PPCG reached (the study's text) dashed
 beside ours.
 
-Each run's ``log.csv`` (``gvgai_pcg.rl.run_log``) is smoothed with a trailing mean over its rows,
+Each run's ``log.csv`` (``gvgai_pcg.rundir.run_log``) is smoothed with a trailing mean over its rows,
 then all runs of a condition are interpolated onto one frame grid, up to the shortest run's last
 row, so the band only covers frames every run has reached.
 """
@@ -17,9 +17,9 @@ from pathlib import Path
 import numpy as np
 
 from gvgai_pcg.report.table import format_frames
-from gvgai_pcg.rl.atomic_files import atomic_savefig
 from gvgai_pcg.rl.curves import smooth
-from gvgai_pcg.rl.run_log import LOG_NAME, read_log
+from gvgai_pcg.rundir.atomic_files import atomic_savefig
+from gvgai_pcg.rundir.run_log import LOG_NAME, read_log
 
 GRID_POINTS = 200
 
@@ -64,7 +64,7 @@ def plot_curves(
 ) -> list[Path]:
     """One panel per condition; writes ``<out_stem>.png`` and ``.svg`` and returns their paths.
     ``reached_by_game``: per game, the highest d a published PPCG reached (the study's, from
-    ``gvgai_pcg.study.table1.STUDY_REACHED``), dashed beside ours; given by the caller, so the report
+    ``gvgai_pcg.study.verdicts.table1.STUDY_REACHED``), dashed beside ours; given by the caller, so the report
     layer stays below the study's."""
     import matplotlib
 

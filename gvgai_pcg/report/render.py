@@ -10,7 +10,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from gvgai_pcg.report.table import COLUMN_LABELS, Cell, GameTable
-from gvgai_pcg.rl.atomic_files import atomic_write_text
+from gvgai_pcg.rundir.atomic_files import atomic_write_text
 
 CSV_COLUMNS = (
     "game",

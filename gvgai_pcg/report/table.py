@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 from gvgai_pcg.evaluation.evaluator import LevelRecord
 from gvgai_pcg.evaluation.max_score import mean_max_score
 from gvgai_pcg.evaluation.protocol import TEST_SETS, TRAINING_SET, EvalSet
-from gvgai_pcg.rl.checkpoint import ADDED_KEYS
+from gvgai_pcg.rundir.checkpoint import ADDED_KEYS
 
 COLUMN_LABELS = {name: name.replace("pcg", "PCG ").replace("lv", "Lv ") for name in TEST_SETS}
 COLUMN_LABELS[TRAINING_SET] = "Train"
@@ -51,10 +51,9 @@ def t_interval(values: Sequence[float], level: float = 0.95) -> tuple[float, flo
     from scipy import stats
 
     mean = sum(values) / len(values)
-    sd = math.sqrt(sum((v - mean) ** 2 for v in values) / (len(values) - 1))
-    if sd == 0:  # scipy wants a positive scale
+    if max(values) == min(values):  # scipy wants a positive scale
         return mean, mean
-    low, high = stats.t.interval(level, len(values) - 1, loc=mean, scale=sd / math.sqrt(len(values)))
+    low, high = stats.t.interval(level, len(values) - 1, loc=mean, scale=float(stats.sem(values)))
     return float(low), float(high)
 
 

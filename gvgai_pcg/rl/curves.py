@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
-from gvgai_pcg.rl.run_log import read_log
-from gvgai_pcg.rl.update_log import UPDATES_NAME, read_updates
+from gvgai_pcg.rundir.run_log import read_log
+from gvgai_pcg.rundir.update_log import UPDATES_NAME, read_updates
 
 
 def smooth(values: np.ndarray, window: int) -> np.ndarray:

@@ -18,6 +18,8 @@ from typing import TypeVar
 
 import torch
 
+from gvgai_pcg.rundir.checkpoint import nonfinite_names
+
 # What torch.distributions.Categorical says when the policy's probabilities are not finite.
 NONFINITE_SAMPLING = "probability tensor contains either"
 T = TypeVar("T")
@@ -37,15 +39,6 @@ class DivergenceError(Exception):
             f"training diverged at {frames} frames: {quantity}; nothing was saved after it, {good}. "
             "A lower algo.lr (or algo.max_grad_norm) in a new run (another run_name) avoids it"
         )
-
-
-def nonfinite_names(tensors: dict[str, torch.Tensor]) -> list[str]:
-    """The names of the floating-point tensors in ``tensors`` holding NaN or inf."""
-    return [
-        name
-        for name, value in tensors.items()
-        if isinstance(value, torch.Tensor) and value.is_floating_point() and not bool(value.isfinite().all())
-    ]
 
 
 class DivergenceGuard:

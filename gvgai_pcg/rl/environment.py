@@ -1,5 +1,6 @@
-"""The training env of each regimen: one natively batched ``GVGAIEnv``, wrapped as its
-curriculum says (a ``DifficultyTransform`` for PCG X and PPCG).
+"""The training env of each regimen: one natively batched ``GVGAIEnv`` whose level source comes
+from the curriculum's run (``CurriculumRun``), wrapped as its curriculum says (a
+``DifficultyTransform`` for PCG X and PPCG).
 
 The regimens are the registered curricula (``gvgai_pcg.curricula``, shared with the Gymnasium
 API). Lv X, Lv 0-3 and ``human`` play human-designed levels, ``levels`` a level set of your own
@@ -19,15 +20,15 @@ from omegaconf import DictConfig
 from torchrl.envs import EnvBase
 
 from gvgai_pcg.curricula import get_curriculum
+from gvgai_pcg.curricula.base import CurriculumRun
 from gvgai_pcg.envs import GVGAIEnv
-from gvgai_pcg.envs.difficulty import DifficultyTransform
 from gvgai_pcg.envs.level_sources import LevelSource
 from gvgai_pcg.levels import Level
 
 
 def training_source(game: str, regimen: Mapping, state: object = None) -> LevelSource:
     """The level source of a regimen (``regimen``: its config section), around its shared
-    ``state`` (``make_difficulty``)."""
+    ``state`` (a ``CurriculumRun``'s)."""
     return get_curriculum(regimen["name"]).make_source(game, regimen, state)
 
 
@@ -37,12 +38,19 @@ def training_levels(game: str, regimen: Mapping, limit: int | None = None) -> li
     return get_curriculum(regimen["name"]).training_levels(game, regimen, limit)
 
 
+def curriculum_run(regimen: Mapping, game: str) -> CurriculumRun:
+    """A run of the regimen's curriculum (``regimen``: its config section): the one object that
+    owns the run's level choice, its shared state made now."""
+    return get_curriculum(regimen["name"]).start(game, regimen)
+
+
 @dataclass
 class EnvFactory:
     """A picklable recipe for the training env, so collector workers can build their own.
 
-    ``difficulty`` (the curriculum's shared state: PPCG's ``DifficultyTransform``, or ``None``)
-    is shared: every env built by this factory moves the same shared-memory value.
+    ``run`` (the curriculum's run: ``curriculum_run``; one is started when none is given) is
+    shared: every env built by this factory takes its level source from it and moves the same
+    shared state (PPCG's d, PLR's buffer).
     """
 
     game: str
@@ -52,31 +60,23 @@ class EnvFactory:
     max_steps: int
     device: str
     seed: int
-    difficulty: object = None
+    run: CurriculumRun | None = None
     compile_tick: bool = True  # False: a job too short for compiling to pay back ticks eagerly
+
+    def __post_init__(self) -> None:
+        if self.run is None:
+            self.run = curriculum_run(self.regimen, self.game)
 
     def __call__(self, worker: int = 0) -> EnvBase:
         seed = self.seed + 7919 * worker
-        source = self.level_source()
         env = GVGAIEnv(
             self.game,
             self.num_envs,
-            source,
+            self.run.source(),
             self.obs,
             self.max_steps,
             self.device,
             seed,
             compile_tick=self.compile_tick,
         )
-        return get_curriculum(self.regimen.name).wrap(env, self.difficulty)
-
-    def level_source(self) -> LevelSource:
-        """A level source around the shared state: the training loop calls its ``observe``
-        (where it has one) with each batch's ``gvgai_pcg.curricula.signals``."""
-        return training_source(self.game, self.regimen, self.difficulty)
-
-
-def make_difficulty(regimen: DictConfig, game: str) -> DifficultyTransform | None:
-    """The curriculum's shared state (PCG X and PPCG: their ``DifficultyTransform``), ``None``
-    where it has none."""
-    return get_curriculum(regimen.name).make_state(game, regimen)
+        return self.run.wrap(env)

@@ -36,15 +36,15 @@ import errno
 import logging
 import os
 import shutil
-import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from gvgai_pcg.log_backends import check_installed
-from gvgai_pcg.rl.atomic_files import atomic_write_text, fsync_directory, remove_stale_temporaries
-from gvgai_pcg.rl.checkpoint import (
+from gvgai_pcg.rl.divergence import DivergenceError, DivergenceGuard
+from gvgai_pcg.rundir.atomic_files import atomic_write_text, fsync_directory, remove_stale_temporaries
+from gvgai_pcg.rundir.checkpoint import (
     CHECKPOINT_NAME,
     PREVIOUS_NAME,
     CheckpointError,
@@ -52,21 +52,15 @@ from gvgai_pcg.rl.checkpoint import (
     load_checkpoint,
     save_checkpoint,
 )
-from gvgai_pcg.rl.divergence import DivergenceError, DivergenceGuard
-from gvgai_pcg.rl.run_lock import LOCK_NAME, FolderLock
-from gvgai_pcg.rl.run_log import LOG_NAME, read_log
-from gvgai_pcg.rl.stop_signal import StopSignal
+from gvgai_pcg.rundir.earlier_outputs import ASIDE_DIR, set_aside_earlier_outputs, stamp
+from gvgai_pcg.rundir.run_lock import FolderLock
+from gvgai_pcg.rundir.run_log import LOG_NAME, read_log
+from gvgai_pcg.rundir.stop_signal import StopSignal
 
 log = logging.getLogger(__name__)
 
 CHECKPOINT_DIR = "checkpoints"
 FULL_DISK_BYTES = 16 * 2**20  # less room than this left: a failed write was most likely for want of it
-ASIDE_DIR = "previous-runs"
-# Left in place when an earlier session's outputs are moved aside: the lock, the folder they go
-# to, and Hydra's log (this session's log is already open there; it tells every session's story).
-STAYS = {LOCK_NAME, ASIDE_DIR, "train.log"}
-# An earlier session that wrote only these (and empty folders) left nothing worth keeping.
-BOOKKEEPING = {"config.yaml", ".hydra", "shared", "sessions.csv"}
 
 
 class TrainingStopped(Exception):
@@ -278,7 +272,7 @@ def find_checkpoint(
         reason = "is missing" if missing else f"cannot be used ({last_error})"
         log.warning("%s %s; resuming from %s (%d frames) instead", path, reason, previous, saved["frames"])
         if path.exists():  # kept for inspection; the next checkpoint must not rotate it into prev.pt
-            os.replace(path, path.with_name(f"{CHECKPOINT_NAME}.unusable-{_stamp()}"))
+            os.replace(path, path.with_name(f"{CHECKPOINT_NAME}.unusable-{stamp()}"))
             fsync_directory(path.parent)
         return saved
     raise CheckpointError(
@@ -302,42 +296,3 @@ def check_log(path: Path, saved: dict[str, Any]) -> None:
             expected,
             frames,
         )
-
-
-def set_aside_earlier_outputs(run_dir: Path) -> Path | None:
-    """Move the outputs of an earlier session that has no checkpoint to resume from (a log, a
-    model, results...) into ``previous-runs/<time>/``, so that a fresh start deletes nothing."""
-    entries = [entry for entry in sorted(run_dir.iterdir()) if entry.name not in STAYS]
-    if not any(_worth_keeping(entry) for entry in entries):
-        return None
-    aside = run_dir / ASIDE_DIR / _stamp()
-    while aside.exists():  # a second fresh start within the same second
-        aside = aside.with_name(aside.name + "+")
-    aside.mkdir(parents=True)
-    for entry in entries:
-        os.replace(entry, aside / entry.name)
-    fsync_directory(run_dir)
-    log.warning(
-        "%s held the outputs of an earlier session but no checkpoint to resume from; starting afresh, "
-        "with those outputs moved to %s",
-        run_dir,
-        aside,
-    )
-    return aside
-
-
-def _worth_keeping(entry: Path) -> bool:
-    if entry.name in BOOKKEEPING:
-        return False
-    if entry.name == LOG_NAME:
-        try:
-            return bool(read_log(entry))  # more than a header
-        except (ValueError, KeyError):
-            return True  # unreadable: keep it all the same
-    if entry.is_dir():
-        return any(path.is_file() and path.stat().st_size > 0 for path in entry.rglob("*"))
-    return True
-
-
-def _stamp() -> str:
-    return time.strftime("%Y%m%d-%H%M%S")

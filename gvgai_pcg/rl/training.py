@@ -1,16 +1,18 @@
 """The training loop shared by every learner, on one natively batched env (or a collector's
 workers).
 
-The loop reads like the algorithm: collect a rollout of ``n_steps`` steps of all envs, hand it to
-the learner (``gvgai_pcg.rl.learners``: A2C, PPO, a plug-in's), which takes its update, then log
-and checkpoint. Everything around the update is here and the same for every learner: the env and
-its level source, the network, the episode log (``log.csv``) and the update log
-(``updates.csv``, from the first update on), checkpoints, snapshots, and after each update the
-curriculum hook: a level source with ``observe`` gets the batch's per-level signals
-(``gvgai_pcg.curricula.signals``), with the learner's per-step ``advantage``, ``state_value`` and
-``value_target`` (``Update.signals``) averaged over each level's steps; one with ``trains_on``
-also says, before the update, which steps the learner may take gradients from (the rollout's
-``train_mask``: PLR⊥ trains on replayed levels only). A run lives in one
+The loop reads like the algorithm: set up the curriculum's run (``CurriculumRun``, which owns
+the level choice), the envs, the agent and the collector; then per batch collect a rollout of
+``n_steps`` steps of all envs, let the curriculum mark the steps to learn from, hand the rollout
+to the learner (``gvgai_pcg.rl.learners``: A2C, PPO, a plug-in's), which takes its update, give
+the curriculum its signals, log and checkpoint. Everything around the update is here and the same
+for every learner: the env and its level source, the network, the episode log (``log.csv``) and
+the update log (``updates.csv``, from the first update on), checkpoints, snapshots, and the
+curriculum's hooks (``CurriculumHooks``): before the update the run's ``trains_on`` (the
+rollout's ``train_mask``: PLR⊥ trains on replayed levels only); after it, for a curriculum that
+learns, the batch's per-level signals (``gvgai_pcg.curricula.signals``) with the learner's
+per-step ``advantage``, ``state_value`` and ``value_target`` (``Update.signals``) averaged over
+each level's steps, and for one that plays the policy (SFL) the acting policy. A run lives in one
 directory and continues from its checkpoint when started again: same frame count, same
 difficulty, the logs cut back to the checkpoint.
 
@@ -35,29 +37,31 @@ from pathlib import Path
 import numpy as np
 import torch
 from omegaconf import DictConfig, OmegaConf
+from tensordict import TensorDictBase
 from torchrl.collectors import MultiSyncCollector
+from torchrl.envs import EnvBase
 from torchrl.modules import ProbabilisticActor
 
-from gvgai_pcg.curricula.base import ActingPolicy
+from gvgai_pcg.curricula.base import ActingPolicy, CurriculumRun
 from gvgai_pcg.curricula.signals import feedback_for
 from gvgai_pcg.engine.step_plan import compile_pays_back
 from gvgai_pcg.engine.threads import threads_for_batch
 from gvgai_pcg.levels.sets import level_set_fingerprint
 from gvgai_pcg.progress import progress
-from gvgai_pcg.rl.checkpoint import restore, save_model
 from gvgai_pcg.rl.curves import plot_curve
-from gvgai_pcg.rl.environment import EnvFactory, make_difficulty
+from gvgai_pcg.rl.environment import EnvFactory, curriculum_run
 from gvgai_pcg.rl.learners import learner_class
 from gvgai_pcg.rl.learners.base import Learner
 from gvgai_pcg.rl.main_guard import refuse_without_main_guard
 from gvgai_pcg.rl.models import actor_critic_for, as_tensordict_module
-from gvgai_pcg.rl.provenance import record_session
 from gvgai_pcg.rl.rollout import ActingRollouts
-from gvgai_pcg.rl.run_log import EpisodeTracker, RunLog
 from gvgai_pcg.rl.run_session import RunSession, open_run
-from gvgai_pcg.rl.snapshots import Snapshots
-from gvgai_pcg.rl.stop_signal import StopSignal, ignoring_stop_signals
-from gvgai_pcg.rl.update_log import UpdateLog, mean_losses
+from gvgai_pcg.rundir.checkpoint import CURRICULUM_KEY, restore, save_model
+from gvgai_pcg.rundir.provenance import record_session
+from gvgai_pcg.rundir.run_log import EpisodeTracker, RunLog
+from gvgai_pcg.rundir.snapshots import Snapshots
+from gvgai_pcg.rundir.stop_signal import StopSignal, ignoring_stop_signals
+from gvgai_pcg.rundir.update_log import UpdateLog, mean_losses
 
 log = logging.getLogger(__name__)
 
@@ -132,72 +136,28 @@ def own_level_set(config: dict) -> str | None:
 def _train(
     cfg: DictConfig, run_dir: Path, config: dict, session: RunSession, level_set: str | None = None
 ) -> TrainResult:
+    """The algorithm: set up the curriculum's run, the envs, the agent and the collector; then
+    per batch collect, let the curriculum mark the steps to learn from, update, give the
+    curriculum its signals, log, and checkpoint; then close the run's outputs."""
     checkpoint_path, saved = session.checkpoint_path, session.saved
     frames = saved["frames"] if saved else 0
     seed_everything(cfg.seed)
 
-    # --- env: one batched GVGAIEnv per collector worker, one shared difficulty ---
-    workers = int(cfg.collector.workers)
-    difficulty = make_difficulty(cfg.regimen, cfg.game.name)
-    make_env = EnvFactory(
-        game=cfg.game.name,
-        regimen=cfg.regimen,
-        num_envs=int(cfg.env.num_envs),
-        obs=cfg.env.obs,
-        max_steps=int(cfg.env.max_steps),
-        device=cfg.device,
-        seed=int(cfg.seed) * 1_000_003 + frames,  # a resumed run plays new episodes
-        difficulty=difficulty,
-        # what is left of the run, in batched steps: a short job ticks eagerly (the same steps)
-        compile_tick=compile_pays_back((int(cfg.total_frames) - frames) // int(cfg.env.num_envs), cfg.device),
-    )
-    # worker processes attach the shared transform themselves; the main process probes the specs
-    # on an env of its own so that the shared transform reaches them without a parent
-    env = (
-        make_env()
-        if workers == 1
-        else replace(make_env, difficulty=make_difficulty(cfg.regimen, cfg.game.name))()
-    )
+    # --- setup: the curriculum's run (it owns the level choice), the envs, the agent ---
+    levels = curriculum_run(cfg.regimen, cfg.game.name)
+    make_env, env = _make_envs(cfg, levels, frames)
     obs_key = cfg.env.obs
-
-    # --- agent: shared-torso actor-critic; the policy samples actions; the learner updates it ---
-    net = actor_critic_for(env, cfg.model, obs_key).to(cfg.device)
-    actor_critic = as_tensordict_module(net, obs_key)
-    policy = ProbabilisticActor(
-        actor_critic,
-        in_keys=["logits"],
-        out_keys=["action"],
-        distribution_class=torch.distributions.Categorical,
-        distribution_kwargs={"validate_args": False},  # the checks cost ~25% of an acting step
-        spec=env.action_spec,
-    )
-    learner: Learner = learner_class(cfg.algo.name)(cfg.algo, net, actor_critic)
+    net, policy, learner = _make_agent(cfg, env)
     episodes, elapsed = 0, 0.0
     if saved:
-        restore(saved, net, learner, difficulty)  # the checkpoint's "optimizer" is the learner's state
+        restore(saved, net, learner, levels)  # the checkpoint's "optimizer" is the learner's state
         episodes, elapsed = saved["episodes"], saved["elapsed"]
-        log.info("resuming %s at %d frames (difficulty %s)", run_dir, frames, _difficulty_of(difficulty))
-
-    # --- collector: frames per batch = envs x n_steps ---
+        log.info("resuming %s at %d frames (difficulty %s)", run_dir, frames, levels.difficulty)
+    workers = int(cfg.collector.workers)
     frames_per_batch = workers * int(cfg.env.num_envs) * learner.n_steps
     remaining = max(0, int(cfg.total_frames) - frames)
     remaining = math.ceil(remaining / frames_per_batch) * frames_per_batch
-    if workers == 1:
-        # from 24 envs A2C's acting passes keep their graph for the update (gvgai_pcg.rl.rollout)
-        collector = session.closing(
-            ActingRollouts(env, net, obs_key, learner.n_steps, keep_graph=learner.keep_acting_graph)
-        )
-    else:
-        env.close()
-        if difficulty is not None:
-            difficulty.share_through(run_dir / "shared")
-        collector = start_workers(
-            [ignoring_stop_signals(functools.partial(make_env, worker=i)) for i in range(workers)],
-            policy,
-            frames_per_batch=frames_per_batch,
-            total_frames=max(remaining, frames_per_batch),  # a finished run collects nothing
-        )
-        session.closing(collector)
+    collector = _make_collector(cfg, session, make_env, env, net, policy, learner, remaining)
 
     run_log = RunLog(run_dir, list(cfg.log.backends), resume_frames=frames if saved else None)
     update_log = UpdateLog(run_dir, run_log.loggers, resume_frames=frames if saved else None)
@@ -207,11 +167,7 @@ def _train(
     tracker = EpisodeTracker(workers * int(cfg.env.num_envs))
     losses_since_row: list[torch.Tensor] = []
     losses_since_update_row: list[torch.Tensor] = []
-    # the curriculum hooks: a level source with observe() gets each batch's per-level signals;
-    # one with between_updates() gets the acting policy after each update (SFL plays it)
-    source = make_env.level_source()
-    feedback = feedback_for(source)
-    between_updates = source.between_updates
+    hooks = CurriculumHooks(levels, obs_key, cfg.device)
     every = int(cfg.checkpoint.every_frames)
     next_checkpoint = (frames // every + 1) * every
     snapshots = Snapshots(run_dir, int(cfg.checkpoint.get("keep_every_frames", 0)), frames)
@@ -227,7 +183,7 @@ def _train(
             "elapsed": time.perf_counter() - start,
             "model": net.state_dict(),
             "optimizer": learner.state_dict(),
-            "difficulty": difficulty.state_dict() if difficulty is not None else None,
+            CURRICULUM_KEY: levels.state_dict(),
             "config": config,
             "log_rows": run_log.rows,
             "level_set": level_set,
@@ -242,9 +198,9 @@ def _train(
         rollout = rollout.reshape(-1, rollout.shape[-1])  # [envs, n_steps] (workers stacked)
         tracker.update(rollout)
 
+        hooks.before_update(rollout)
+
         # --- update: the learner's, checked by the divergence guard before each step ---
-        if feedback is not None:  # a curriculum may keep steps out of the gradient (PLR⊥)
-            feedback.mark_trained_steps(rollout)
         check = functools.partial(session.guard.check_update, frames=frames + rollout.numel())
         update = learner.update(rollout, check)
         if workers > 1:
@@ -255,13 +211,7 @@ def _train(
         stacked = update.stacked()
         losses_since_row.append(stacked)
         losses_since_update_row.append(stacked)
-        if feedback is not None:
-            signals = update.signals or {}
-            feedback(
-                rollout, **{key: signals.get(key) for key in ("advantage", "state_value", "value_target")}
-            )
-        if between_updates is not None:
-            between_updates(acting_policy(net, obs_key, cfg.device), frames)
+        hooks.after_update(rollout, update, net, frames)
 
         # --- update log: the first update, then every log.every_update_frames ---
         if frames >= next_update_row:
@@ -293,7 +243,7 @@ def _train(
                 **stats,
                 "frames": frames,
                 "episodes": episodes,
-                "difficulty": _difficulty_of(difficulty),
+                "difficulty": levels.difficulty,
                 "policy_loss": policy_loss,
                 "value_loss": value_loss,
                 "entropy": entropy,
@@ -303,7 +253,7 @@ def _train(
             run_log.write(row)
             bar.set_postfix(
                 score=f"{row['mean_score']:.2f}",
-                **({} if difficulty is None else {"d": f"{row['difficulty']:.2f}"}),
+                **({} if levels.state is None else {"d": f"{row['difficulty']:.2f}"}),
             )
             row_frames, row_time = frames, now
 
@@ -353,6 +303,32 @@ def _train(
     )
 
 
+class CurriculumHooks:
+    """The loop's two calls to the curriculum's run: ``before_update`` (the steps the learner may
+    take gradients from: PLR⊥ keeps new levels out) and ``after_update`` (what happened on each
+    level, with the learner's per-step signals; then the new policy, to a curriculum that plays
+    it). Signals are computed only for a curriculum that learns, a policy built only for one that
+    plays it."""
+
+    LEARNING = ("advantage", "state_value", "value_target")
+
+    def __init__(self, run: CurriculumRun, obs_key: str, device: str) -> None:
+        self.run, self.obs_key, self.device = run, obs_key, device
+        self.feedback = feedback_for(run)
+        self.plays_policy = run.plays_policy
+
+    def before_update(self, rollout: TensorDictBase) -> None:
+        if self.feedback is not None:
+            self.feedback.mark_trained_steps(rollout)
+
+    def after_update(self, rollout: TensorDictBase, update, net: torch.nn.Module, frames: int) -> None:
+        if self.feedback is not None:
+            signals = update.signals or {}
+            self.feedback(rollout, **{key: signals.get(key) for key in self.LEARNING})
+        if self.plays_policy:
+            self.run.between_updates(acting_policy(net, self.obs_key, self.device), frames)
+
+
 def acting_policy(net: torch.nn.Module, obs_key: str, device: str):
     """The network as a sampling policy for a curriculum that plays it (``between_updates``)."""
 
@@ -363,5 +339,69 @@ def acting_policy(net: torch.nn.Module, obs_key: str, device: str):
     return ActingPolicy(act, obs_key, str(device))
 
 
-def _difficulty_of(difficulty) -> float:
-    return difficulty.difficulty if difficulty is not None else math.nan
+def _make_envs(cfg: DictConfig, levels: CurriculumRun, frames: int) -> tuple[EnvFactory, EnvBase]:
+    """The recipe of the training env (one batched ``GVGAIEnv`` per collector worker, every one
+    around the run's shared state) and an env of this process: the one it trains on with one
+    worker, else one that only shows the specs (around a spare state, so that the run's own
+    transform reaches the workers without a parent)."""
+    make_env = EnvFactory(
+        game=cfg.game.name,
+        regimen=cfg.regimen,
+        num_envs=int(cfg.env.num_envs),
+        obs=cfg.env.obs,
+        max_steps=int(cfg.env.max_steps),
+        device=cfg.device,
+        seed=int(cfg.seed) * 1_000_003 + frames,  # a resumed run plays new episodes
+        run=levels,
+        # what is left of the run, in batched steps: a short job ticks eagerly (the same steps)
+        compile_tick=compile_pays_back((int(cfg.total_frames) - frames) // int(cfg.env.num_envs), cfg.device),
+    )
+    if int(cfg.collector.workers) == 1:
+        return make_env, make_env()
+    return make_env, replace(make_env, run=levels.spare())()
+
+
+def _make_agent(cfg: DictConfig, env: EnvBase) -> tuple[torch.nn.Module, ProbabilisticActor, Learner]:
+    """The shared-torso actor-critic, the policy that samples its actions, and the learner."""
+    net = actor_critic_for(env, cfg.model, cfg.env.obs).to(cfg.device)
+    actor_critic = as_tensordict_module(net, cfg.env.obs)
+    policy = ProbabilisticActor(
+        actor_critic,
+        in_keys=["logits"],
+        out_keys=["action"],
+        distribution_class=torch.distributions.Categorical,
+        distribution_kwargs={"validate_args": False},  # the checks cost ~25% of an acting step
+        spec=env.action_spec,
+    )
+    learner: Learner = learner_class(cfg.algo.name)(cfg.algo, net, actor_critic)
+    return net, policy, learner
+
+
+def _make_collector(
+    cfg: DictConfig,
+    session: RunSession,
+    make_env: EnvFactory,
+    env: EnvBase,
+    net: torch.nn.Module,
+    policy: ProbabilisticActor,
+    learner: Learner,
+    remaining: int,
+):
+    """The rollouts of ``n_steps`` steps of every env: this process's env (one worker), or the
+    workers' processes, which share the curriculum's state through files in the run directory."""
+    workers = int(cfg.collector.workers)
+    if workers == 1:
+        # from 24 envs A2C's acting passes keep their graph for the update (gvgai_pcg.rl.rollout)
+        return session.closing(
+            ActingRollouts(env, net, cfg.env.obs, learner.n_steps, keep_graph=learner.keep_acting_graph)
+        )
+    env.close()
+    make_env.run.share_through(session.run_dir / "shared")
+    frames_per_batch = workers * int(cfg.env.num_envs) * learner.n_steps
+    collector = start_workers(
+        [ignoring_stop_signals(functools.partial(make_env, worker=i)) for i in range(workers)],
+        policy,
+        frames_per_batch=frames_per_batch,
+        total_frames=max(remaining, frames_per_batch),  # a finished run collects nothing
+    )
+    return session.closing(collector)

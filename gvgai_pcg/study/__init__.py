@@ -1,19 +1,13 @@
-"""The study end to end: its conditions, budgets, and the pipeline from sweep to published tables.
+"""The study end to end, in three layers and the sweep on top of them.
 
-``reproduce`` (the pipeline, which imports the evaluation and so torch) is loaded on first use:
-``gvgai-pcg reproduce`` reads the budgets and conditions for ``--help`` and its refusals without it.
+``sweeps/`` (conditions, budgets, borrowed runs, publishing), ``verdicts/`` (the runs read into
+tables, the claims' rules, intervals, one judging system), ``pages/`` (the results pages' blocks,
+written from the verdicts); ``pipeline`` runs a sweep from training to its published pages, and
+``sweep_status`` says how far one is. The budgets and conditions are named here, so that
+``gvgai-pcg reproduce`` reads them for ``--help`` and its refusals without the pipeline (which
+imports the evaluation and so torch).
 """
 
-from typing import Any
+from gvgai_pcg.study.sweeps.conditions import BUDGETS, STUDY_CONDITIONS, Budget, conditions_of
 
-from gvgai_pcg.study.conditions import BUDGETS, STUDY_CONDITIONS, Budget, conditions_of
-
-__all__ = ["BUDGETS", "STUDY_CONDITIONS", "Budget", "conditions_of", "reproduce"]
-
-
-def __getattr__(name: str) -> Any:
-    if name == "reproduce":
-        from gvgai_pcg.study.pipeline import reproduce
-
-        return reproduce
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__all__ = ["BUDGETS", "STUDY_CONDITIONS", "Budget", "conditions_of"]

@@ -45,22 +45,22 @@ from gvgai_pcg.evaluation.protocol import Protocol
 from gvgai_pcg.games.registry import find_game_spec
 from gvgai_pcg.report import build_report
 from gvgai_pcg.report.build import usable_run
-from gvgai_pcg.rl.atomic_files import atomic_write_text, copy_tree
-from gvgai_pcg.rl.checkpoint import config_differences
-from gvgai_pcg.study.borrowed_runs import borrow_runs
-from gvgai_pcg.study.claims_page import claims_markdown
-from gvgai_pcg.study.comparison import collect_runs, comparison_markdown
-from gvgai_pcg.study.conditions import Budget, unregistered
-from gvgai_pcg.study.curricula_runs import (
+from gvgai_pcg.rundir.atomic_files import atomic_write_text, copy_tree
+from gvgai_pcg.rundir.checkpoint import config_differences
+from gvgai_pcg.study.pages.claims_page import claims_markdown
+from gvgai_pcg.study.sweeps.borrowed_runs import borrow_runs
+from gvgai_pcg.study.sweeps.conditions import Budget, unregistered
+from gvgai_pcg.study.sweeps.curricula_runs import (
     evaluate_ued,
     write_curves,
     write_replay_picture,
     write_replay_stats,
 )
-from gvgai_pcg.study.judging import study_claims
-from gvgai_pcg.study.publish import publish, refuse_publishing_into_the_sweep
-from gvgai_pcg.study.results import collect
-from gvgai_pcg.study.table1 import STUDY_REACHED
+from gvgai_pcg.study.sweeps.publish import publish, refuse_publishing_into_the_sweep
+from gvgai_pcg.study.verdicts.comparison import collect_runs, comparison_markdown
+from gvgai_pcg.study.verdicts.judging import study_claims
+from gvgai_pcg.study.verdicts.results import collect
+from gvgai_pcg.study.verdicts.table1 import STUDY_REACHED
 
 # A trained model (weights, config, frames: no optimizer) is published only below this size: the
 # compact CNN's 295k float32 weights are 1.2 MB, the Nature CNN's on pixels far more.
@@ -346,7 +346,7 @@ def write_claims(
     target_frames: int | None = None,
     level_sampling: bool = False,
 ) -> Path:
-    """The study's claims tested on the runs under ``runs`` (``gvgai_pcg.study.claim_rules``);
+    """The study's claims tested on the runs under ``runs`` (``gvgai_pcg.study.verdicts.claim_rules``);
     ``level_sampling``: intervals over seeds and the generated sets' levels (off for the
     published budgets, whose pages rebuild as they were)."""
     games = collect(find_runs(list(runs)), random_cache, protocol, target_frames)
@@ -366,7 +366,7 @@ def write_curricula(
 ) -> Path:
     """The curricula comparison on the runs: the UED protocol (where this checkout has it) and the
     replay picture of each run trained here, then ``report_dir/curricula.md`` (tables and the
-    answer, ``gvgai_pcg.study.comparison``) and the curves of d over training."""
+    answer, ``gvgai_pcg.study.verdicts.comparison``) and the curves of d over training."""
     here = find_runs(list(here)) if here else []
     for run in here:
         evaluate_ued(run, budget.ued, progress)
@@ -401,7 +401,7 @@ def reproduce(
     there, not trained again. ``finished_only`` leaves out runs short of the budget's frames (a
     report taken while the sweep still trains evaluates no model that will change). Runs that the
     sweep in ``borrow_from`` trained exactly as this one would are taken, not trained
-    (``gvgai_pcg.study.borrowed_runs``)."""
+    (``gvgai_pcg.study.sweeps.borrowed_runs``)."""
     refused = unregistered(conditions, searchpath_dirs(overrides))
     if refused:
         raise ValueError("; ".join(refused.values()))

@@ -18,11 +18,11 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from gvgai_pcg.evaluation.checkpoints import PUBLISHED, published_run_info, run_info
-from gvgai_pcg.rl.run_lock import LOCK_NAME, describe_holder
-from gvgai_pcg.rl.run_log import LOG_NAME, read_log
-from gvgai_pcg.study.borrowed_runs import BORROWED
-from gvgai_pcg.study.conditions import Budget
+from gvgai_pcg.rundir.run_lock import LOCK_NAME, describe_holder
+from gvgai_pcg.rundir.run_log import LOG_NAME, read_log
 from gvgai_pcg.study.pipeline import planned_configs
+from gvgai_pcg.study.sweeps.borrowed_runs import BORROWED
+from gvgai_pcg.study.sweeps.conditions import Budget
 
 
 @dataclass(frozen=True)

@@ -1,14 +1,17 @@
-"""Where VGDL games are found: the package ships none yet, GVGAI's corpus is read from a folder.
+"""Where VGDL games are found: the package's own (``registry``), GVGAI's corpus read from a folder.
 
 GVGAI's 104 grid-physics files are not in this repository. A folder of them is named by
 ``GVGAI_VGDL_DIR``; without it, ``../shared/vgdl/games/`` beside a source checkout is used
-when present. A game is named by its file's stem (``zelda`` for ``zelda.txt``) or by a path.
+when present. A game is named by a registered name (the package's own description first), its
+corpus file's stem (``zelda`` for ``zelda.txt``) or by a path.
 """
 
 from __future__ import annotations
 
 import os
 from pathlib import Path
+
+from gvgai_pcg.vgdl.registry import VGDL_GAMES
 
 ENV_VAR = "GVGAI_VGDL_DIR"
 _CHECKOUT_DEFAULT = Path(__file__).resolve().parents[2].parent / "shared" / "vgdl" / "games"
@@ -41,6 +44,8 @@ def find_game(game: str) -> Path:
         if not path.is_file():
             raise ValueError(f"no VGDL file {game}")
         return path
+    if game in VGDL_GAMES:
+        return VGDL_GAMES[game].description
     games = vgdl_games()
     if game in games:
         return games[game]

@@ -1,5 +1,6 @@
 """The device check: holds a device's tick and env to the CPU's, and names the first difference."""
 
+import pytest
 import torch
 
 from gvgai_pcg.bench import device_check
@@ -8,6 +9,7 @@ from gvgai_pcg.games import get_game
 CPU = torch.device("cpu")
 
 
+@pytest.mark.compiled
 def test_the_cpu_passes_against_itself():
     tick = device_check.check_tick("zelda", CPU, ticks=5)
     env = device_check.check_env("zelda", CPU, steps=10, num_envs=4)

@@ -76,10 +76,12 @@ def test_the_bench_command_adds_peers_and_jobs_on_the_cpu_and_ends_with_every_ta
     monkeypatch.setattr(bench_vgdlx, "vgdlx_installed", lambda: False)
     jobs = Section("jobs\n", [Check("job", 30.0, 40.0, unit="s", at_most=True)])
     monkeypatch.setattr(bench, "jobs_section", lambda: jobs)  # the name the command calls
+    monkeypatch.setattr(bench, "generic_section", lambda *args: Section("generic\n"))
     assert bench.run(_args(games="zelda", obs="tiles", batch_sizes="4", device="cpu")) == 0
     out = capsys.readouterr().out
     assert bench_peers.NOT_INSTALLED in out and bench_vgdlx.NOT_INSTALLED in out and "jobs\n" in out
-    assert out.index("ours") < out.index(bench_peers.NOT_INSTALLED) < out.index("jobs") < out.index("| env |")
+    assert out.index("ours") < out.index(bench_peers.NOT_INSTALLED) < out.index("generic") < out.index("jobs")
+    assert out.index("jobs") < out.index("| env |")
     assert "| env | at least 1.50x | 2.00x | met |" in out
     assert "| job | at most 30.0 s | 40.0 s | missed |" in out
     assert (

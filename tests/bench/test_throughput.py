@@ -15,6 +15,15 @@ def test_the_engine_measure_steps_every_game_with_and_without_shards():
             assert 0 < rate.low <= rate.median <= rate.high
 
 
+@pytest.mark.slow
+@pytest.mark.compiled
+def test_the_engine_measure_runs_the_compiled_ticks_with_and_without_shards():
+    for game in ("zelda", "frogs"):
+        for shards in (1, 2):
+            rate = benchmark.measure_engine(game, batch=6, shards=shards, min_seconds=0.0)
+            assert 0 < rate.low <= rate.median <= rate.high
+
+
 def test_the_engine_and_target_tables_have_a_row_per_game(monkeypatch):
     monkeypatch.setattr(benchmark, "ENGINE_BATCH", 8)
     threads = torch.get_num_threads()

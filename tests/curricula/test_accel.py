@@ -14,7 +14,7 @@ from gvgai_pcg.curricula.level_buffer import EDITED_SEED_BASE
 from gvgai_pcg.curricula.plr import ReplaySettings
 from gvgai_pcg.generators import generate_level
 from gvgai_pcg.levels import Level
-from gvgai_pcg.rl.environment import make_difficulty
+from gvgai_pcg.rl.environment import curriculum_run
 from tests.curricula.test_plr import SMALL, signals
 
 
@@ -130,7 +130,7 @@ def test_regimen_accel_composes_with_dcds_defaults():
     cfg = compose_config(["game=zelda", "regimen=accel"])
     assert cfg.run_name == "zelda-accel-tiles-compact-seed0"
     assert (cfg.regimen.num_edits, cfg.regimen.editor_prob, cfg.regimen.replay_prob) == (5, 1.0, 0.8)
-    buffer = make_difficulty(cfg.regimen, "zelda")
+    buffer = curriculum_run(cfg.regimen, "zelda").state
     assert isinstance(buffer, EditedLevelBuffer) and buffer.content.shape == (4000, 9, 13)
 
 
@@ -141,7 +141,7 @@ def test_it_trains_through_the_command_line_and_makes_children(fake_editor, tmp_
     assert run_raw([*run, "total_frames=200"]) == 0
     saved = torch.load(
         tmp_path / "zelda-accel-tiles-compact-seed0" / "checkpoints" / "last.pt", weights_only=False
-    )["difficulty"]
+    )["curriculum"]
     assert int(saved["children_made"][0]) > 0 and bool(saved["valid"].any())
     assert saved["content"][saved["valid"]].ne(0).any(dim=(1, 2)).all()  # every level kept by content
 

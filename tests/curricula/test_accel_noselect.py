@@ -13,7 +13,7 @@ from gvgai_pcg.curricula import get_curriculum
 from gvgai_pcg.curricula.accel_noselect import AccelNoSelect, ArrivalBuffer, UnselectedLevels
 from gvgai_pcg.curricula.level_buffer import EDITED_SEED_BASE
 from gvgai_pcg.curricula.plr import ReplaySettings
-from gvgai_pcg.rl.environment import make_difficulty
+from gvgai_pcg.rl.environment import curriculum_run
 from tests.curricula.test_accel import fake_editor, fill  # noqa: F401 (a fixture)
 from tests.curricula.test_plr import SMALL, signals
 
@@ -68,7 +68,7 @@ def test_it_is_registered_and_composes_with_accels_settings_and_staleness_only()
     for key in ("buffer_size", "score", "replay_prob", "rho", "num_edits", "editor_prob", "robust"):
         assert cfg.regimen[key] == accel[key], key
     assert cfg.regimen.staleness_coef == 1.0
-    assert isinstance(make_difficulty(cfg.regimen, "zelda"), ArrivalBuffer)
+    assert isinstance(curriculum_run(cfg.regimen, "zelda").state, ArrivalBuffer)
     with pytest.raises(ConfigError, match="accel-noselect replays by staleness only"):
         compose_config(["condition=zelda-accel-noselect", "regimen.staleness_coef=0.3"])
 
@@ -86,5 +86,5 @@ def test_it_trains_through_the_command_line(fake_editor, tmp_path):  # noqa: F81
     assert run_raw([*run, "total_frames=200"]) == 0
     saved = torch.load(
         tmp_path / "zelda-accel-noselect-tiles-compact-seed0" / "checkpoints" / "last.pt", weights_only=False
-    )["difficulty"]
+    )["curriculum"]
     assert int(saved["children_made"][0]) > 0 and int(saved["arrivals"][0]) > 0

@@ -10,7 +10,7 @@ from gvgai_pcg.config import compose_config
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.level_sources import RandomDifficultyLevels, uniform_difficulties
 from gvgai_pcg.generators import generate_level
-from gvgai_pcg.rl.environment import EnvFactory, make_difficulty, training_levels, training_source
+from gvgai_pcg.rl.environment import EnvFactory, curriculum_run, training_levels, training_source
 
 
 def test_its_difficulties_are_uniform_and_a_function_of_the_episode_seed():
@@ -37,7 +37,9 @@ def test_regimen_dr_trains_on_it_with_no_shared_state():
     cfg = compose_config(["game=frogs", "regimen=dr"])
     assert cfg.run_name == "frogs-dr-tiles-compact-seed0"
     assert isinstance(training_source("frogs", cfg.regimen), RandomDifficultyLevels)
-    assert make_difficulty(cfg.regimen, "frogs") is None and training_levels("frogs", cfg.regimen) is None
+    assert (
+        curriculum_run(cfg.regimen, "frogs").state is None and training_levels("frogs", cfg.regimen) is None
+    )
     assert source_flags(training_source("frogs", cfg.regimen)) == (True, False)
 
 
@@ -77,8 +79,9 @@ def test_a_generated_level_env_reports_the_difficulty_it_was_made_at(eager):
 
 def test_a_ppcg_env_reports_the_difficulty_its_levels_were_made_at(eager):
     cfg = compose_config(["game=zelda", "regimen=ppcg", "regimen.start=0.3"])
-    state = make_difficulty(cfg.regimen, "zelda")
-    env = EnvFactory("zelda", cfg.regimen, 1, "tiles", 5, "cpu", seed=2, difficulty=state)()
+    run = curriculum_run(cfg.regimen, "zelda")
+    state = run.state
+    env = EnvFactory("zelda", cfg.regimen, 1, "tiles", 5, "cpu", seed=2, run=run)()
     out = env.reset()
     state.shared_difficulty[0] = 0.9  # d moves while the episode runs: the level's d stays
     out = env.step(out.set("action", torch.zeros(1, dtype=torch.int64)))["next"]

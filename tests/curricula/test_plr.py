@@ -16,7 +16,7 @@ from gvgai_pcg.config import ConfigError, compose_config
 from gvgai_pcg.curricula.level_buffer import LevelBuffer, rank_weights, staleness_weights
 from gvgai_pcg.curricula.plr import PrioritizedLevels, ReplaySettings
 from gvgai_pcg.generators import generate_level
-from gvgai_pcg.rl.environment import EnvFactory, make_difficulty, training_source
+from gvgai_pcg.rl.environment import EnvFactory, curriculum_run, training_source
 
 SMALL = ["game=zelda", "env.num_envs=4", "env.max_steps=6", "log.every_episodes=4", "log.curve=false"]
 
@@ -209,7 +209,7 @@ def test_regimen_plr_composes_with_dcds_defaults_and_checks_its_range():
         0.5,
     )
     assert section.score == "pvl" and section.robust is True
-    state = make_difficulty(section, "zelda")
+    state = curriculum_run(section, "zelda").state
     assert isinstance(state, LevelBuffer) and state.capacity == 4000 and math.isnan(state.difficulty)
     assert isinstance(training_source("zelda", section, state), PrioritizedLevels)
     with pytest.raises(ConfigError, match="regimen.min_difficulty=0.8: expected at most"):
@@ -239,9 +239,9 @@ def test_the_env_reports_the_levels_it_replays(eager):
     cfg = compose_config(
         ["game=zelda", "regimen=plr", "regimen.buffer_size=2", "regimen.rho=0.5", "regimen.replay_prob=1.0"]
     )
-    buffer = make_difficulty(cfg.regimen, "zelda")
-    buffer.insert(42, 0.6, 1.0, 0.0)
-    env = EnvFactory("zelda", cfg.regimen, 2, "tiles", 4, "cpu", seed=3, difficulty=buffer)()
+    run = curriculum_run(cfg.regimen, "zelda")
+    run.state.insert(42, 0.6, 1.0, 0.0)
+    env = EnvFactory("zelda", cfg.regimen, 2, "tiles", 4, "cpu", seed=3, run=run)()
     out = env.reset()
     assert out["level_seed"].flatten().tolist() == [42, 42]
     assert out["level_difficulty"].flatten().tolist() == [0.6, 0.6]
@@ -255,10 +255,10 @@ def test_it_trains_through_the_command_line_and_resumes_its_buffer(eager, tmp_pa
     run = [*SMALL, "regimen=plr", "regimen.buffer_size=64", "regimen.rho=0.05", f"out_dir={tmp_path}"]
     assert run_raw([*run, "total_frames=200"]) == 0
     checkpoint = tmp_path / "zelda-plr-tiles-compact-seed0" / "checkpoints" / "last.pt"
-    first = torch.load(checkpoint, weights_only=False)["difficulty"]
+    first = torch.load(checkpoint, weights_only=False)["curriculum"]
     kept = set(first["seed"][first["valid"]].tolist())
     assert kept and bool(torch.isfinite(first["score"]).all())
     assert run_raw([*run, "total_frames=400"]) == 0
-    second = torch.load(checkpoint, weights_only=False)["difficulty"]
+    second = torch.load(checkpoint, weights_only=False)["curriculum"]
     assert kept <= set(second["seed"][second["valid"]].tolist())  # the resumed run started from it
     assert int(second["clock"][0]) > int(first["clock"][0])

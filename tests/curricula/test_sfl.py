@@ -102,7 +102,7 @@ def test_its_config_composes_and_is_checked():
 
 def test_it_trains_and_resumes_with_its_buffer(tmp_path, monkeypatch):
     from gvgai_pcg.rl import train
-    from gvgai_pcg.rl.checkpoint import read_file
+    from gvgai_pcg.rundir.checkpoint import read_file
 
     monkeypatch.setenv("GVGAI_PCG_COMPILE", "0")
     options = [
@@ -112,11 +112,11 @@ def test_it_trains_and_resumes_with_its_buffer(tmp_path, monkeypatch):
     ]  # fmt: skip
     cfg = compose_config([*options, "total_frames=100"])
     first = train(cfg, tmp_path / cfg.run_name)
-    saved = read_file(first.checkpoint_path)["difficulty"]
+    saved = read_file(first.checkpoint_path)["curriculum"]
     assert int(saved["filled"][0]) == 2 and int(saved["refreshes"][0]) >= 1
     cfg = compose_config([*options, "total_frames=300"])
     second = train(cfg, tmp_path / cfg.run_name)
-    resumed = read_file(second.checkpoint_path)["difficulty"]
+    resumed = read_file(second.checkpoint_path)["curriculum"]
     assert int(resumed["refreshes"][0]) > int(saved["refreshes"][0])  # it went on from the saved buffer
 
 

@@ -5,7 +5,8 @@ from __future__ import annotations
 import torch
 from tensordict import TensorDict
 
-from gvgai_pcg.curricula.signals import LevelSignals, feedback_for, observe
+from gvgai_pcg.curricula.base import Curriculum, CurriculumRun
+from gvgai_pcg.curricula.signals import LevelSignals, feedback_for
 from gvgai_pcg.envs import LevelSource
 
 
@@ -61,7 +62,19 @@ class Plays(LevelSource):
         return []
 
 
-def test_observe_calls_the_hook_only_where_there_is_one():
+def run_of(source: LevelSource) -> CurriculumRun:
+    """A run of a curriculum whose source is ``source``."""
+
+    class Hands(Curriculum):
+        name = "hands"
+
+        def make_source(self, game, section, state=None):
+            return source
+
+    return Hands().start("zelda", {})
+
+
+def test_the_run_gives_signals_only_to_a_source_that_learns():
     seen = []
 
     class Learns(Plays):
@@ -69,8 +82,12 @@ def test_observe_calls_the_hook_only_where_there_is_one():
             seen.append(len(signals))
 
     signals = LevelSignals()(rollout([[1]], [[2]]))
-    assert observe(Learns(), signals) and seen == [1]
-    assert not observe(Plays(), signals)
+    learning, playing = run_of(Learns()), run_of(Plays())
+    assert learning.learns and not playing.learns
+    learning.observe(signals)
+    playing.observe(signals)  # nothing to give it to
+    assert seen == [1] and playing.trains_on(signals) is None
+    assert not playing.between_updates(None, 0)
 
 
 def test_feedback_collects_and_observes_for_a_source_that_learns():
@@ -80,7 +97,7 @@ def test_feedback_collects_and_observes_for_a_source_that_learns():
         def observe(self, signals):
             seen.append(signals["level_seed"].tolist())
 
-    feedback = feedback_for(Learns())
+    feedback = feedback_for(run_of(Learns()))
     signals = feedback(rollout([[0, 1]], [[3, 3]]), advantage=torch.ones(1, 2))
     assert seen == [[3]] and signals["advantage"].tolist() == [1.0]
-    assert feedback_for(Plays()) is None
+    assert feedback_for(run_of(Plays())) is None

@@ -16,8 +16,8 @@ import yaml
 from omegaconf import OmegaConf
 
 from gvgai_pcg.config import compose_config, validate
-from gvgai_pcg.rl.checkpoint import config_differences
-from gvgai_pcg.rl.environment import make_difficulty, training_levels, training_source
+from gvgai_pcg.rl.environment import curriculum_run, training_levels, training_source
+from gvgai_pcg.rundir.checkpoint import config_differences
 
 ROOT = Path(__file__).resolve().parents[2]
 RUNS = sorted((ROOT / "results" / "small" / "runs").glob("*/config.yaml"))
@@ -49,7 +49,7 @@ def test_the_regimen_builds_what_it_built_before(path):
     assert hashlib.sha256(text.encode()).hexdigest() == today["levels_sha256"]
     assert source.prepare_ahead == today["prepare_ahead"]
     assert source.depends_on_difficulty == today["depends_on_difficulty"]
-    assert repr(make_difficulty(regimen, game)) == today["state"]
+    assert repr(curriculum_run(regimen, game).state) == today["state"]
     assert (None if trained is None else [lv.name for lv in trained]) == today["training_levels"]
     # bookkeeping keys added since the small runs were trained (they may change on resume)
     added = {

@@ -12,8 +12,8 @@ from torch import nn
 import gvgai_pcg.plugins as plugins_module
 from gvgai_pcg.config import ConfigError, compose_config
 from gvgai_pcg.curricula import get_curriculum, register_curriculum, registered_curricula, registry
-from gvgai_pcg.curricula.signals import LevelSignals, observe
-from gvgai_pcg.rl.environment import EnvFactory, make_difficulty
+from gvgai_pcg.curricula.signals import LevelSignals
+from gvgai_pcg.rl.environment import EnvFactory, curriculum_run
 from gvgai_pcg.rl.rollout import ActingRollouts
 from tests.curricula import toy_curriculum
 
@@ -78,16 +78,17 @@ class Uniform(nn.Module):
 
 def test_rollouts_tell_it_what_happened_on_each_level(toy):
     cfg = compose_config([*SMALL, "regimen=toyreplay", "regimen.pool=3"])
-    state = make_difficulty(cfg.regimen, "zelda")
-    factory = EnvFactory("zelda", cfg.regimen, 4, "tiles", 6, "cpu", 0, difficulty=state)
-    env, source = factory(), factory.level_source()
+    run = curriculum_run(cfg.regimen, "zelda")
+    state = run.state
+    env = EnvFactory("zelda", cfg.regimen, 4, "tiles", 6, "cpu", 0, run=run)()
     rollouts = ActingRollouts(env, Uniform(env.action_spec.space.n), "tiles", n_steps=7)
     signals_of = LevelSignals()
     signals = signals_of(rollouts.collect(), advantage=torch.ones(4, 7))
     assert set(signals["level_seed"].tolist()) <= {0, 1, 2}  # the rollout kept each step's level
     assert signals["finished"].any() and (signals["length"][signals["finished"]] == 6).all()
     assert torch.equal(signals["advantage_positive"], torch.ones(len(signals)))
-    assert observe(source, signals)
+    assert run.learns
+    run.observe(signals)  # the run's route: its source around the shared state
     assert int(state.finished.sum()) == int(signals["finished"].sum()) > 0  # the shared state moved
     env.close()
 

@@ -248,7 +248,14 @@ def test_the_traced_render_draws_what_the_render_draws(game_name):
         assert torch.equal(render_tiles_traced(game, state), render_tiles(game, state))
 
 
-@pytest.mark.parametrize("game_name", sorted(COMPILED_GAMES))
+# Frogs' and Solarfox's compiled env takes 30-70 CPU-seconds to build: run with `-m slow`.
+DRAWING_CASES = [
+    pytest.param(name, marks=pytest.mark.slow) if name in ("frogs", "solarfox") else name
+    for name in sorted(COMPILED_GAMES)
+]
+
+
+@pytest.mark.parametrize("game_name", DRAWING_CASES)
 def test_an_env_drawing_compiled_observes_what_an_eager_one_does(game_name, monkeypatch):
     from gvgai_pcg.envs.level_sources import GeneratedLevels
 

@@ -40,8 +40,9 @@ def test_a_curriculum_that_needs_a_learner_is_refused_by_name(regimen, needs):
 
 def recording(env) -> list[TensorDict]:
     """The rows the env's level source is given (and still gets)."""
-    rows, observe = [], env.regimen._observe
-    env.regimen._observe = lambda signals: rows.append(signals.clone()) or observe(signals)
+    rows, run = [], env.regimen.run
+    observe = run.observe
+    run.observe = lambda signals: rows.append(signals.clone()) or observe(signals)
     return rows
 
 

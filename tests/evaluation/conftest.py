@@ -13,7 +13,7 @@ import yaml
 from gvgai_pcg.evaluation.policy import observation_shape
 from gvgai_pcg.games import get_game
 from gvgai_pcg.rl.models import make_actor_critic
-from gvgai_pcg.rl.run_log import COLUMNS
+from gvgai_pcg.rundir.run_log import COLUMNS
 
 REGIMENS = {
     "lv0": {"name": "lv", "level": 0, "tag": "lv0"},

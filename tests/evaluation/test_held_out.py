@@ -13,8 +13,8 @@ from gvgai_pcg.evaluation.held_out import (
     snapshot_results_path,
 )
 from gvgai_pcg.evaluation.protocol import Protocol
-from gvgai_pcg.rl.checkpoint import save_model
-from gvgai_pcg.rl.snapshots import snapshot_path
+from gvgai_pcg.rundir.checkpoint import save_model
+from gvgai_pcg.rundir.snapshots import snapshot_path
 
 from .conftest import make_run, write_log
 

@@ -7,7 +7,7 @@ from gvgai_pcg.cli import main
 from gvgai_pcg.evaluation.checkpoints import run_info
 from gvgai_pcg.evaluation.evaluator import evaluate_run, read_records, run_results_path
 from gvgai_pcg.evaluation.protocol import LARGE_PROTOCOL, Protocol, protocol_test_sets
-from gvgai_pcg.study.conditions import BUDGETS
+from gvgai_pcg.study.sweeps.conditions import BUDGETS
 
 PUBLISHED_KEY = "efee2915b5"  # results/small/runs/*/eval/protocol-efee2915b5.jsonl
 

@@ -16,7 +16,7 @@ from gvgai_pcg.cli import main
 from gvgai_pcg.evaluation.evaluator import random_results_path, run_results_path, write_records
 from gvgai_pcg.evaluation.protocol import Protocol
 from gvgai_pcg.report import build_report
-from gvgai_pcg.rl.checkpoint import save_model
+from gvgai_pcg.rundir.checkpoint import save_model
 from tests.evaluation.conftest import make_run
 from tests.evaluation.test_report import PROTOCOL, fake_records
 

@@ -177,7 +177,7 @@ def test_ppcg_curve_shows_the_studys_highest_difficulty(monkeypatch, tmp_path):
     grid = np.linspace(0, 1e6, 5)
     ppcg = curves.PooledCurve("PPCG (1M)", 2, grid, grid * 0, grid * 0, np.linspace(0, 0.3, 5))
     pcg = curves.PooledCurve("PCG 1 (1M)", 2, grid, grid * 0, grid * 0, np.full(5, 1.0))
-    from gvgai_pcg.study.table1 import STUDY_REACHED
+    from gvgai_pcg.study.verdicts.table1 import STUDY_REACHED
 
     curves.plot_curves("boulderdash", [ppcg, pcg], tmp_path / "c", STUDY_REACHED)
     twins = [ax for ax in figures[0].axes if ax.get_ylabel() == "difficulty"]

@@ -133,7 +133,7 @@ def test_protocol_on_a_tiny_run_writes_its_csv_and_reuses_it(tiny_run, monkeypat
 
 
 def test_publishing_a_run_publishes_its_ued_records(tiny_run, tmp_path):
-    from gvgai_pcg.study.publish import publish
+    from gvgai_pcg.study.sweeps.publish import publish
 
     _, table = evaluate_run_ued(run_info(tiny_run), TINY, progress=False)
     dest = publish(tmp_path / "out", tmp_path / "published", runs=[tiny_run])
@@ -179,7 +179,7 @@ def test_cli_refuses_bad_settings_in_one_line(tiny_run, capsys, options, message
 
 
 def test_publishing_a_run_publishes_its_held_out_scores_over_training(tiny_run, tmp_path):
-    from gvgai_pcg.study.publish import publish
+    from gvgai_pcg.study.sweeps.publish import publish
 
     records = tiny_run / "eval" / "snapshots" / "protocol-abc" / "model-500.jsonl"
     records.parent.mkdir(parents=True)

@@ -68,7 +68,7 @@ def fingerprint(num_envs: int, extra: tuple[str, ...] = ()) -> dict:
 
     from gvgai_pcg.config import config_dir
     from gvgai_pcg.rl import train
-    from gvgai_pcg.rl.run_log import read_log
+    from gvgai_pcg.rundir.run_log import read_log
 
     torch.set_num_threads(1)
     with tempfile.TemporaryDirectory() as tmp:

@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 import torch
 
-from gvgai_pcg.rl.checkpoint import (
+from gvgai_pcg.curricula import get_curriculum
+from gvgai_pcg.rundir.checkpoint import (
     FORMAT_VERSION,
     CheckpointError,
     NonFiniteModelError,
@@ -19,6 +20,7 @@ from gvgai_pcg.rl.checkpoint import (
     check_identity,
     load_checkpoint,
     read_file,
+    restore,
     save_checkpoint,
     save_model,
     set_rng_states,
@@ -45,7 +47,7 @@ def _state(frames: int = 40, weight: float = 0.5) -> dict:
         "elapsed": 1.5,
         "model": net.state_dict(),
         "optimizer": optimizer.state_dict(),
-        "difficulty": None,
+        "curriculum": None,
         "config": CONFIG,
         "log_rows": 2,
     }
@@ -132,7 +134,7 @@ def test_a_model_of_another_game_or_observation_is_refused(tmp_path):
 
 
 def test_a_checkpoint_from_before_level_sets_resumes_under_the_pcg_defaults():
-    from gvgai_pcg.rl.checkpoint import config_differences
+    from gvgai_pcg.rundir.checkpoint import config_differences
 
     before = {"regimen": {"name": "pcg", "difficulty": 1.0, "win_rule": "game", "tag": "pcg1.0"}}
     now = {"regimen": {**before["regimen"], "num_levels": 0, "start_seed": 0}}
@@ -141,3 +143,30 @@ def test_a_checkpoint_from_before_level_sets_resumes_under_the_pcg_defaults():
     assert config_differences(before, fixed_set) == [
         "regimen.num_levels: '<missing>' in the checkpoint, 100 now"
     ]
+
+
+PPCG = {"name": "ppcg", "alpha": 0.01, "start": 0.0, "win_rule": "game", "tag": "ppcg"}
+
+
+def _resumed_ppcg(path: Path) -> float:
+    """The d a PPCG run resumes at from the checkpoint at ``path``."""
+    run = get_curriculum("ppcg").start("zelda", PPCG)
+    net = torch.nn.Linear(3, 2)
+    restore(load_checkpoint(path, CONFIG), net, torch.optim.RMSprop(net.parameters(), lr=7e-4), run)
+    return run.difficulty
+
+
+def test_a_checkpoint_keeps_the_curriculum_state_under_its_name_and_an_older_one_resumes(tmp_path):
+    moved = get_curriculum("ppcg").start("zelda", PPCG)
+    moved.state.update([True] * 37)  # d = 0.37
+    path = tmp_path / "checkpoints" / "last.pt"
+    save_checkpoint(path, {**_state(), "curriculum": moved.state_dict()})
+    assert set(read_file(path)) >= {"curriculum"} and "difficulty" not in read_file(path)
+    assert _resumed_ppcg(path) == pytest.approx(0.37)
+    # written before the key was named for what it holds: the state under "difficulty"
+    old = {key: value for key, value in _state().items() if key != "curriculum"}
+    save_checkpoint(path, {**old, "difficulty": moved.state_dict()})
+    assert _resumed_ppcg(path) == pytest.approx(0.37)
+    save_checkpoint(path, old)  # a run with state, a checkpoint with none: refused in one line
+    with pytest.raises(CheckpointError, match="holds no state of the curriculum 'ppcg'"):
+        _resumed_ppcg(path)

@@ -11,17 +11,15 @@ from gvgai_pcg.envs.level_sources import TRAINING_SEED_SPACE, GeneratedLevelSet
 from gvgai_pcg.generators import generate_level
 from gvgai_pcg.levels import Level
 from gvgai_pcg.rl import train
-from gvgai_pcg.rl.environment import EnvFactory, make_difficulty, training_levels
-from gvgai_pcg.rl.run_log import read_log
+from gvgai_pcg.rl.environment import EnvFactory, training_levels
+from gvgai_pcg.rundir.run_log import read_log
 
 TINY = ["env.num_envs=8", "env.max_steps=20", "total_frames=400", "log.every_episodes=8", "log.curve=false"]
 
 
 def training_env(make_config, overrides: list[str]):
     cfg = make_config(overrides)
-    return EnvFactory(
-        cfg.game.name, cfg.regimen, 16, "tiles", 20, "cpu", 0, make_difficulty(cfg.regimen, cfg.game.name)
-    )()
+    return EnvFactory(cfg.game.name, cfg.regimen, 16, "tiles", 20, "cpu", 0)()
 
 
 def seeds_played(env, resets: int = 5) -> set[int]:

@@ -15,16 +15,16 @@ from tensordict import TensorDict
 
 import gvgai_pcg.plugins as plugins_module
 from gvgai_pcg.config import ConfigError, checked_config, compose_config, config_dir
+from gvgai_pcg.curricula.base import CurriculumRun
 from gvgai_pcg.curricula.signals import TRAIN_MASK
 from gvgai_pcg.envs import LevelSource
 from gvgai_pcg.rl import train
-from gvgai_pcg.rl.environment import EnvFactory
 from gvgai_pcg.rl.learners import get_learner_spec, learner_class, register_learner, registered_learners
 from gvgai_pcg.rl.learners import registry as learner_registry
 from gvgai_pcg.rl.learners.ppo import PPO
 from gvgai_pcg.rl.models import as_tensordict_module, make_actor_critic
-from gvgai_pcg.rl.run_log import read_log
-from gvgai_pcg.rl.update_log import read_updates
+from gvgai_pcg.rundir.run_log import read_log
+from gvgai_pcg.rundir.update_log import read_updates
 from tests.rl import toy_learner
 
 REPO = Path(__file__).resolve().parents[2]
@@ -225,13 +225,13 @@ class LearningSource(LevelSource):
 
 def test_a_short_ppo_run_logs_its_updates_and_feeds_the_curriculum(tmp_path, monkeypatch, capsys):
     sources = []
-    level_source = EnvFactory.level_source
+    level_source = CurriculumRun.source
 
     def learning_source(self):
         sources.append(LearningSource(level_source(self)))
         return sources[-1]
 
-    monkeypatch.setattr(EnvFactory, "level_source", learning_source)
+    monkeypatch.setattr(CurriculumRun, "source", learning_source)
     overrides = [
         *TINY,
         "algo=ppo",

@@ -18,7 +18,7 @@ from gvgai_pcg.envs.level_sources import (
 )
 from gvgai_pcg.gym.adapter import GVGAIGymEnv
 from gvgai_pcg.gym.regimens import regimen_kind, regimen_names
-from gvgai_pcg.rl.environment import make_difficulty, training_source
+from gvgai_pcg.rl.environment import curriculum_run, training_source
 
 
 def test_the_config_group_the_schema_and_the_table_name_the_same_regimens():
@@ -59,7 +59,7 @@ def test_training_and_gymnasium_build_the_same_source_and_curriculum(
     gym = GVGAIGymEnv("zelda", **gym_kwargs).regimen
     assert type(trained) is type(gym.source.source) is source_type
     assert vars(trained) == vars(gym.source.source)  # the same levels, set, seeds and difficulty
-    curriculum, gym_curriculum = make_difficulty(cfg.regimen, "zelda"), gym.curriculum
+    curriculum, gym_curriculum = curriculum_run(cfg.regimen, "zelda").state, gym.curriculum
     assert (curriculum is None) == (gym_curriculum is None) == (cfg.regimen.name not in ("pcg", "ppcg"))
     if curriculum is not None:
         assert (curriculum.mode, curriculum.difficulty, curriculum.alpha) == (

@@ -2,7 +2,7 @@
 
 import csv
 
-from gvgai_pcg.rl.run_log import COLUMNS, cut_log, cut_torchrl_csv, read_log
+from gvgai_pcg.rundir.run_log import COLUMNS, cut_log, cut_torchrl_csv, read_log
 
 
 def _write_rows(path, frames_and_episodes) -> None:

@@ -17,7 +17,7 @@ import torch
 
 from gvgai_pcg.cli import main
 from gvgai_pcg.rl import train
-from gvgai_pcg.rl.run_log import read_log
+from gvgai_pcg.rundir.run_log import read_log
 from tests.waiting import PATIENCE_S
 
 # 8 envs x 5 steps = 40 frames a batch; a row per 8 episodes of at most 10 steps

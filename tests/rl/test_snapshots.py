@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from gvgai_pcg.evaluation.policy import load_policy
 from gvgai_pcg.rl import train
-from gvgai_pcg.rl.snapshots import snapshot_paths
+from gvgai_pcg.rundir.snapshots import snapshot_paths
 
 # 8 envs x 5 steps = 40 frames a batch
 TINY = ["regimen=lv", "env.num_envs=8", "env.max_steps=10", "log.every_episodes=8", "log.curve=false"]

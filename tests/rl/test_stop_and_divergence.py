@@ -16,7 +16,7 @@ import torch
 from gvgai_pcg.cli import main
 from gvgai_pcg.rl import train
 from gvgai_pcg.rl.divergence import DivergenceError, DivergenceGuard
-from gvgai_pcg.rl.run_log import EpisodeTracker, read_log
+from gvgai_pcg.rundir.run_log import EpisodeTracker, read_log
 from tests.rl.conftest import needs_generated_levels
 from tests.waiting import PATIENCE_S
 
@@ -94,7 +94,7 @@ def test_sigterm_to_a_run_with_collector_workers_stops_it_and_it_resumes(tmp_pat
     assert first.returncode == 143, err[-3000:]
     assert err.strip().splitlines()[-1].startswith("gvgai-pcg train: stopped by SIGTERM at ")
     saved = torch.load(run_dir / "checkpoints" / "last.pt", weights_only=True)
-    assert saved["difficulty"]["shared_difficulty"][0] > 0
+    assert saved["curriculum"]["shared_difficulty"][0] > 0
     second = subprocess.run(
         [*command, f"total_frames={saved['frames'] + 160}"], capture_output=True, text=True, timeout=300
     )

@@ -16,8 +16,8 @@ import pytest
 import torch
 
 from gvgai_pcg.rl import CheckpointError, train
-from gvgai_pcg.rl.provenance import code_commit
-from gvgai_pcg.rl.run_log import COLUMNS, read_log
+from gvgai_pcg.rundir.provenance import code_commit
+from gvgai_pcg.rundir.run_log import COLUMNS, read_log
 from tests.rl.conftest import needs_generated_levels
 from tests.waiting import PATIENCE_S
 
@@ -112,7 +112,7 @@ def test_a_killed_run_resumes_at_its_checkpoint(tmp_path):
         if first.poll() is None:
             first.kill()
     saved = torch.load(checkpoint, weights_only=False)
-    saved_difficulty = float(saved["difficulty"]["shared_difficulty"][0])
+    saved_difficulty = float(saved["curriculum"]["shared_difficulty"][0])
     assert saved_difficulty > 0.0
     rows_at_kill = read_log(run_dir / "log.csv")
 
@@ -143,7 +143,7 @@ def test_collector_workers_move_one_difficulty(make_config, tmp_path):
     )
     train(cfg, tmp_path / "run")
     saved = torch.load(tmp_path / "run" / "checkpoints" / "last.pt", weights_only=False)
-    assert float(saved["difficulty"]["shared_difficulty"][0]) == pytest.approx(0.16 * 5, abs=1e-6)
+    assert float(saved["curriculum"]["shared_difficulty"][0]) == pytest.approx(0.16 * 5, abs=1e-6)
 
 
 def test_a_finished_run_started_again_trains_no_further(make_config, tmp_path):
@@ -161,7 +161,7 @@ def test_a_finished_run_started_again_trains_no_further(make_config, tmp_path):
 def test_code_commit_is_unknown_for_a_copy_git_does_not_track(tmp_path):
     import shutil
 
-    import gvgai_pcg.rl.provenance as provenance
+    import gvgai_pcg.rundir.provenance as provenance
 
     inside = Path(provenance.__file__).resolve().parents[2] / ".venv-copy-for-test"
     if not (inside.parent / ".git").exists():

@@ -17,8 +17,9 @@ from gvgai_pcg.rl.a2c_loss import A2CLoss
 from gvgai_pcg.rl.learners.a2c import A2C
 from gvgai_pcg.rl.learners.ppo import PPO
 from gvgai_pcg.rl.models import as_tensordict_module, make_actor_critic
-from gvgai_pcg.rl.run_log import RunLog, read_log
-from gvgai_pcg.rl.update_log import UpdateLog, mean_losses, read_updates
+from gvgai_pcg.rundir.run_log import RunLog, read_log
+from gvgai_pcg.rundir.update_log import UpdateLog, mean_losses, read_updates
+from tests.curricula.test_signals import run_of
 from tests.rl.test_a2c_loss import TableNet
 from tests.rl.test_learners import _rollout
 
@@ -133,8 +134,8 @@ def test_the_feedback_writes_the_sources_mask_and_nothing_without_one():
             return torch.tensor([[True, False, True]])
 
     rollout = TensorDict({}, batch_size=[1, 3])
-    Feedback(Marks()).mark_trained_steps(rollout)
+    Feedback(run_of(Marks())).mark_trained_steps(rollout)
     assert rollout[TRAIN_MASK].tolist() == [[True, False, True]]
     plain = TensorDict({}, batch_size=[1, 3])
-    Feedback(Plain()).mark_trained_steps(plain)
+    Feedback(run_of(Plain())).mark_trained_steps(plain)
     assert TRAIN_MASK not in plain.keys()

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from gvgai_pcg.rl.update_log import UPDATE_COLUMNS, UpdateLog, cut_updates, read_updates
+from gvgai_pcg.rundir.update_log import UPDATE_COLUMNS, UpdateLog, cut_updates, read_updates
 
 
 class Recorder:

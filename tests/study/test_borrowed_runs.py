@@ -10,9 +10,9 @@ from dataclasses import replace
 import torch
 
 from gvgai_pcg.evaluation.checkpoints import load_state, read_run_config, run_info
-from gvgai_pcg.study import BUDGETS, reproduce
-from gvgai_pcg.study.borrowed_runs import BORROWED, borrow_runs, borrowed_lines
-from gvgai_pcg.study.pipeline import planned_configs, run_sweep
+from gvgai_pcg.study import BUDGETS
+from gvgai_pcg.study.pipeline import planned_configs, reproduce, run_sweep
+from gvgai_pcg.study.sweeps.borrowed_runs import BORROWED, borrow_runs, borrowed_lines
 
 RUN = "zelda-pcg1.0-tiles-compact-seed0"
 

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import pytest
 
-from gvgai_pcg.study.claim_rules import (
+from gvgai_pcg.study.pages.claims_page import claims_markdown
+from gvgai_pcg.study.verdicts.claim_rules import (
     CLOSE,
     MARGINAL,
     claims_of,
@@ -16,11 +17,10 @@ from gvgai_pcg.study.claim_rules import (
     ppcg_beats_pcg05_hard,
     ppcg_never_hardest,
 )
-from gvgai_pcg.study.claims_page import claims_markdown
-from gvgai_pcg.study.intervals import estimate, holm
-from gvgai_pcg.study.judging import judge, study_claims, study_verdicts
-from gvgai_pcg.study.results import GameResults, SetResult, Table, _labels_by_config, collect
-from gvgai_pcg.study.table1 import TEST_SETS
+from gvgai_pcg.study.verdicts.intervals import estimate, holm
+from gvgai_pcg.study.verdicts.judging import judge, study_claims, study_verdicts
+from gvgai_pcg.study.verdicts.results import GameResults, SetResult, Table, _labels_by_config, collect
+from gvgai_pcg.study.verdicts.table1 import TEST_SETS
 
 STUDY_GAINS = (0.32, 0.42, 0.28)  # Lv 0-3 over Lv 0 on lv4, pcg0.5, pcg1 in the study's Table 1
 

@@ -13,7 +13,23 @@ from gvgai_pcg.config import config_dir
 from gvgai_pcg.curricula import Curriculum, get_curriculum, register_curriculum, unregister_curriculum
 from gvgai_pcg.games.registry import generate_level
 from gvgai_pcg.study import BUDGETS
-from gvgai_pcg.study.comparison import (
+from gvgai_pcg.study.sweeps.conditions import (
+    CURRICULA_CONDITIONS,
+    CURRICULA_EXTRA,
+    MEDIUM_SETUP,
+    condition_regimen,
+    conditions_of,
+    unregistered,
+)
+from gvgai_pcg.study.sweeps.curricula_runs import (
+    REPLAY_PICTURE,
+    REPLAY_STATS,
+    level_count_summary,
+    write_levels_picture,
+    write_replay_picture,
+    write_replay_stats,
+)
+from gvgai_pcg.study.verdicts.comparison import (
     DOES_NOT_HOLD,
     HOLDS,
     INCONCLUSIVE,
@@ -24,22 +40,6 @@ from gvgai_pcg.study.comparison import (
     judge,
     read_ued_summary,
     ued_values,
-)
-from gvgai_pcg.study.conditions import (
-    CURRICULA_CONDITIONS,
-    CURRICULA_EXTRA,
-    MEDIUM_SETUP,
-    condition_regimen,
-    conditions_of,
-    unregistered,
-)
-from gvgai_pcg.study.curricula_runs import (
-    REPLAY_PICTURE,
-    REPLAY_STATS,
-    level_count_summary,
-    write_levels_picture,
-    write_replay_picture,
-    write_replay_stats,
 )
 
 SUMMARY = {
@@ -90,7 +90,7 @@ def test_a_condition_whose_curriculum_is_not_registered_is_refused_with_one_line
     unregister_curriculum("dr")
     try:
         refused = unregistered(["zelda-dr", "zelda-ppcg"])
-        from gvgai_pcg.study import reproduce
+        from gvgai_pcg.study.pipeline import reproduce
 
         with pytest.raises(ValueError, match="zelda-dr: the curriculum 'dr' is not registered"):
             reproduce(BUDGETS["curricula-smoke"], ["zelda-dr"], tmp_path, train=False)
@@ -290,7 +290,7 @@ def test_a_run_summarises_every_level_its_curriculum_holds_once_per_checkpoint(t
 def test_the_page_sets_the_held_levels_beside_the_generators_and_the_human_ones(tmp_path):
     from types import SimpleNamespace
 
-    from gvgai_pcg.study.curricula_page import REFERENCE_LEVELS, _held_levels_tables
+    from gvgai_pcg.study.pages.curricula_page import REFERENCE_LEVELS, _held_levels_tables
 
     run = tmp_path / "zelda-accel-seed0"
     run.mkdir()
@@ -308,8 +308,8 @@ def test_the_page_sets_the_held_levels_beside_the_generators_and_the_human_ones(
 @pytest.mark.slow
 def test_the_smoke_comparison_trains_evaluates_publishes_and_writes_the_page(tmp_path):
     from gvgai_pcg.evaluation.checkpoints import find_runs
-    from gvgai_pcg.study import reproduce
-    from gvgai_pcg.study.curricula_page import END, START, write_curricula_page
+    from gvgai_pcg.study.pages.curricula_page import END, START, write_curricula_page
+    from gvgai_pcg.study.pipeline import reproduce
 
     budget = BUDGETS["curricula-smoke"]
     conditions = ["zelda-pcg1", "zelda-ppcg", "zelda-dr"]
@@ -342,7 +342,7 @@ def test_the_smoke_comparison_trains_evaluates_publishes_and_writes_the_page(tmp
 
 
 def test_the_ued_levels_are_binned_by_difficulty_over_every_evaluation_seed():
-    from gvgai_pcg.study.ued_by_difficulty import solved_by_bin
+    from gvgai_pcg.study.pages.ued_by_difficulty import solved_by_bin
 
     rows = [
         {"difficulty": "0.0", "won_0": "1", "won_1": "0"},
@@ -354,7 +354,7 @@ def test_the_ued_levels_are_binned_by_difficulty_over_every_evaluation_seed():
 
 
 def test_the_page_draws_each_curriculum_s_solved_rate_by_difficulty(tmp_path):
-    from gvgai_pcg.study.ued_by_difficulty import write_solved_by_difficulty
+    from gvgai_pcg.study.pages.ued_by_difficulty import write_solved_by_difficulty
 
     settings = {"levels": 4, "seeds": 2}
     runs = []

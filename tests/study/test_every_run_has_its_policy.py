@@ -11,7 +11,7 @@ import torch
 import yaml
 
 from gvgai_pcg.evaluation.checkpoints import run_info
-from gvgai_pcg.study.awaiting_retraining import awaiting, read_list
+from gvgai_pcg.study.pages.awaiting_retraining import awaiting, read_list
 
 ROOT = Path(__file__).resolve().parents[2]
 RESULTS = ROOT / "results"
@@ -54,7 +54,9 @@ def _play_one_short_episode(run: Path) -> None:
 def test_the_list_of_runs_awaiting_retraining_is_exactly_the_runs_without_a_model():
     listed = read_list(RESULTS)
     # a listed run with a model, or an unlisted one without, fails
-    assert listed == awaiting(RESULTS), "run python -m gvgai_pcg.study.awaiting_retraining after a publish"
+    assert listed == awaiting(RESULTS), (
+        "run python -m gvgai_pcg.study.pages.awaiting_retraining after a publish"
+    )
     assert len(WITH_MODEL) + sum(map(len, listed.values())) == len(RUNS)
     for budget, runs in listed.items():
         for entry in runs:
@@ -103,7 +105,7 @@ def test_replay_of_a_run_awaiting_retraining_says_so_in_one_line(tmp_path, capsy
 
 
 def test_each_budgets_page_lists_its_runs_awaiting_retraining():
-    from gvgai_pcg.study.awaiting_retraining import PAGES, page_block
+    from gvgai_pcg.study.pages.awaiting_retraining import PAGES, page_block
 
     for budget, page in PAGES.items():
         assert page_block(RESULTS, budget) in (ROOT / page).read_text(), page

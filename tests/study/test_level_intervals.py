@@ -10,12 +10,12 @@ import random
 import pytest
 from scipy import stats
 
-from gvgai_pcg.study.claim_rules import frogs_ppcg_wins_hard
-from gvgai_pcg.study.claims_page import random_markdown, statistics_note
-from gvgai_pcg.study.intervals import estimate, level_terms, random_estimate
-from gvgai_pcg.study.judging import judge
-from gvgai_pcg.study.results import GameResults, SetResult, Table, table_of
-from gvgai_pcg.study.table1 import TEST_SETS
+from gvgai_pcg.study.pages.claims_page import random_markdown, statistics_note
+from gvgai_pcg.study.verdicts.claim_rules import frogs_ppcg_wins_hard
+from gvgai_pcg.study.verdicts.intervals import estimate, level_terms, random_estimate
+from gvgai_pcg.study.verdicts.judging import judge
+from gvgai_pcg.study.verdicts.results import GameResults, SetResult, Table, table_of
+from gvgai_pcg.study.verdicts.table1 import TEST_SETS
 
 
 def test_the_level_term_is_the_variance_of_the_mean_over_levels():
@@ -124,7 +124,7 @@ def test_per_level_means_reach_the_table_only_with_level_sampling():
 
 
 def test_the_note_names_the_interval_kind_and_the_random_agent_gets_its_own():
-    from gvgai_pcg.study.intervals import SEEDS_AND_LEVELS_INTERVAL
+    from gvgai_pcg.study.verdicts.intervals import SEEDS_AND_LEVELS_INTERVAL
 
     assert SEEDS_AND_LEVELS_INTERVAL in statistics_note([], level_sampling=True)
     assert "Not in the intervals: the level sampling" in statistics_note([])

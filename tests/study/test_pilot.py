@@ -6,8 +6,8 @@ import json
 
 import yaml
 
-from gvgai_pcg.rl.run_log import COLUMNS
-from gvgai_pcg.study.pilot import frames_to_reach, main, read_pilot, score_at, smoothed_scores
+from gvgai_pcg.rundir.run_log import COLUMNS
+from gvgai_pcg.study.sweeps.pilot import frames_to_reach, main, read_pilot, score_at, smoothed_scores
 
 
 def _rows(scores: list[float], step: int = 250_000) -> list[dict[str, float]]:
@@ -44,7 +44,7 @@ def test_the_table_reads_a_published_pilot_and_costs_each_run_by_its_cpu_seconds
 def test_the_pilot_page_shows_the_table_its_published_runs_give():
     from pathlib import Path
 
-    from gvgai_pcg.study.pilot import END, START, page_table
+    from gvgai_pcg.study.sweeps.pilot import END, START, page_table
 
     root = Path(__file__).resolve().parents[2]
     page = (root / "docs" / "pilot.md").read_text()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import os
 import signal
 import subprocess
 import sys
@@ -16,18 +17,19 @@ from hydra import compose, initialize_config_dir
 from gvgai_pcg.config import config_dir
 from gvgai_pcg.evaluation.checkpoints import find_runs, run_info
 from gvgai_pcg.evaluation.protocol import Protocol
-from gvgai_pcg.rl.provenance import code_commit, session_commits
-from gvgai_pcg.study import BUDGETS, STUDY_CONDITIONS, reproduce
-from gvgai_pcg.study.conditions import EXTRA_CONDITIONS, conditions_of, known_conditions
-from gvgai_pcg.study.page import write_results_page
+from gvgai_pcg.rundir.provenance import code_commit, session_commits
+from gvgai_pcg.study import BUDGETS, STUDY_CONDITIONS
+from gvgai_pcg.study.pages.page import write_results_page
 from gvgai_pcg.study.pipeline import (
     planned_configs,
     published_elsewhere,
+    reproduce,
     run_sweep,
     share_conditions,
     sweep_arguments,
     sweep_plan,
 )
+from gvgai_pcg.study.sweeps.conditions import EXTRA_CONDITIONS, conditions_of, known_conditions
 from tests.waiting import PATIENCE_S
 
 PROTOCOL = Protocol(**BUDGETS["smoke"].protocol)
@@ -136,9 +138,12 @@ def test_sigterm_to_the_sweep_stops_its_training_runs_at_a_checkpoint(tmp_path):
         "import sys; from pathlib import Path; from gvgai_pcg.study import BUDGETS;"
         "from gvgai_pcg.study.pipeline import run_sweep;"
         "run_sweep(BUDGETS['smoke'], ['zelda-lv0', 'zelda-lv4'], Path(sys.argv[1]), jobs=2,"
-        " overrides=['total_frames=10000000'])"
+        " overrides=['total_frames=10000000', 'checkpoint.every_frames=1000'])"
     )
-    sweep = subprocess.Popen([sys.executable, "-c", script, str(tmp_path)], stderr=subprocess.PIPE, text=True)
+    quick = {**os.environ, "GVGAI_PCG_COMPILE": "0"}  # a signal's path, not the compiler, is tested here
+    sweep = subprocess.Popen(
+        [sys.executable, "-c", script, str(tmp_path)], stderr=subprocess.PIPE, text=True, env=quick
+    )
     runs = [tmp_path / "runs" / f"zelda-{c}-tiles-compact-seed0" for c in ("lv0", "lv4")]
     checkpoints = [run / "checkpoints" for run in runs]
     try:
@@ -269,7 +274,7 @@ def test_the_medium_budget_trains_what_issue_35_asks_and_keeps_models_along_the_
 
 
 def test_each_results_page_keeps_its_own_figures():
-    from gvgai_pcg.study.page import page_images
+    from gvgai_pcg.study.pages.page import page_images
 
     assert page_images(Path("docs/results.md")) == (Path("docs/images/results"), "images/results")
     medium, prefix = page_images(Path("docs/results-medium.md"))
@@ -281,7 +286,7 @@ def test_publish_refuses_a_folder_holding_a_run_of_another_config(tmp_path):
 
     import yaml
 
-    from gvgai_pcg.study.publish import publish
+    from gvgai_pcg.study.sweeps.publish import publish
     from tests.evaluation.conftest import make_run
 
     out, dest = tmp_path / "out", tmp_path / "published"
@@ -303,7 +308,7 @@ def test_publish_refuses_a_folder_holding_a_run_of_another_config(tmp_path):
 
 @pytest.mark.parametrize("where", ["out", "out/runs/x"])
 def test_publish_refuses_the_sweeps_own_folder_and_writes_nothing_into_its_runs(where, tmp_path):
-    from gvgai_pcg.study.publish import publish
+    from gvgai_pcg.study.sweeps.publish import publish
     from tests.evaluation.conftest import make_run
 
     out = tmp_path / "out"

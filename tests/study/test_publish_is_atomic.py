@@ -12,9 +12,9 @@ from pathlib import Path
 import pytest
 
 from gvgai_pcg.evaluation.checkpoints import find_runs
-from gvgai_pcg.rl.atomic_files import recover_folders, staging_folder
-from gvgai_pcg.rl.stop_signal import stop_signals_deferred
-from gvgai_pcg.study import publish as publishing
+from gvgai_pcg.rundir.atomic_files import recover_folders, staging_folder
+from gvgai_pcg.rundir.stop_signal import stop_signals_deferred
+from gvgai_pcg.study.sweeps import publish as publishing
 from tests.evaluation.conftest import make_run, write_log
 
 
@@ -127,7 +127,7 @@ def test_a_signal_inside_the_deferred_block_acts_only_when_the_block_has_ended()
 
 
 def test_an_atomic_copy_keeps_the_times_and_leaves_no_temporary_file(tmp_path):
-    from gvgai_pcg.rl.atomic_files import atomic_copy
+    from gvgai_pcg.rundir.atomic_files import atomic_copy
 
     source = tmp_path / "records.jsonl"
     source.write_text("{}\n")

@@ -12,7 +12,7 @@ from gvgai_pcg.evaluation.checkpoints import published_run_info, run_info
 from gvgai_pcg.evaluation.evaluator import evaluate_policy
 from gvgai_pcg.evaluation.policy import load_policy
 from gvgai_pcg.evaluation.protocol import Protocol
-from gvgai_pcg.study.publish import publish
+from gvgai_pcg.study.sweeps.publish import publish
 from tests.evaluation.conftest import make_run
 
 TEXTS = (".json", ".jsonl", ".yaml", ".csv")

@@ -10,12 +10,12 @@ from pathlib import Path
 import pytest
 
 from gvgai_pcg.study import BUDGETS
-from gvgai_pcg.study.claims_page import claims_markdown
-from gvgai_pcg.study.curricula_page import END as CURRICULA_END
-from gvgai_pcg.study.curricula_page import START as CURRICULA_START
-from gvgai_pcg.study.judging import study_claims
-from gvgai_pcg.study.page import END, START, results_block
-from gvgai_pcg.study.results import collect
+from gvgai_pcg.study.pages.claims_page import claims_markdown
+from gvgai_pcg.study.pages.curricula_page import END as CURRICULA_END
+from gvgai_pcg.study.pages.curricula_page import START as CURRICULA_START
+from gvgai_pcg.study.pages.page import END, START, results_block
+from gvgai_pcg.study.verdicts.judging import study_claims
+from gvgai_pcg.study.verdicts.results import collect
 
 ROOT = Path(__file__).resolve().parents[2]
 PAGE = ROOT / "docs" / "results.md"
@@ -65,7 +65,7 @@ def published_pages() -> list[Path]:
 
 @pytest.mark.parametrize("page_path", published_pages(), ids=lambda path: path.name)
 def test_the_pages_block_rebuilds_from_the_published_folder(page_path, tmp_path):
-    from gvgai_pcg.study.page import page_images
+    from gvgai_pcg.study.pages.page import page_images
 
     page = block_of(page_path.read_text())
     published = ROOT / re.search(r"Data: `([^`]+)`", page).group(1)

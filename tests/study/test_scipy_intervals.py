@@ -6,7 +6,7 @@ from scipy import stats
 
 from gvgai_pcg.evaluation import ued
 from gvgai_pcg.report import table
-from gvgai_pcg.study import intervals
+from gvgai_pcg.study.verdicts import intervals
 
 A = [0.1, 0.5, 0.35, 0.8]
 B = [1.0, 2.5, 3.25]
@@ -53,6 +53,62 @@ def test_two_seed_sets_are_welchs_test():
 
 @pytest.mark.parametrize(("k", "n"), [(0, 10), (3, 10), (5, 5), (1, 2), (17, 40)])
 def test_wilson_is_scipys_on_whole_counts(k, n):
-    """Kept hand-written: the weighted tail takes it at fractional counts, which binomtest refuses."""
+    """scipy's on a whole count; a fractional count (the weighted tail's), which binomtest refuses,
+    keeps the written-out formula."""
     ci = stats.binomtest(k, n).proportion_ci(confidence_level=0.95, method="wilson")
     assert close(ued.wilson_interval(k / n, n), (ci.low, ci.high))
+    z, f = stats.norm.ppf(0.975), k / n  # the formula it replaced, to 1e-9
+    centre = (f + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * (f * (1 - f) / n + z * z / (4 * n * n)) ** 0.5 / (1 + z * z / n)
+    assert ued.wilson_interval(k / n, n) == pytest.approx(
+        (max(0, centre - half), min(1, centre + half)), abs=1e-9
+    )
+
+
+def _by_hand(a, b):
+    """The formulas as they were written out before scipy: mean (difference), Welch-Satterthwaite
+    df, t quantile from scipy (it always was), two-sided p."""
+    import math
+
+    def mean_var(v):
+        m = sum(v) / len(v)
+        return m, sum((x - m) ** 2 for x in v) / (len(v) - 1)
+
+    (ma, va), (mb, vb) = mean_var(a), (mean_var(b) if b else (0.0, 0.0))
+    qa, qb = va / len(a), (vb / len(b) if b else 0.0)
+    df = (qa + qb) ** 2 / (qa**2 / (len(a) - 1) + (qb**2 / (len(b) - 1) if b else 0.0))
+    se, value = math.sqrt(qa + qb), ma - mb
+    half = stats.t.ppf(0.975, df) * se
+    return value - half, value + half, 2 * stats.t.sf(abs(value) / se, df)
+
+
+def test_the_published_curricula_cells_keep_their_numbers_to_1e9():
+    """Every per-seed cell of ``results/curricula`` and every difference with PPCG: scipy's
+    intervals and p values are the written-out formulas' to 1e-9, so no published figure moves."""
+    from pathlib import Path
+
+    from gvgai_pcg.evaluation.checkpoints import find_runs
+    from gvgai_pcg.evaluation.protocol import Protocol
+    from gvgai_pcg.study import BUDGETS
+    from gvgai_pcg.study.verdicts.comparison import collect_runs
+
+    published = Path(__file__).resolve().parents[2] / "results" / "curricula"
+    if not (published / "runs").is_dir():
+        pytest.skip("no published curricula runs")
+    budget = BUDGETS["curricula"]
+    games = collect_runs(find_runs([published / "runs"]), Protocol(**budget.protocol), budget.ued)
+    checked = 0
+    for curricula in games.values():
+        for runs in curricula.values():
+            for metric, values in runs.values.items():
+                base = curricula["PPCG"].values.get(metric)
+                for b in [None] + ([base] if base and runs.label != "PPCG" else []):
+                    if len(values) < 2 or max(values) == min(values) or (b and max(b) == min(b)):
+                        continue
+                    got = intervals.estimate(values, b, 0.0)
+                    assert (got.low, got.high, got.p) == pytest.approx(_by_hand(values, b), abs=1e-9, rel=0)
+                    checked += 1
+                if len(values) > 1 and max(values) != min(values):
+                    assert ued.t_interval(values) == pytest.approx(_by_hand(values, None)[:2], abs=1e-9)
+                    assert table.t_interval(values) == pytest.approx(_by_hand(values, None)[:2], abs=1e-9)
+    assert checked > 50

@@ -6,9 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gvgai_pcg.study.claim_rules import Claim, Comparison
-from gvgai_pcg.study.intervals import estimate, power, seeds_to_decide
-from gvgai_pcg.study.judging import judge
+from gvgai_pcg.study.verdicts.claim_rules import Claim, Comparison
+from gvgai_pcg.study.verdicts.intervals import estimate, power, seeds_to_decide
+from gvgai_pcg.study.verdicts.judging import judge
 
 
 def _seeds_like(mean: float, sd: float, n: int) -> tuple[float, ...]:
@@ -69,7 +69,7 @@ def test_more_seeds_cannot_beat_the_level_sampling_of_a_fixed_test_set():
 def test_where_levels_keep_it_open_the_projection_names_the_levels_and_seeds_that_would_decide_it():
     import re
 
-    from gvgai_pcg.study.intervals import POWER, _satterthwaite, level_terms, power
+    from gvgai_pcg.study.verdicts.intervals import POWER, _satterthwaite, level_terms, power
 
     a, b = (0.52, 0.50, 0.51), (0.49, 0.50, 0.48)
     levels = [[0.1, -0.1] * 10]
@@ -107,8 +107,8 @@ def test_an_inconclusive_claim_says_how_many_seeds_would_decide_it():
 def test_an_open_curriculum_comparison_says_how_many_seeds_each_would_decide_it():
     import re
 
-    from gvgai_pcg.study.comparison import CurriculumRuns, answer_sentences
-    from gvgai_pcg.study.comparison import judge as judge_curricula
+    from gvgai_pcg.study.verdicts.comparison import CurriculumRuns, answer_sentences
+    from gvgai_pcg.study.verdicts.comparison import judge as judge_curricula
 
     games = {
         "zelda": {

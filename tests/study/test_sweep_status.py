@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 
-from gvgai_pcg.rl.run_lock import FolderLock
-from gvgai_pcg.rl.run_log import COLUMNS
+from gvgai_pcg.rundir.run_lock import FolderLock
+from gvgai_pcg.rundir.run_log import COLUMNS
 from gvgai_pcg.study import BUDGETS
 from gvgai_pcg.study.sweep_status import RunStatus, run_status, status_text, sweep_status, with_estimates
 from tests.evaluation.conftest import make_run

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import pytest
 
-from gvgai_pcg.study.table1 import BOULDERDASH_HUMAN_MAX, TABLE1, normalise, study_normalised
-from gvgai_pcg.study.table1_compare import direction, side_by_side
+from gvgai_pcg.study.pages.table1_compare import direction, side_by_side
+from gvgai_pcg.study.verdicts.table1 import BOULDERDASH_HUMAN_MAX, TABLE1, normalise, study_normalised
 
 
 def test_the_table_holds_every_games_rows_with_seven_cells():
@@ -55,7 +55,7 @@ def test_side_by_side_marks_where_the_directions_from_random_differ():
 
 
 def test_ours_as_a_share_of_the_study_counts_only_cells_above_random():
-    from gvgai_pcg.study.table1_compare import _ratios
+    from gvgai_pcg.study.pages.table1_compare import _ratios
 
     rows = side_by_side(
         {"PPCG": {"lv0": 0.5, "lv1": 0.01, "lv2": 0.4}}, {"PPCG": {"lv0": 0.25, "lv1": 0.3, "lv2": 0.4}}

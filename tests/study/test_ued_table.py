@@ -10,7 +10,7 @@ import pytest
 from gvgai_pcg.cli import main
 from gvgai_pcg.evaluation.evaluator import random_results_path, run_results_path, write_records
 from gvgai_pcg.evaluation.ued import UEDProtocol
-from gvgai_pcg.study.comparison import CurriculumRuns, comparison_markdown
+from gvgai_pcg.study.verdicts.comparison import CurriculumRuns, comparison_markdown
 from tests.evaluation.conftest import make_run
 from tests.evaluation.test_report import HUMAN, PROTOCOL, fake_records
 

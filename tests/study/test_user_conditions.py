@@ -16,7 +16,7 @@ from gvgai_pcg.cli import main
 from gvgai_pcg.config import compose_config
 from gvgai_pcg.config_rules import searchpath_dirs, searchpath_override
 from gvgai_pcg.curricula import register_curriculum, registry
-from gvgai_pcg.study.conditions import condition_regimen, unregistered, user_conditions
+from gvgai_pcg.study.sweeps.conditions import condition_regimen, unregistered, user_conditions
 from tests.curricula import toy_curriculum
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -1,4 +1,5 @@
-"""``gvgai-pcg vgdl list`` and ``inspect``: the parse shown in Java's orders, refusals in one line."""
+"""``gvgai-pcg vgdl list`` and ``inspect``: the parse shown in Java's orders, refusals in one line
+(``trace``: test_trace_command.py)."""
 
 from __future__ import annotations
 
@@ -39,9 +40,21 @@ def corpus(tmp_path, monkeypatch):
     return tmp_path
 
 
-def test_list_prints_one_game_a_line_with_what_the_engine_lacks(corpus, capsys):
-    assert main(["vgdl", "list"]) == 0
+def test_list_corpus_prints_one_game_a_line_with_what_the_engine_lacks(corpus, capsys):
+    assert main(["vgdl", "list", "--corpus"]) == 0
     assert capsys.readouterr().out.splitlines() == ["needs\tneeds Bomber, Timeout", "ready\tready"]
+
+
+def test_list_prints_the_registered_games_whatever_the_corpus(corpus, capsys):
+    assert main(["vgdl", "list"]) == 0
+    assert capsys.readouterr().out.splitlines() == ["boulderdash", "frogs", "solarfox", "zelda"]
+
+
+def test_a_registered_name_inspects_the_packages_own_description(corpus, capsys, tmp_path):
+    (tmp_path / "zelda.txt").write_text(NEEDS)  # a corpus file of the same name is not the one shown
+    assert main(["vgdl", "inspect", "zelda"]) == 0
+    out = capsys.readouterr().out
+    assert "monsterQuick" in out and "Bomber" not in out
 
 
 def test_inspect_prints_the_orders_java_uses(tmp_path, capsys):
@@ -78,7 +91,7 @@ def test_refusals_are_one_line_with_the_file_and_line(tmp_path, capsys, monkeypa
     assert exit_code(["vgdl", "inspect", "nosuch"]) == 2
     assert "unknown VGDL game 'nosuch'" in capsys.readouterr().err
     monkeypatch.setenv("GVGAI_VGDL_DIR", str(tmp_path / "absent"))
-    assert exit_code(["vgdl", "list"]) == 2
+    assert exit_code(["vgdl", "list", "--corpus"]) == 2
     assert capsys.readouterr().err.count("\n") == 1
 
 

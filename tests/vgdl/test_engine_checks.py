@@ -55,9 +55,15 @@ def test_a_sprite_class_without_kernel_is_refused_at_its_line():
     assert message == "mine.txt:10: rock: a Missile held as a record (a singleton) has no kernel yet"
 
 
-def test_an_eos_rule_is_refused_at_its_line():
-    assert refusal(description(rules="        avatar EOS > stepBack")).startswith(
-        "mine.txt:20: EOS rules are not implemented"
+def test_an_eos_effect_without_kernel_is_refused_at_its_line():
+    assert refusal(description(rules="        rat EOS > reverseDirection")) == (
+        "mine.txt:20: EOS effect reverseDirection is not implemented by the generic step yet"
+    )
+
+
+def test_an_eos_wrap_around_of_a_sprite_without_orientation_is_refused():
+    assert refusal(description(rules="        rat EOS > wrapAround")).startswith(
+        "mine.txt:20: EOS wrapAround of rat (a RandomNPC, no orientation held) is not implemented"
     )
 
 
@@ -67,8 +73,13 @@ def test_an_effect_parameter_off_its_default_is_refused():
 
 
 def test_an_effect_without_kernel_is_refused():
+    message = refusal(description(rules="        rat avatar > wrapAround"))
+    assert message == "mine.txt:20: effect wrapAround is not implemented by the generic step yet"
+
+
+def test_a_pull_by_something_else_than_missiles_is_refused():
     message = refusal(description(rules="        rat avatar > pullWithIt"))
-    assert message == "mine.txt:20: effect pullWithIt is not implemented by the generic step yet"
+    assert message.startswith("mine.txt:20: pullWithIt is implemented for a MovingAvatar pulled by Missiles")
 
 
 def test_a_sprite_parameter_without_kernel_is_refused():

@@ -1,7 +1,7 @@
 """The generic step runs Solarfox from a VGDL description exactly as the hand-written engine does.
 
-The description is the package's own (``descriptions/solarfox.txt``, written from RULES.md §5),
-whose parse must equal Java's parse of GVGAI's solarfox. On random actions over human and
+The description is the package's own (``gvgai_pcg/vgdl/descriptions/solarfox.txt``, written
+from RULES.md §5), whose parse must equal Java's parse of GVGAI's solarfox. On random actions over human and
 generated levels (batched with different sizes, and alone; eager and through the engine's
 compiled tick) both engines give the same golden record, score and outcome at every tick, the
 enemies' shots (random) included; the Solarfox golden traces of the Java engine replay through
@@ -28,10 +28,11 @@ from gvgai_pcg.games.render import render_tiles
 from gvgai_pcg.levels import Level, human_levels
 from gvgai_pcg.vgdl import parse_file
 from gvgai_pcg.vgdl.engine import VGDLGame
+from gvgai_pcg.vgdl.registry import registered_game
 from tests.games.golden_replay import assert_replays, golden_files
 
 HERE = Path(__file__).parent
-OWN_SOLARFOX = HERE / "descriptions" / "solarfox.txt"
+OWN_SOLARFOX = registered_game("solarfox").description
 ROOT = HERE.parents[1]
 GAMES = Path(os.environ.get("GVGAI_VGDL_DIR", ROOT.parent / "shared" / "vgdl" / "games"))
 DATA = Path(os.environ.get("GVGAI_VGDL_DATA", ROOT.parent / "shared" / "vgdl" / "data"))

@@ -1,11 +1,11 @@
 """The generic step runs Zelda from a VGDL description exactly as the hand-written engine does.
 
-The description is the package's own (``descriptions/zelda.txt``, written from RULES.md §4), whose
-parse must equal Java's parse of GVGAI's zelda. On random actions over human and generated levels
-(batched with different sizes, and alone; eager and through the engine's compiled tick) both
-engines give the same golden record, score and outcome at every tick; the Zelda golden traces of
-the Java engine replay through it; and GVGAI's own zelda.txt gives the same where the corpus is
-present (``GVGAI_VGDL_DIR``).
+The description is the package's own (``gvgai_pcg/vgdl/descriptions/zelda.txt``, written from
+RULES.md §4), whose parse must equal Java's parse of GVGAI's zelda. On random actions over human
+and generated levels (batched with different sizes, and alone; eager and through the engine's
+compiled tick) both engines give the same golden record, score and outcome at every tick; the
+Zelda golden traces of the Java engine replay through it; and GVGAI's own zelda.txt gives the
+same where the corpus is present (``GVGAI_VGDL_DIR``).
 """
 
 from __future__ import annotations
@@ -24,10 +24,11 @@ from gvgai_pcg.games.render import render_tiles
 from gvgai_pcg.levels import Level, human_levels
 from gvgai_pcg.vgdl import parse_file
 from gvgai_pcg.vgdl.engine import VGDLGame
+from gvgai_pcg.vgdl.registry import registered_game
 from tests.games.golden_replay import assert_replays, golden_files
 
 HERE = Path(__file__).parent
-OWN_ZELDA = HERE / "descriptions" / "zelda.txt"
+OWN_ZELDA = registered_game("zelda").description
 ROOT = HERE.parents[1]
 GAMES = Path(os.environ.get("GVGAI_VGDL_DIR", ROOT.parent / "shared" / "vgdl" / "games"))
 DATA = Path(os.environ.get("GVGAI_VGDL_DATA", ROOT.parent / "shared" / "vgdl" / "data"))

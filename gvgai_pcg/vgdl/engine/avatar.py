@@ -1,4 +1,5 @@
-"""The avatar's update, first in Java's tick: each avatar record by its class (ShootAvatar).
+"""The avatar's update, first in Java's tick: each avatar record by its class (ShootAvatar,
+MovingAvatar).
 
 Only one avatar record is present at a time (a transform replaces one by another); the others
 are masked out, so each is updated in turn without a branch.
@@ -8,7 +9,7 @@ from __future__ import annotations
 
 import torch
 
-from gvgai_pcg.games.actions import shoot_avatar
+from gvgai_pcg.games.actions import move_displacement, shoot_avatar
 from gvgai_pcg.vgdl.engine.frame import Frame
 from gvgai_pcg.vgdl.engine.ongoing import ongoing_avatar
 
@@ -22,6 +23,9 @@ def update_avatars(frame: Frame, action: torch.Tensor) -> None:
     for name in layout.avatars:
         if layout.plan.types[name].java_class == "OngoingAvatar":
             ongoing_avatar(frame, name, action)
+            continue
+        if layout.plan.types[name].java_class == "MovingAvatar":
+            moving_avatar(frame, name, action)
             continue
         avatar = frame.entry(name)
         made = str(layout.plan.types[name].values["stype"])
@@ -47,3 +51,24 @@ def update_avatars(frame: Frame, action: torch.Tensor) -> None:
                 place, torch.full_like(shot.get("ori"), layout.orientation[made]), shot.get("ori")
             )
         shot.update(values)
+
+
+def moving_avatar(frame: Frame, name: str, action: torch.Tensor) -> None:
+    """MovingAvatar (RULES.md §2): ``lastrect := rect``, ``lastmove += 1``; a direction action
+    moves it ``step`` px (its cooldown gate, Java's at least 1, is open after ``+= 1``), which
+    sets ``lastmove := 0``: a pull later this tick then finds its gate shut."""
+    avatar = frame.entry(name)
+    alive, x, y = avatar.get("alive"), avatar.get("x"), avatar.get("y")
+    step = frame.layout.plan.types[name].step_px
+    moves = alive & (action != 0)
+    dx, dy = move_displacement(torch.where(moves, action, torch.zeros_like(action)), step, x.dtype)
+    lastmove = avatar.get("lastmove") + alive
+    avatar.update(
+        {
+            "lastx": x,
+            "lasty": y,
+            "x": x + dx,
+            "y": y + dy,
+            "lastmove": torch.where(moves, torch.zeros_like(lastmove), lastmove),
+        }
+    )

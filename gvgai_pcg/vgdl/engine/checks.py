@@ -2,14 +2,14 @@
 refused in one line naming the file, the line and the feature, never run as something else.
 
 ``support`` lists the features some hand-written engine implements; the generic step has kernels
-for the classes, effects, terminations and parameters below (what Zelda uses), and for the
-representations the plan gives them there. A description that passes ``check_supported`` but
-needs anything else (an EOS rule, a Missile, a parameter off its Java default, a creation into a
-table) stops here.
+for the classes, effects (EOS rules too), terminations and parameters below (what Zelda and
+Frogs use), and for the representations the plan gives them there. A description that passes
+``check_supported`` but needs anything else (a parameter off its Java default, say) stops here.
 """
 
 from __future__ import annotations
 
+from gvgai_pcg.vgdl.engine.columns import held_resources
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.java_classes import defaults_of
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
@@ -26,8 +26,10 @@ SPRITE_KERNELS: dict[str, tuple[str, frozenset[str]]] = {
     "RandomNPC": (TABLE, frozenset({"speed", "cooldown", "cons"})),
     "OngoingAvatar": (RECORD, frozenset({"speed"})),
     "Passive": (GRID, frozenset()),
-    "Resource": (GRID, frozenset({"value", "limit"})),  # as the name of a resource: never placed
+    "Resource": (GRID, frozenset({"limit", "value"})),
+    "MovingAvatar": (RECORD, frozenset()),
     "Missile": (TABLE, frozenset({"speed", "cooldown", "orientation"})),
+    "SpawnPoint": (GRID, frozenset({"stype", "prob", "cooldown"})),
 }
 # Classes whose kernels also hold them in another representation.
 MORE_REPRESENTATIONS: dict[str, frozenset[str]] = {
@@ -47,7 +49,20 @@ EFFECT_KERNELS: dict[str, frozenset[str]] = {
     "spawnIfHasMore": frozenset({"scoreChange", "stype", "resource", "limit"}),
     "changeResource": frozenset({"scoreChange", "resource", "value"}),
     "reverseDirection": frozenset(),
+    "collectResource": frozenset({"scoreChange"}),
+    "killIfOtherHasMore": frozenset({"scoreChange", "resource", "limit"}),
+    "killIfFromAbove": frozenset({"scoreChange"}),
+    "shieldFrom": frozenset({"scoreChange", "stype", "ftype", "istype", "iftype"}),
+    "pullWithIt": frozenset(),
 }
+# Per effect an EOS rule may apply (``eos``), the parameters its kernel reads.
+EDGE_KERNELS: dict[str, frozenset[str]] = {
+    "stepBack": frozenset(),
+    "killSprite": frozenset({"scoreChange"}),
+    "wrapAround": frozenset({"scoreChange"}),
+}
+# Effects that read or change a record's resources (``resources``).
+RESOURCE_EFFECTS = frozenset({"collectResource", "killIfOtherHasMore"})
 TERMINATION_KERNELS = {
     "SpriteCounter": frozenset({"stype", "limit", "win"}),
     "MultiSpriteCounter": frozenset({"stype1", "stype2", "stype3", "limit", "win"}),
@@ -87,14 +102,17 @@ def check_engine(game: GameDescription, plan: Plan) -> None:
             _check_shooter(plan, name)
         if sprite.representation == TABLE and sprite.java_class in ("Flicker",) and sprite.singleton:
             raise VGDLError(path, sprite.line, f"{name}: a singleton Flicker in a table is not implemented")
-        if sprite.java_class == "Resource" and _placed(plan, name):
-            raise VGDLError(path, sprite.line, f"{name}: a Resource placed as a sprite is not implemented")
+        if sprite.java_class == "Missile":
+            _check_missile(plan, name)
+        if sprite.java_class == "SpawnPoint":
+            _check_spawner(plan, name)
     for rule in plan.eos:
-        raise VGDLError(path, rule.line, "EOS rules are not implemented by the generic step yet")
+        _check_edge_rule(plan, rule)
     for rule in plan.timed:
         raise VGDLError(path, rule.line, "timed effects are not implemented by the generic step yet")
     for rule in plan.pairs:
         _check_rule(plan, rule)
+    _check_off_grid(plan)
     for termination in plan.terminations:
         settable = TERMINATION_KERNELS.get(termination.java_class)
         if settable is None:
@@ -126,10 +144,6 @@ def _used(game: GameDescription, plan: Plan, name: str) -> bool:
     return placed or bool(plan.types[name].created_by) or game.types[name].line > 0
 
 
-def _placed(plan: Plan, name: str) -> bool:
-    return any(name in types for types in plan.level_mapping.values())
-
-
 def _check_shooter(plan: Plan, name: str) -> None:
     sprite = plan.types[name]
     stype = sprite.values.get("stype")
@@ -144,6 +158,52 @@ def _check_shooter(plan: Plan, name: str) -> None:
             sprite.line,
             f"{name}: ShootAvatar's stype must be a singleton Flicker in the generic step",
         )
+
+
+def _check_missile(plan: Plan, name: str) -> None:
+    orientation = getattr(plan.types[name].values.get("orientation"), "name", None)
+    if orientation not in ("DLEFT", "DRIGHT", "DUP", "DDOWN", "DNONE"):
+        raise VGDLError(
+            plan.path, plan.types[name].line, f"{name}: a Missile oriented {orientation} is not implemented"
+        )
+
+
+def _check_spawner(plan: Plan, name: str) -> None:
+    stype = plan.types[name].values.get("stype")
+    made = plan.types.get(stype) if isinstance(stype, str) else None
+    if made is None or made.representation != TABLE or made.java_class != "Missile":
+        raise VGDLError(
+            plan.path,
+            plan.types[name].line,
+            f"{name}: a SpawnPoint is implemented for an stype of one Missile type held in a table",
+        )
+
+
+def _check_edge_rule(plan: Plan, rule: RulePlan) -> None:
+    path, line = plan.path, rule.line
+    settable = EDGE_KERNELS.get(rule.name)
+    if settable is None:
+        raise VGDLError(path, line, f"EOS effect {rule.name} is not implemented by the generic step yet")
+    defaults = defaults_of("effect", rule.java_class)
+    for key, value in rule.values.items():
+        if key in settable or key in ("scoreChange", "counter", "counterElse"):
+            continue
+        if key in defaults and value != defaults[key]:
+            raise VGDLError(path, line, f"EOS {rule.name}: parameter {key}={value} is not implemented")
+    if rule.name == "stepBack" and score_of(plan, rule) != 0:
+        raise VGDLError(path, line, "stepBack with a scoreChange is not implemented")
+    for name in rule.firsts:
+        sprite = plan.types[name]
+        oriented = sprite.representation == RECORD or sprite.java_class == "Missile"
+        if rule.name == "wrapAround" and sprite.representation != GRID and not oriented:
+            raise VGDLError(
+                path,
+                line,
+                f"EOS wrapAround of {name} (a {sprite.java_class}, no orientation held) is not implemented",
+            )
+        if rule.name == "wrapAround" and int(sprite.values.get("cooldown") or 1) > 1:
+            # Java's wrap sets lastmove := 0, which ``eos.edge_wrap`` does not hold
+            raise VGDLError(path, line, f"EOS wrapAround of {name} (cooldown above 1) is not implemented")
 
 
 def _check_rule(plan: Plan, rule: RulePlan) -> None:
@@ -166,7 +226,13 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
         raise VGDLError(path, line, f"{rule.name} between two static types is not implemented")
     if rule.name in CREATION_CHECKS:
         CREATION_CHECKS[rule.name](plan, rule)
-    if rule.name == "transformTo":
+    if rule.name in RESOURCE_EFFECTS:
+        _check_resource_rule(plan, rule)
+    if rule.name == "killIfFromAbove" and GRID in representations | seconds:
+        raise VGDLError(path, line, "killIfFromAbove with a still (grid) type is not implemented")
+    if rule.name == "transformTo" and any(held_resources(plan, name) for name in rule.firsts):
+        raise VGDLError(path, line, "transformTo of a sprite holding resources is not implemented")
+    if rule.name == "transformTo" and not _into_grid(plan, rule):
         stype = rule.values.get("stype")
         target = plan.types.get(stype) if isinstance(stype, str) else None
         if (
@@ -178,15 +244,115 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
             raise VGDLError(
                 path, line, "transformTo is implemented from one record type (the avatar) into another"
             )
+    if rule.name == "shieldFrom":
+        _check_shield(plan, rule)
+        return
+    if rule.name == "pullWithIt":
+        _check_pull(plan, rule)
+        return
     if rule.kind == "F":
         same = set(rule.firsts) == set(rule.seconds)
         if rule.name != "stepBack" or not same or representations != {TABLE}:
             raise VGDLError(
                 path, line, f"{rule.name} among sprites of one group is implemented for one table only"
             )
-    elif rule.kind not in ("P", "A"):
+    elif rule.kind not in ("P", "A") and not (rule.kind == "X" and rule.name == "collectResource"):
         raise VGDLError(
             path, line, f"{rule.name}: a rule of kind {rule.kind} ({rule.why}) is not implemented"
+        )
+
+
+def _into_grid(plan: Plan, rule: RulePlan) -> bool:
+    """transformTo from table types on whole cells into a grid type (``transform_grid``); refuses
+    the rest of what goes into a grid."""
+    stype = rule.values.get("stype")
+    target = plan.types.get(stype) if isinstance(stype, str) else None
+    if target is None or target.representation != GRID:
+        return False
+    firsts = [plan.types[name] for name in rule.firsts]
+    if (
+        any(sprite.representation != TABLE or not sprite.aligned for sprite in firsts)
+        or rule.values.get("killSecond")
+        or stype in rule.firsts + rule.seconds
+    ):
+        raise VGDLError(
+            plan.path,
+            rule.line,
+            "transformTo into a still (grid) type is implemented from table types on whole cells, "
+            "without killSecond, into a type the rule does not name",
+        )
+    return True
+
+
+def _check_off_grid(plan: Plan) -> None:
+    """A grid type that a table transforms into also has sprites off the array (``off_grid``):
+    read only as a second, a termination's count or collectResource's
+    first."""
+    made: dict[str, set[str]] = {}
+    for rule in plan.pairs:
+        stype = rule.values.get("stype")
+        if rule.name == "transformTo" and isinstance(stype, str) and plan.types[stype].representation == GRID:
+            made.setdefault(stype, set()).update(rule.firsts)
+    for rule in plan.pairs:
+        reads_first = rule.name not in ("stepBack", "collectResource") and set(rule.firsts) & set(made)
+        reads_second = (
+            rule.name == "transformTo" and rule.values.get("killSecond") and set(rule.seconds) & set(made)
+        )
+        if reads_first or reads_second:
+            raise VGDLError(
+                plan.path,
+                rule.line,
+                f"{rule.name} of a type that transformTo makes from table sprites is not implemented",
+            )
+
+
+def _check_resource_rule(plan: Plan, rule: RulePlan) -> None:
+    """collectResource and killIfOtherHasMore: a grid type as first (collectResource: a Resource),
+    avatar records on whole cells holding the resource as seconds."""
+    firsts = [plan.types[name] for name in rule.firsts]
+    seconds = [plan.types[name] for name in rule.seconds]
+    resource = rule.firsts[0] if rule.name == "collectResource" else str(rule.values.get("resource"))
+    if (
+        len(firsts) != 1
+        or firsts[0].representation != GRID
+        or (rule.name == "collectResource" and firsts[0].java_class != "Resource")
+        or any(sprite.representation != RECORD or not sprite.aligned for sprite in seconds)
+        or any(resource not in held_resources(plan, name) for name in rule.seconds)
+        or plan.types[resource].values.get("resource_name") is not None
+    ):
+        raise VGDLError(
+            plan.path,
+            rule.line,
+            f"{rule.name} is implemented from one still (grid) type onto records on whole cells "
+            "that collect the resource",
+        )
+
+
+def _check_shield(plan: Plan, rule: RulePlan) -> None:
+    if any(plan.types[name].representation == GRID for name in rule.firsts):
+        raise VGDLError(plan.path, rule.line, "shieldFrom of a still (grid) type is not implemented")
+    if str(rule.values.get("ftype")) not in EFFECT_KERNELS:
+        raise VGDLError(plan.path, rule.line, f"shieldFrom: ftype={rule.values.get('ftype')} has no kernel")
+
+
+def _check_pull(plan: Plan, rule: RulePlan) -> None:
+    firsts = [plan.types[name] for name in rule.firsts]
+    seconds = {plan.types[name].java_class for name in rule.seconds}
+    same_line = [other for other in plan.pairs if other.effect == rule.effect]
+    if (
+        len(firsts) != 1
+        or firsts[0].representation != RECORD
+        or firsts[0].java_class != "MovingAvatar"
+        or seconds != {"Missile"}
+        or any(plan.types[name].representation != TABLE for name in rule.seconds)
+        or len(same_line) != 1
+        or score_of(plan, rule) != 0
+    ):
+        raise VGDLError(
+            plan.path,
+            rule.line,
+            "pullWithIt is implemented for a MovingAvatar pulled by Missiles (one table), one pair a "
+            "line, no score",
         )
 
 

@@ -3,7 +3,8 @@ with the values a fresh sprite starts with.
 
 A sprite made mid-game starts from its type's pristine template (RULES.md §1.2): ``lastmove`` 0,
 the first-update flag set, its counters and resources at zero. A level's sprites start the same,
-so ``layout`` builds its records and tables from here, and ``creation`` resets a slot from here.
+so ``layout`` builds its records and tables from here, and ``creation`` resets a slot from here
+(a Missile table's ``born``, its list order, is set by each of them: ``layout``).
 """
 
 from __future__ import annotations
@@ -19,6 +20,8 @@ AGED = frozenset({"Flicker", "OrientedFlicker"})
 RESOURCE_EFFECTS = frozenset({"changeResource", "spawnIfHasMore"})
 # Table classes whose sprites keep an orientation of their own (they move along it).
 ORIENTED_TABLES = frozenset({"Missile"})
+# Classes that keep Java's ``lastmove`` (a cooldown gate: their own move, or a pull on a record).
+COUNTING_MOVES = frozenset({"Missile", "MovingAvatar", "RandomNPC"})
 
 
 def resource_column(resource: str) -> str:
@@ -34,14 +37,23 @@ def fresh_columns(plan: Plan, names: tuple[str, ...]) -> dict[str, int | bool]:
         values["age"] = 0
     if classes & FIRST_UPDATE_SKIP:
         values["fresh"] = True
-    if "Missile" in classes:
+    if classes & COUNTING_MOVES:
         values["lastmove"] = 0
     if "RandomNPC" in classes:
-        values.update({"lastmove": 0, "counter": 0, "prev": NONE})
+        values.update({"counter": 0, "prev": NONE})
     for rule in plan.pairs:
         if rule.name in RESOURCE_EFFECTS and set(rule.firsts) & set(names):
             values[resource_column(str(rule.values["resource"]))] = 0
+    for name in names:
+        for resource in held_resources(plan, name):
+            values[resource_column(resource)] = 0
     return values
+
+
+def held_resources(plan: Plan, name: str) -> tuple[str, ...]:
+    """The resource types a ``collectResource`` can give to sprites of type ``name``."""
+    held = [rule.firsts for rule in plan.pairs if rule.name == "collectResource" and name in rule.seconds]
+    return tuple(dict.fromkeys(resource for firsts in held for resource in firsts))
 
 
 def oriented_table(plan: Plan, names: tuple[str, ...]) -> bool:

@@ -3,7 +3,9 @@ columns) or into a grid (a count more in a cell).
 
 Java appends a new sprite to its type's list. Here it takes the first free slot, so a table's
 slot order is its list order only for the sprites a level places; ``checks`` refuses the kernels
-that read slot order (a same-table stepBack) on a type that is created.
+that read slot order (a same-table stepBack) on a type that is created. A table that keeps
+``born`` (``layout``) holds list order there: a created sprite's is ``(tick + 1) * BORN_TICK`` plus
+its rank among the tick's creations into the table (after the earlier ones, in creator order).
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ from gvgai_pcg._private_apis import assert_async
 from gvgai_pcg.games.geometry import aligned_cell
 from gvgai_pcg.vgdl.engine.columns import fresh_columns, oriented_table
 from gvgai_pcg.vgdl.engine.frame import Frame
+from gvgai_pcg.vgdl.engine.layout import BORN_TICK
 from gvgai_pcg.vgdl.layout import GRID, TABLE
 
 
@@ -55,6 +58,11 @@ def create(
         "kind": torch.where(made, place.kind, table.get("kind")),
         "alive": alive | made,
     }
+    if "born" in table.values:
+        tick = frame.value("tick").unsqueeze(-1)
+        born = table.get("born")
+        earlier = (alive & (born >= (tick + 1) * BORN_TICK)).sum(-1, keepdim=True)
+        values["born"] = torch.where(made, (tick + 1) * BORN_TICK + earlier + free_rank, born)
     if oriented_table(frame.layout.plan, group.kinds):
         values["ori"] = torch.where(made, frame.layout.orientation[name], table.get("ori"))
     for column, value in fresh_columns(frame.layout.plan, group.kinds).items():

@@ -20,12 +20,16 @@ from gvgai_pcg.games.geometry import NONE, aligned_cell, covered_cells
 from gvgai_pcg.games.rules import step_back_in_order
 from gvgai_pcg.vgdl.engine.checks import score_of
 from gvgai_pcg.vgdl.engine.frame import Entry, Frame, Side, sides
+from gvgai_pcg.vgdl.engine.from_above import kill_if_from_above
 from gvgai_pcg.vgdl.engine.layout import FLICKERS, Layout
-from gvgai_pcg.vgdl.engine.resources import change_resource
+from gvgai_pcg.vgdl.engine.pull import pull_with_it
+from gvgai_pcg.vgdl.engine.resources import change_resource, collect_resource, kill_if_other_has_more
 from gvgai_pcg.vgdl.engine.reverse import reverse_direction
-from gvgai_pcg.vgdl.engine.spawn import spawn, spawn_if_has_more
+from gvgai_pcg.vgdl.engine.shield import shield_from
+from gvgai_pcg.vgdl.engine.spawn_effects import spawn, spawn_if_has_more
+from gvgai_pcg.vgdl.engine.transform_grid import transform_into_grid
 from gvgai_pcg.vgdl.errors import VGDLError
-from gvgai_pcg.vgdl.layout import GRID, RECORD
+from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
 from gvgai_pcg.vgdl.plan import RulePlan
 
 
@@ -35,7 +39,9 @@ class Rule:
     firsts: tuple[Side, ...]
     seconds: tuple[Side, ...]
     score: int
-    overflow: str  # the error of a creation that finds its record taken (made here: no f-string in a graph)
+    # the error of a creation that finds no room: its record taken, or its table full (made here:
+    # no f-string in a graph)
+    overflow: str
 
 
 def make_rules(layout: Layout) -> tuple[Rule, ...]:
@@ -46,19 +52,36 @@ def make_rules(layout: Layout) -> tuple[Rule, ...]:
             tuple(sides(layout, rule.firsts)),
             tuple(sides(layout, rule.seconds)),
             score_of(layout.plan, rule),
-            f"{layout.plan.path}:{rule.line}: {rule.name} into {rule.values.get('stype')!r}, "
-            "which already holds its one sprite",
+            _overflow(layout, rule),
         )
         if rule.kind == "F" and (len(made.firsts) != 1 or made.seconds != made.firsts):
             raise VGDLError(
                 layout.plan.path, rule.line, f"{rule.name} among sprites of several tables is not implemented"
             )
+        if rule.name == "pullWithIt" and len(made.seconds) != 1:
+            raise VGDLError(
+                layout.plan.path, rule.line, "pullWithIt by sprites of several tables is not implemented"
+            )
         rules.append(made)
     return tuple(rules)
 
 
+def _overflow(layout: Layout, rule: RulePlan) -> str:
+    """The one-line error of ``rule``'s creation that finds no room for its ``stype``."""
+    made = rule.values.get("stype")
+    where = f"{layout.plan.path}:{rule.line}: {rule.name} into {made!r}"
+    place = layout.places.get(str(made))
+    if place is not None and place.representation == TABLE:
+        return f"{where} found the table {place.key!r} full (its capacity is the plan's)"
+    return f"{where}, which already holds its one sprite"
+
+
 def apply_rule(frame: Frame, rule: Rule) -> None:
+    """The rule's kernel; in envs where a shieldFrom shields the rule (its pair's first and second
+    and its effect), no first is eligible (Java skips the rule)."""
+    frame.skip = frame.shields.get((rule.plan.first, rule.plan.second, rule.plan.name))
     KERNELS[rule.plan.name](frame, rule)
+    frame.skip = None
 
 
 def step_back(frame: Frame, rule: Rule) -> None:
@@ -122,6 +145,9 @@ def transform_to(frame: Frame, rule: Rule) -> None:
     list order with ``killSecond``; once, since it is then killed. A disabled first is not
     transformed but scores for every second it overlaps (Java adds the score anyway)."""
     made = str(rule.plan.values["stype"])
+    if made in frame.layout.grids:
+        transform_into_grid(frame, rule)
+        return
     target = frame.entry(made)
     for first in rule.firsts:
         record = frame.entry(first.key)
@@ -195,4 +221,9 @@ KERNELS: dict[str, Callable[[Frame, Rule], None]] = {
     "spawnIfHasMore": spawn_if_has_more,
     "changeResource": change_resource,
     "reverseDirection": reverse_direction,
+    "collectResource": collect_resource,
+    "killIfOtherHasMore": kill_if_other_has_more,
+    "killIfFromAbove": kill_if_from_above,
+    "shieldFrom": shield_from,
+    "pullWithIt": pull_with_it,
 }

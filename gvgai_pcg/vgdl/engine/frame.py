@@ -18,13 +18,14 @@ from tensordict import TensorDict
 from gvgai_pcg._private_apis import entries, write_entries
 from gvgai_pcg.games.geometry import aligned_cell, covered_cells, overlaps, overlaps_aligned
 from gvgai_pcg.vgdl.engine.layout import Layout
+from gvgai_pcg.vgdl.engine.off_grid import off_key, off_overlaps
 from gvgai_pcg.vgdl.layout import GRID, RECORD
 
 # Aligned firsts x seconds of at least this many pairs are counted by sorting, not pairwise.
 SORT_PAIRS = 4096
 POSITION_KEY = 1 << 32  # x * POSITION_KEY + y: one int64 per position
 # The entries every state has that a tick reads or writes.
-COMMON = ("seed", "tick", "score", "won", "lost")
+COMMON = ("seed", "tick", "score", "won", "lost", "height", "width")
 
 
 @dataclass(frozen=True)
@@ -80,12 +81,16 @@ class Frame:
     def __init__(self, layout: Layout, state: TensorDict) -> None:
         self.layout, self.state = layout, state
         top = entries(state)
-        keys = (*layout.records, *(group.key for group in layout.tables))
+        spills = (off_key(name) for name in layout.spills)
+        keys = (*layout.records, *(group.key for group in layout.tables), *spills)
         self.entries = {key: Entry(entries(top[key])) for key in keys}
         self.values = {key: top[key] for key in (*COMMON, *layout.grids)}
         self.changed: dict[str, torch.Tensor] = {}
         self.killed: dict[str, torch.Tensor] = {}  # per entry: [B] / [B, K] bool, grids [B, H, W] uint8
         self.disabled: dict[str, torch.Tensor] = {}  # per avatar record, [B] bool
+        # shieldFrom's shields, per (first leaf, stype, effect name): [B] bool (``shield``)
+        self.shields: dict[tuple[str, str, str], torch.Tensor] = {}
+        self.skip: torch.Tensor | None = None  # [B]: envs where the rule being applied is shielded
 
     def value(self, key: str) -> torch.Tensor:
         """A top-level entry: a common one (``tick``, ``score``...) or a grid."""
@@ -135,10 +140,14 @@ class Frame:
         return mask.unsqueeze(-1) if side.representation == RECORD else mask
 
     def eligible(self, side: Side) -> torch.Tensor:
-        """Sprites that may still be a rule's first: present and not killed (a disabled avatar is)."""
-        if side.key not in self.killed:
-            return self.present(side)
-        return self.present(side) & ~self.killed_mask(side)
+        """Sprites that may still be a rule's first: present and not killed (a disabled avatar is),
+        in an env where the rule is not shielded."""
+        eligible = self.present(side)
+        if side.key in self.killed:
+            eligible = eligible & ~self.killed_mask(side)
+        if self.skip is not None:
+            eligible = eligible & ~self.skip.unsqueeze(-1)
+        return eligible
 
     def kill(self, side: Side, mask: torch.Tensor) -> None:
         """Mark ``mask`` (shaped like ``present``) killed; an avatar record is disabled instead."""
@@ -204,6 +213,9 @@ class Frame:
         for second in seconds:
             if second.representation == GRID:
                 total = total + self.cell_counts(second.key, x, y, aligned)[1].sum(-1)
+                if second.key in self.layout.spills:  # its sprites off the array
+                    off = self.entry(off_key(second.key)).values
+                    total = total + off_overlaps(off, None, x, y, aligned).sum(-1)
             elif aligned and second.aligned and first.key != second.key and self._wide(x, second):
                 total = total + self.same_cell_count(x, y, second)
             else:

@@ -2,10 +2,11 @@
 
 The tick is Java's ``gameCycle`` (CORPUS.md, "Java's tick") for any description whose features
 have kernels here (``checks``): ``tick += 1``; the avatar first (``avatar``); every other type in
-reverse drawing order (``npcs``); the collision rules pair by pair in Java's order, each pair's
-effects in line order (``effects``); cleanup of the killed sprites (``frame``); the terminations
-in declaration order (``terminations``). Every loop here is over the plan's types or rules, so it
-unrolls when the tick is traced: there is no loop over envs or sprites.
+reverse drawing order (``npcs``); the EOS rules (``eos``); the collision rules pair by pair in
+Java's order, each pair's effects in line order (``effects``); cleanup of the killed sprites
+(``frame``); the terminations in declaration order (``terminations``). Every loop here is over
+the plan's types or rules, so it unrolls when the tick is traced: there is no loop over envs or
+sprites.
 
 Each description gets a class of its own (``VGDLGame.from_text``): the engine compiles one tick
 per game class (``engine.compiled.engine_tick``).
@@ -28,10 +29,13 @@ from gvgai_pcg.games.spec import StepFacts
 from gvgai_pcg.levels import Level
 from gvgai_pcg.vgdl.engine.avatar import update_avatars
 from gvgai_pcg.vgdl.engine.checks import check_engine
+from gvgai_pcg.vgdl.engine.columns import held_resources
 from gvgai_pcg.vgdl.engine.effects import apply_rule, make_rules
+from gvgai_pcg.vgdl.engine.eos import apply_edge_rules, make_edge_rules
 from gvgai_pcg.vgdl.engine.frame import Frame
 from gvgai_pcg.vgdl.engine.layout import CREATING_RULES, Layout, compile_state, make_layout
 from gvgai_pcg.vgdl.engine.npcs import update_npcs
+from gvgai_pcg.vgdl.engine.off_grid import off_key
 from gvgai_pcg.vgdl.engine.terminations import check_terminations
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.layout import GRID, RECORD
@@ -40,10 +44,12 @@ from gvgai_pcg.vgdl.parser import parse_vgdl
 from gvgai_pcg.vgdl.plan import compile_plan
 
 # Each avatar class's Gym action set.
-ACTION_SETS = {"ShootAvatar": SHOOT_ACTIONS, "OngoingAvatar": MOVE_ACTIONS}
+ACTION_SETS = {"ShootAvatar": SHOOT_ACTIONS, "MovingAvatar": MOVE_ACTIONS, "OngoingAvatar": MOVE_ACTIONS}
 # Effects that remove their first sprite, and those that also remove their second.
-KILLS_FIRST = frozenset({"killSprite", "transformTo"})
-_GAMES: dict[tuple[str, str, str | None], VGDLGame] = {}
+KILLS_FIRST = frozenset(
+    {"killSprite", "transformTo", "collectResource", "killIfOtherHasMore", "killIfFromAbove"}
+)
+_GAMES: dict[tuple[str, str, str | None, tuple[str, ...]], VGDLGame] = {}
 # The widest table whose same-table stepBack ticks compiled: compiled, ``step_back_in_order`` runs
 # one round per slot (no early exit in a graph), so its cost grows as slots cubed, while eagerly it
 # stops when nothing changes; the hand-written Zelda draws the line at the same width
@@ -62,28 +68,36 @@ class VGDLGame(Game):
     description: GameDescription
 
     @classmethod
-    def from_text(cls, text: str, path: str = "<vgdl>", name: str | None = None) -> VGDLGame:
-        """The game of a description's text; the same text, path and name give the same game
-        (its compiled tick is compiled once)."""
-        key = (text, path, name)
+    def from_text(
+        cls, text: str, path: str = "<vgdl>", name: str | None = None, draw_order: tuple[str, ...] = ()
+    ) -> VGDLGame:
+        """The game of a description's text; the same text, path, name and draw order give the
+        same game (its compiled tick is compiled once). ``draw_order``: the kinds of a drawing
+        table in the order they take draw keys (``layout``), to draw what a hand-written engine
+        draws."""
+        key = (text, path, name, tuple(draw_order))
         if key not in _GAMES:
-            _GAMES[key] = cls.from_description(parse_vgdl(text, path), name)
+            _GAMES[key] = cls.from_description(parse_vgdl(text, path), name, tuple(draw_order))
         return _GAMES[key]
 
     @classmethod
-    def from_file(cls, path: str | Path, name: str | None = None) -> VGDLGame:
+    def from_file(
+        cls, path: str | Path, name: str | None = None, draw_order: tuple[str, ...] = ()
+    ) -> VGDLGame:
         try:
             text = Path(path).read_text(encoding="utf-8")
         except UnicodeDecodeError as error:
             raise VGDLError(str(path), 0, f"not UTF-8 text ({error.reason})") from None
-        return cls.from_text(text, str(path), name)
+        return cls.from_text(text, str(path), name, draw_order)
 
     @classmethod
-    def from_description(cls, description: GameDescription, name: str | None = None) -> VGDLGame:
+    def from_description(
+        cls, description: GameDescription, name: str | None = None, draw_order: tuple[str, ...] = ()
+    ) -> VGDLGame:
         """A game of a class of its own: refuses, in one line, what has no kernel."""
         plan = compile_plan(description)
         check_engine(description, plan)
-        layout = make_layout(description, plan)
+        layout = make_layout(description, plan, draw_order)
         avatar_classes = {plan.types[avatar].java_class for avatar in layout.avatars}
         if len(avatar_classes) != 1:
             raise VGDLError(
@@ -104,6 +118,7 @@ class VGDLGame(Game):
 
     def __init__(self) -> None:
         self.rules = make_rules(self.layout)
+        self.edge_rules = make_edge_rules(self.layout)
         self.changing = _changing_types(self.layout)
         # the tables a stepBack among their own sprites resolves in slot order
         self.ordered = tuple(
@@ -129,6 +144,7 @@ class VGDLGame(Game):
         frame.put("tick", frame.value("tick") + 1)
         update_avatars(frame, action)
         update_npcs(frame)
+        apply_edge_rules(frame, self.edge_rules)
         for rule in self.rules:
             apply_rule(frame, rule)
         frame.cleanup()
@@ -163,34 +179,51 @@ class VGDLGame(Game):
                     "x": record.get("x").item(),
                     "y": record.get("y").item(),
                     "orientation": DIRECTION_NAMES[record.get("ori").item()],
-                    "resources": {},
+                    "resources": {
+                        resource: record.get(f"resource_{resource}").item()
+                        for resource in held_resources(layout.plan, name)
+                        if record.get(f"resource_{resource}").item()
+                    },
                 }
-        sprites = []
-        for name in layout.types:
+        shown = (name for name in layout.types if name not in layout.avatars)
+        sprites = self.sprites(
+            s, [n for n in shown if layout.places[n].representation != GRID or n in self.changing]
+        )
+        return golden_record(s, avatar, sprites)
+
+    def sprites(self, s: TensorDict, names: Sequence[str]) -> list[list]:
+        """``[type, x, y]`` of every sprite of the types ``names`` in one env's state ``s``
+        (unbatched), one entry per sprite (a grid cell holding two gives two)."""
+        layout, sprites = self.layout, []
+        for name in names:
             place = layout.places[name]
             if place.representation == GRID:
-                if name in self.changing:
-                    grid = s.get(name)
-                    for row, column in grid.nonzero().tolist():
-                        sprites += [[name, 10 * column, 10 * row]] * int(grid[row, column])
+                grid = s.get(name)
+                for row, column in grid.nonzero().tolist():
+                    sprites += [[name, 10 * column, 10 * row]] * int(grid[row, column])
+                if name in layout.spills:
+                    off = s.get(off_key(name))
+                    for slot in off.get("alive").nonzero().flatten().tolist():
+                        sprites.append([name, off.get("x")[slot].item(), off.get("y")[slot].item()])
             elif place.representation == RECORD:
                 record = s.get(name)
-                if name not in layout.avatars and record.get("alive").item():
+                if record.get("alive").item():
                     sprites.append([name, record.get("x").item(), record.get("y").item()])
             else:
                 table = s.get(place.key)
                 present = table.get("alive") & (table.get("kind") == place.kind)
                 for slot in present.nonzero().flatten().tolist():
                     sprites.append([name, table.get("x")[slot].item(), table.get("y")[slot].item()])
-        return golden_record(s, avatar, sprites)
+        return sprites
 
     def max_score(self, level: Level) -> int:
         raise NotImplementedError(f"{self.name}: the generic step does not derive a maximum score")
 
 
 def _changing_types(layout: Layout) -> frozenset[str]:
-    """Grid types some rule removes or makes: the others never change and are left out of a snapshot."""
-    changing = set()
+    """Grid types some rule removes or makes, and spawners (they act: the traces list them); the
+    others never change and are left out of a snapshot."""
+    changing = {name for name in layout.grids if layout.plan.types[name].java_class == "SpawnPoint"}
     for rule in layout.plan.pairs:
         if rule.name in KILLS_FIRST:
             changing.update(rule.firsts)
@@ -202,8 +235,9 @@ def _changing_types(layout: Layout) -> frozenset[str]:
 
 
 def _drawn(layout: Layout, name: str) -> bool:
-    """Whether a type gets an observation channel: any but a still type no rule names."""
-    if layout.places[name].representation != GRID:
+    """Whether a type gets an observation channel: any but a still type no rule names (a
+    spawner acts, so it has one)."""
+    if layout.places[name].representation != GRID or layout.plan.types[name].java_class == "SpawnPoint":
         return True
     return any(name in rule.firsts or name in rule.seconds for rule in layout.plan.pairs)
 

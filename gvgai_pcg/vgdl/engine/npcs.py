@@ -1,8 +1,9 @@
 """Every other sprite's update, type by type in Java's update order (reverse drawing order).
 
-Grid types never change on their own. A table group is updated whole, at the first of its kinds
-in that order: its classes' updates touch only the sprite itself, and its draws are keyed by slot
-(``layout``'s draw-key rule), so the order of its sprites within the phase changes nothing.
+Grid types never change on their own; a grid of spawners creates sprites (``spawn``). A table
+group is updated whole, at the first of its kinds in that order: its classes' updates touch only
+the sprite itself, and its draws are keyed by slot (``layout``'s draw-key rule), so the order of
+its sprites within the phase changes nothing.
 """
 
 from __future__ import annotations
@@ -15,8 +16,9 @@ from gvgai_pcg.games.lookup import lookup
 from gvgai_pcg.vgdl.engine.flicker import table_flicker
 from gvgai_pcg.vgdl.engine.frame import Frame
 from gvgai_pcg.vgdl.engine.layout import FLICKERS, TableGroup
-from gvgai_pcg.vgdl.engine.missile import missile
-from gvgai_pcg.vgdl.layout import RECORD, TABLE
+from gvgai_pcg.vgdl.engine.missiles import missile
+from gvgai_pcg.vgdl.engine.spawn import spawn_point
+from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
 
 DIRECTIONS = 4  # RandomNPC draws one of the four base directions
 
@@ -39,6 +41,8 @@ def update_npcs(frame: Frame) -> None:
                 table_flicker(frame, group)
         elif place.representation == RECORD and layout.plan.types[name].java_class in FLICKERS:
             flicker(frame, name)
+        elif place.representation == GRID and layout.plan.types[name].java_class == "SpawnPoint":
+            spawn_point(frame, name)
 
 
 def random_npc(frame: Frame, group: TableGroup) -> None:
@@ -51,8 +55,7 @@ def random_npc(frame: Frame, group: TableGroup) -> None:
     cooldown = lookup(tuple(max(1, int(types[name].values["cooldown"])) for name in group.kinds), kind)
     step = lookup(tuple(types[name].step_px for name in group.kinds), kind)
     counter, prev = table.get("counter"), table.get("prev")
-    slots = torch.arange(counter.shape[1], device=counter.device)
-    drawn = rng.randint(frame.value("seed"), frame.value("tick"), slots, group.stream, DIRECTIONS)
+    drawn = rng.randint(frame.value("seed"), frame.value("tick"), table.get("draw"), group.stream, DIRECTIONS)
     draw = counter >= cons
     direction = torch.where(draw, drawn, prev)
     counter = torch.where(draw, torch.zeros_like(counter), counter + 1)

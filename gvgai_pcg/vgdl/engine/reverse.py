@@ -10,7 +10,7 @@ import torch
 from gvgai_pcg.games.geometry import DIRECTION_DX
 from gvgai_pcg.games.lookup import lookup
 from gvgai_pcg.vgdl.engine.frame import Frame
-from gvgai_pcg.vgdl.engine.spawn import applications
+from gvgai_pcg.vgdl.engine.spawn_effects import applications
 
 if TYPE_CHECKING:
     from gvgai_pcg.vgdl.engine.effects import Rule

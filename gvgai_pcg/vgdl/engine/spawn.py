@@ -1,86 +1,43 @@
-"""spawn and spawnIfHasMore: each application makes a sprite of ``stype`` where the first is.
+"""SpawnPoint (RULES.md §2) held as a still grid: every spawner draws ``u ~ U[0, 1)`` at every
+update, and at ticks ``tick % cooldown == 0`` (Java's ``start + tick`` with ``start`` = 0, the
+first update of a level spawner) with ``u < prob`` it creates one ``stype`` sprite at its own
+position, a sprite of a Missile table (``checks`` refuses the rest).
 
-Java draws a double at every application of both (RULES.md §1.5); only a ``spawn`` with ``prob``
-below 1 can fail, so only that one draws here. Its draw is keyed ``(seed, tick, rank, stream)``:
-``stream`` is the first's group's (``layout``), ``rank`` the sprite's place in the order Java's
-drawing rules visit its group (kinds by their first drawing rule, then slot order; a kind no such
-rule names after them). A first that meets several seconds would draw once each in Java: a
-``spawn`` with ``prob`` below 1 refuses that at run time instead of drawing once for all.
+A spawner's draw is keyed by its cell (``layout.SPAWNER_ROW``) on the spawners' stream. A created
+sprite takes a free slot (``creation``: slots hold no order); its ``born`` keeps Java's list order
+(this tick's creations after every earlier sprite, in update order, then row-major) and ``fresh``
+its first update, which is this tick's if its group is updated after the spawners.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import torch
 
-from gvgai_pcg._private_apis import assert_async
 from gvgai_pcg.games import rng
-from gvgai_pcg.games.lookup import lookup
-from gvgai_pcg.vgdl.engine.columns import resource_column
+from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.vgdl.engine.creation import create
-from gvgai_pcg.vgdl.engine.frame import Frame, Side
-from gvgai_pcg.vgdl.layout import RECORD
-
-if TYPE_CHECKING:
-    from gvgai_pcg.vgdl.engine.effects import Rule
-
-ONE_DRAW = "a spawn with prob below 1 whose first overlaps several seconds (one draw each) is not implemented"
+from gvgai_pcg.vgdl.engine.frame import Frame
+from gvgai_pcg.vgdl.engine.layout import SPAWNER_ROW, Layout
 
 
-def applications(frame: Frame, rule: Rule, first: Side) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
-    """Positions ``[B, N]`` of the firsts of ``first`` and how many seconds each eligible one
-    overlaps (the rule's applications to it)."""
-    x, y = frame.xy(first)
-    hits = frame.overlap_count(x, y, first.aligned, first, list(rule.seconds)) * frame.eligible(first)
-    return x, y, hits
-
-
-def spawn(frame: Frame, rule: Rule) -> None:
-    made = str(rule.plan.values["stype"])
-    prob = float(rule.plan.values["prob"])
-    for first in rule.firsts:
-        x, y, hits = applications(frame, rule, first)
-        frame.add_score(rule.score * hits.sum(-1))  # Java scores a failed draw too
-        if prob < 1:
-            assert_async((hits <= 1).all(), ONE_DRAW)
-            hits = hits * (draw(frame, rule, first) < prob)
-        create(frame, made, hits, x, y, rule.overflow)
-
-
-def spawn_if_has_more(frame: Frame, rule: Rule) -> None:
-    """Fires where the first holds at least ``limit`` of ``resource`` (``spend`` is 0: checks)."""
-    made = str(rule.plan.values["stype"])
-    column = resource_column(str(rule.plan.values["resource"]))
-    limit = int(rule.plan.values["limit"])
-    for first in rule.firsts:
-        x, y, hits = applications(frame, rule, first)
-        held = frame.entry(first.key).get(column)
-        held = held.unsqueeze(-1) if first.representation == RECORD else held
-        fired = hits * (held >= limit)
-        frame.add_score(rule.score * fired.sum(-1))
-        create(frame, made, fired, x, y, rule.overflow)
-
-
-def draw(frame: Frame, rule: Rule, first: Side) -> torch.Tensor:
-    """U[0, 1) ``[B, K]`` for the sprites of ``first``'s table (see the module docstring)."""
+def spawn_point(frame: Frame, name: str) -> None:
+    """One update of every spawner of grid type ``name``."""
     layout = frame.layout
-    group = layout.group(first.key)
-    drawing = [
-        index
-        for index, plan in enumerate(layout.plan.pairs)
-        if plan.name == "spawn" and float(plan.values["prob"]) < 1
-    ]
-    order = tuple(
-        next((index for index in drawing if name in layout.plan.pairs[index].firsts), len(layout.plan.pairs))
-        for name in group.kinds
-    )
-    table = frame.entry(first.key)
-    alive, kind = table.get("alive"), table.get("kind")
-    position = lookup(order, kind)  # [B, K]
-    slots = torch.arange(kind.shape[1], device=kind.device)
-    before = (position.unsqueeze(-1) < position.unsqueeze(-2)) | (
-        (position.unsqueeze(-1) == position.unsqueeze(-2)) & (slots.unsqueeze(-1) < slots.unsqueeze(-2))
-    )  # [B, j, k]: sprite j is visited before sprite k
-    rank = (before & alive.unsqueeze(-1)).sum(-2)
-    return rng.uniform(frame.value("seed"), frame.value("tick"), rank, group.stream)
+    values = layout.plan.types[name].values
+    made = str(values["stype"])
+    grid = frame.grid(name)
+    batch, height, width = grid.shape
+    cells = torch.arange(height * width, device=grid.device)
+    cell_x, cell_y = CELL * (cells % width), CELL * (cells // width)
+    tick = frame.value("tick")
+    drawn = rng.uniform(frame.value("seed"), tick, cell_y * SPAWNER_ROW + cell_x, layout.spawner_stream)
+    cooldown = max(1, int(values["cooldown"]))
+    due = (tick % cooldown == 0).unsqueeze(-1)
+    fires = (grid.reshape(batch, -1) > 0) & due & (drawn < float(values["prob"]))
+    cells_x, cells_y = cell_x.expand(batch, -1), cell_y.expand(batch, -1)
+    create(frame, made, fires.long(), cells_x, cells_y, _overflow(layout, name))
+
+
+def _overflow(layout: Layout, name: str) -> str:
+    key = layout.places[str(layout.plan.types[name].values["stype"])].key
+    return f"{layout.plan.path}: a SpawnPoint found the table {key!r} full (its capacity is the plan's)"

@@ -5,6 +5,7 @@ from __future__ import annotations
 import torch
 
 from gvgai_pcg.vgdl.engine.frame import Frame, sides
+from gvgai_pcg.vgdl.engine.off_grid import off_key
 from gvgai_pcg.vgdl.layout import GRID
 
 
@@ -19,6 +20,8 @@ def check_terminations(frame: Frame) -> None:
             for side in sides(frame.layout, leaves):
                 if side.representation == GRID:
                     count = count + frame.grid(side.key).flatten(1).sum(-1, dtype=torch.int64)
+                    if side.key in frame.layout.spills:  # its sprites off the array
+                        count = count + frame.entry(off_key(side.key)).get("alive").sum(-1)
                 else:
                     count = count + frame.present(side).sum(-1)
         if termination.java_class == "MultiSpriteCounter":  # Java tests equality here

@@ -10,7 +10,7 @@ import yaml
 from omegaconf import OmegaConf
 
 from gvgai_pcg.config import validate
-from gvgai_pcg.rl.environment import make_difficulty, training_levels, training_source
+from gvgai_pcg.rl.environment import curriculum_run, training_levels, training_source
 
 root = Path(sys.argv[1])
 out = {}
@@ -26,7 +26,7 @@ for run in sorted((root / "results/small/runs").iterdir()):
     digest = hashlib.sha256(
         "\n\n".join("\n".join(l.rows) + f"|{l.name}|{l.seed}" for l in levels).encode()
     ).hexdigest()
-    state = make_difficulty(regimen, game)
+    state = curriculum_run(regimen, game).state
     train = training_levels(game, regimen)
     out[run.name] = {
         "source": repr(source),
