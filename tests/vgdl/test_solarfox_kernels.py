@@ -10,6 +10,7 @@ import torch
 from gvgai_pcg.levels import Level
 from gvgai_pcg.vgdl import VGDLError
 from gvgai_pcg.vgdl.engine import VGDLGame
+from gvgai_pcg.vgdl.engine.layout import BORN_TICK
 
 TEXT = """BasicGame
     SpriteSet
@@ -74,6 +75,15 @@ def test_a_spawn_fills_the_first_free_slots_and_every_spawned_missile_waits_one_
     assert fly.get("alive")[0, :4].tolist() == [True, True, True, False]
     # made at ticks 0, 1, 2 at the bug's place; each moves 1 px up from its second update
     assert fly.get("y")[0, :3].tolist() == [9, 10, 10]
+
+
+def test_spawned_missiles_keep_java_list_order_in_born_and_a_full_table_is_named():
+    g, state = run(("A....", "b...."), 3)
+    born = state.get("fly").get("born")[0, :3].tolist()
+    # one fly a tick: each created after every earlier sprite, so born grows with creation
+    assert born == sorted(born) and len(set(born)) == 3 and born[0] >= BORN_TICK
+    (rule,) = [rule for rule in g.rules if rule.plan.name == "spawn" and rule.plan.values["stype"] == "fly"]
+    assert rule.overflow.endswith("spawn into 'fly' found the table 'fly' full (its capacity is the plan's)")
 
 
 def test_change_resource_stops_at_the_limit_and_spawn_if_has_more_fires_from_it():
