@@ -122,6 +122,7 @@ def test_generic_solarfox_equals_the_hand_written_batched_eager():
     assert seen["shots"] > 0 and seen["turnings"] > 0 and seen["win"] > 0 and seen["lose"] > 0
 
 
+@pytest.mark.slow  # 40 s of compiling on a loaded machine: over make test's share
 def test_generic_solarfox_equals_the_hand_written_batched_compiled():
     levels = human_levels("solarfox")[2:] + generated(1)[::2] + small_levels()
     seen = assert_same_play(own_solarfox(), levels, ticks=80, compiled=True, seed=1)
@@ -136,12 +137,18 @@ def test_generic_solarfox_alone(index):
     assert_same_play(own_solarfox(), [level], ticks=150, compiled=False, seed=index)
 
 
-@pytest.mark.parametrize("batched", [False, True], ids=["alone", "batched"])
+@pytest.mark.parametrize(
+    "batched",
+    # batched, the replays run compiled (engine_tick): half a minute, the first compile most of it
+    [False, pytest.param(True, marks=pytest.mark.slow)],
+    ids=["alone", "batched"],
+)
 @pytest.mark.parametrize("path", golden_files("solarfox"), ids=lambda p: p.stem)
 def test_generic_solarfox_replays_gvgai_traces(path, batched):
     assert_replays(path, batched, own_solarfox())
 
 
+@pytest.mark.slow  # a batched replay: compiled, as above
 @pytest.mark.skipif(
     not (GAMES / "solarfox.txt").is_file(),
     reason=f"GVGAI's solarfox.txt is not in {GAMES}; set GVGAI_VGDL_DIR",
@@ -153,7 +160,7 @@ def test_gvgai_solarfox_description_equals_the_hand_written():
     assert_replays(golden_files("solarfox")[0], True, game)
 
 
-@pytest.mark.slow
+@pytest.mark.slow  # 3 x 600 ticks over 19 levels: minutes
 @pytest.mark.parametrize("compiled", [False, True], ids=["eager", "compiled"])
 def test_generic_solarfox_long_random_play(compiled):
     levels = human_levels("solarfox") + generated(6) + small_levels()
