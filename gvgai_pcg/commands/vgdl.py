@@ -92,7 +92,7 @@ def list_registered() -> int:
 
 def write_trace(args: argparse.Namespace) -> int:
     """``vgdl trace``: every input checked before the play, the file written whole or not at all."""
-    from gvgai_pcg.rl.atomic_files import atomic_write_text
+    from gvgai_pcg.rundir.atomic_files import atomic_write_text
     from gvgai_pcg.vgdl.engine import VGDLGame
     from gvgai_pcg.vgdl.engine.trace import play_trace, read_level
 

@@ -47,7 +47,7 @@ def test_list_corpus_prints_one_game_a_line_with_what_the_engine_lacks(corpus, c
 
 def test_list_prints_the_registered_games_whatever_the_corpus(corpus, capsys):
     assert main(["vgdl", "list"]) == 0
-    assert capsys.readouterr().out.splitlines() == ["zelda"]
+    assert capsys.readouterr().out.splitlines() == ["boulderdash", "frogs", "zelda"]
 
 
 def test_a_registered_name_inspects_the_packages_own_description(corpus, capsys, tmp_path):
