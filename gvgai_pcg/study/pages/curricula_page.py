@@ -85,11 +85,12 @@ def _reference_summaries(game: str) -> list[tuple[str, dict]]:
     ]
 
 
-def _held_levels_tables(runs: list, notes: dict[Path, str]) -> list[str]:
+def _held_levels_tables(runs: list, notes: dict[Path, str] | None = None) -> list[str]:
     """Per game, what the levels each replaying curriculum holds at the end contain (its
     ``replay-levels.json``), beside the generator's at d = 1 and the human levels."""
     import json
 
+    notes = notes or {}
     held: dict[str, list[tuple[str, dict]]] = {}
     for info in runs:
         path = info.path / REPLAY_STATS
