@@ -61,7 +61,7 @@ def described_games(games: Sequence[str]) -> dict[str, VGDLEntry]:
 def generic_game(entry: VGDLEntry) -> Game:
     from gvgai_pcg.vgdl.engine import VGDLGame
 
-    return VGDLGame.from_file(entry.description, name=f"vgdl:{entry.name}")
+    return VGDLGame.from_file(entry.description, name=f"vgdl:{entry.name}", draw_order=entry.draw_order)
 
 
 class Ticking:

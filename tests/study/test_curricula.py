@@ -373,3 +373,26 @@ def test_the_page_draws_each_curriculum_s_solved_rate_by_difficulty(tmp_path):
     assert [p.name for p in written] == ["ued-solved-by-d-zelda.png"]
     assert written[0].read_bytes().startswith(b"\x89PNG")
     assert write_solved_by_difficulty(runs, {"levels": 1000}, tmp_path / "images") == []  # other protocol
+
+
+def _ued_file(run, name: str, protocol: dict) -> None:
+    (run / "eval").mkdir(parents=True, exist_ok=True)
+    record = {"protocol": protocol, "frames": 10, "summary": {"solved_rate": 0.5, "mean_score": 1.0}}
+    (run / "eval" / f"ued-{name}.json").write_text(json.dumps(record))
+
+
+def test_a_game_is_read_on_the_tail_protocol_where_any_run_has_it_and_never_falls_back(tmp_path):
+    from gvgai_pcg.study.pages.curricula_page import _ued_settings
+    from gvgai_pcg.study.verdicts.comparison import ued_record
+
+    budget = BUDGETS["curricula"]
+    tail, first = tmp_path / "tail", tmp_path / "first"
+    _ued_file(tail, "tail", {**budget.ued, "max_steps": 2000})
+    _ued_file(first, "first", {"levels": budget.ued["levels"], "seeds": 2, "max_steps": 2000})
+    settings, name = _ued_settings(budget, [tail, first])
+    assert (settings, name) == (budget.ued, "the tail protocol")
+    assert ued_record(first, settings) is None  # the run without it shows none, not the first's
+    settings, name = _ued_settings(budget, [first])
+    assert name == "the first protocol" and ued_record(first, settings) is not None
+    assert ued_record(tail, settings) is None
+    assert budget.fair == "curricula-fair"

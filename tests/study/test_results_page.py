@@ -129,3 +129,34 @@ def test_the_medium_pages_statements_are_what_its_claims_carry():
     assert "Boulderdash on 12 of 14 at 1.02" in prose
     readme = (ROOT / "README.md").read_text()
     assert "undertraining" not in readme and "one claim is contradicted" in readme
+
+
+CURRICULA_PAGE = PAGE.parent / "results-curricula.md"
+
+
+@pytest.mark.skipif(not CURRICULA_PAGE.is_file(), reason="no curricula page")
+def test_the_curricula_pages_block_rebuilds_from_its_published_folders(tmp_path):
+    """The block rebuilds from the published folder and the budget's fair folder its data line
+    names, on the commit it names (figures go to tmp)."""
+    from gvgai_pcg.study.pages.curricula_page import curricula_block
+    from gvgai_pcg.study.pages.page import page_images
+
+    page = block_of(CURRICULA_PAGE.read_text(), CURRICULA_START, CURRICULA_END)
+    published = Path(re.search(r"Data: `([^`]+)`", page).group(1))
+    if not (ROOT / published / "runs").is_dir():
+        pytest.skip("no published curricula runs")
+    commit = re.search(r"commit `(\w+)`", page).group(1)
+    budget = BUDGETS[published.name]
+    assert budget.fair and f"`{published.parent / budget.fair}`" in page.splitlines()[1]
+    prefix = page_images(CURRICULA_PAGE)[1]
+    import os
+
+    cwd = os.getcwd()
+    os.chdir(ROOT)  # the data line names the folders relative to the repository
+    try:
+        rebuilt = curricula_block(published, budget, tmp_path / "images", prefix, commit)
+    finally:
+        os.chdir(cwd)
+    # the data line names the machine that wrote it
+    assert rebuilt.splitlines()[2:] == page.splitlines()[2:]
+    assert "#### The reference setting (shown, never judged)" in page

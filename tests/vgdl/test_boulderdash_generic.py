@@ -1,14 +1,13 @@
 """The generic step runs Boulderdash from a VGDL description exactly as the hand-written engine does.
 
-The description is the package's own (``gvgai_pcg/vgdl/descriptions/boulderdash.txt``, written
-from RULES.md §7),
-whose parse must equal Java's parse of GVGAI's boulderdash. On random actions over human,
-generated and small unbordered levels (batched with different sizes, and alone; eager and
-through the engine's compiled tick) both engines give the same golden record, score and outcome
-at every tick, monsters' random walks included: the hand-written engine keys its monsters'
-draws butterflies first, which the generic step is told with ``draw_order``. The Boulderdash
-golden traces of the Java engine replay through it; GVGAI's own boulderdash.txt gives the same
-where the corpus is present (``GVGAI_VGDL_DIR``).
+The description is the package's own (``gvgai_pcg/vgdl/descriptions/boulderdash.txt``, written from
+RULES.md §7), whose parse must equal Java's parse of GVGAI's boulderdash. On random actions over
+human, generated and small unbordered levels (batched with different sizes, and alone; eager and
+through the engine's compiled tick) both engines give the same golden record, score and outcome at
+every tick, monsters' random walks included: the hand-written engine keys its monsters' draws
+butterflies first, which the generic step is told with ``draw_order``. The Boulderdash golden traces
+of the Java engine replay through it; GVGAI's own boulderdash.txt gives the same where the corpus is
+present (``GVGAI_VGDL_DIR``).
 """
 
 from __future__ import annotations

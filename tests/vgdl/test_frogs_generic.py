@@ -1,12 +1,11 @@
 """The generic step runs Frogs from a VGDL description exactly as the hand-written engine does.
 
 The description is the package's own (``gvgai_pcg/vgdl/descriptions/frogs.txt``, written from
-RULES.md §6), whose parse must equal Java's parse of GVGAI's frogs. On random actions over human
-and generated levels (batched with different sizes, and alone; eager and through the engine's
-compiled tick) both engines give the same golden record, score and outcome at every tick, the
-logs' spawns included
-(the same draws); the Frogs golden traces of the Java engine replay through it; and GVGAI's own
-frogs.txt gives the same where the corpus is present (``GVGAI_VGDL_DIR``).
+RULES.md §6), whose parse must equal Java's parse of GVGAI's frogs. On random actions over human and
+generated levels (batched with different sizes, and alone; eager and through the engine's compiled
+tick) both engines give the same golden record, score and outcome at every tick, the logs' spawns
+included (the same draws); the Frogs golden traces of the Java engine replay through it; and GVGAI's
+own frogs.txt gives the same where the corpus is present (``GVGAI_VGDL_DIR``).
 """
 
 from __future__ import annotations

@@ -84,6 +84,10 @@ class Budget:
             comparison evaluates with it too; empty: not.
         level_sampling: the claims' intervals include the generated test sets' level-sampling
             error (``gvgai_pcg.study.verdicts.intervals``); off for ``small``, whose page predates it.
+        fair: the folder beside the published one (``results/<fair>``) holding the runs retrained at
+            the fair setting (``FAIR_BUFFER_SIZE``, bounded editors): on the page they replace the
+            published runs of the same game and curriculum, which stay shown, never judged, as the
+            reference setting; empty: no such folder.
     """
 
     name: str
@@ -101,6 +105,7 @@ class Budget:
     page: str = "docs/results.md"
     ued: dict = field(default_factory=dict)
     level_sampling: bool = False
+    fair: str = ""
 
     def frames_of(self, condition: str) -> int:
         return int(self.condition_frames.get(condition, self.frames))
@@ -225,6 +230,7 @@ CURRICULA_BUDGETS = {
         comparison="curricula",
         page="docs/results-curricula.md",
         ued={"levels": 1000, "rank_episodes": 10, "score_episodes": 10},
+        fair="curricula-fair",
     ),
 }
 BUDGETS.update(CURRICULA_BUDGETS)
