@@ -126,7 +126,9 @@ def _replay_section(runs: list, images: Path, prefix: str, notes: dict[Path, str
     for info in runs:
         picture = info.path / REPLAY_PICTURE
         if picture.is_file():
-            name = f"replay-{info.path.name}.png"
+            # a reference-setting run shares its folder name with the fair run that replaces it
+            setting = "-reference" if notes.get(info.path) else ""
+            name = f"replay-{info.path.name}{setting}.png"
             atomic_copy(picture, images / name)
             lines.append(
                 f"- {info.game}, {info.label}{notes.get(info.path, '')} (seed {info.seed}): "
