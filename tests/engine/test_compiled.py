@@ -182,7 +182,10 @@ def test_a_zelda_batch_with_a_wide_monster_table_ticks_eagerly(monkeypatch):
     assert torch.equal(state.get("tick"), before + 1)
 
 
-@pytest.mark.parametrize("game_name", COMPILED_GAMES)
+# Frogs' case compiles for 20 CPU-seconds: run with `-m slow`
+@pytest.mark.parametrize(
+    "game_name", [pytest.param(n, marks=pytest.mark.slow) if n == "frogs" else n for n in COMPILED_GAMES]
+)
 def test_a_batch_as_wide_as_an_entity_table_ticks_as_eagerly(game_name):
     """Sizes that are equal when first traced once shared a symbol (duck shaping), and inductor
     miscompiled Boulderdash's tick for 4 envs of 4 monster slots each (every human level has 4)."""
@@ -248,9 +251,9 @@ def test_the_traced_render_draws_what_the_render_draws(game_name):
         assert torch.equal(render_tiles_traced(game, state), render_tiles(game, state))
 
 
-# Frogs' and Solarfox's compiled env takes 30-70 CPU-seconds to build: run with `-m slow`.
+# Frogs', Solarfox's and Boulderdash's compiled env takes 30-70 CPU-seconds to build: run with `-m slow`.
 DRAWING_CASES = [
-    pytest.param(name, marks=pytest.mark.slow) if name in ("frogs", "solarfox") else name
+    pytest.param(name, marks=pytest.mark.slow) if name in ("frogs", "solarfox", "boulderdash") else name
     for name in sorted(COMPILED_GAMES)
 ]
 

@@ -112,6 +112,7 @@ def test_generic_frogs_equals_the_hand_written_batched_eager():
     assert seen["carried"] > 0 and seen["spawned"] > 0 and seen["lose"] > 0
 
 
+@pytest.mark.slow  # 40 s of compiling; Zelda's compiled play stays in make test
 def test_generic_frogs_equals_the_hand_written_batched_compiled():
     levels = human_levels("frogs")[:2] + generated(1)[::2] + small_levels()
     seen = assert_same_play(own_frogs(), levels, ticks=40, compiled=True, seed=1)

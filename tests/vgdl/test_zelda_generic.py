@@ -155,7 +155,10 @@ def test_generic_zelda_alone(index):
     assert_same_play(own_zelda(), [level], ticks=100, compiled=False, seed=index)
 
 
-@pytest.mark.parametrize("batched", [False, True], ids=["alone", "batched"])
+# batched, the replays compile a tick of their own (20 s): make test keeps them alone
+@pytest.mark.parametrize(
+    "batched", [False, pytest.param(True, marks=pytest.mark.slow)], ids=["alone", "batched"]
+)
 @pytest.mark.parametrize("path", golden_files("zelda"), ids=lambda p: p.stem)
 def test_generic_zelda_replays_gvgai_traces(path, batched):
     assert_replays(path, batched, own_zelda())
