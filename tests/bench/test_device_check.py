@@ -9,6 +9,7 @@ from gvgai_pcg.games import get_game
 CPU = torch.device("cpu")
 
 
+@pytest.mark.slow  # compiling Zelda's tick: 20 CPU-seconds; the harness's verdicts are tested below
 @pytest.mark.compiled
 def test_the_cpu_passes_against_itself():
     tick = device_check.check_tick("zelda", CPU, ticks=5)
