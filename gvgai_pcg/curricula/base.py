@@ -110,6 +110,12 @@ class Curriculum:
         """What ``wrap`` does at the end of the episodes in ``finished`` (``[B]`` bool), for a
         caller that steps the env unwrapped (the Gymnasium API); nothing by default."""
 
+    def settable_difficulty(self, state: Any) -> Any | None:
+        """The part of ``state`` whose ``shared_difficulty`` a caller may set by hand (the
+        Gymnasium env's ``set_difficulty``), ``None`` where the curriculum chooses its levels'
+        difficulty itself or plays no generated levels."""
+        return None
+
     def start(self, game: str, section: Mapping[str, Any]) -> CurriculumRun:
         """A run of this curriculum on ``game`` with the config ``section``: its shared state
         made now (``make_state``)."""
@@ -228,6 +234,11 @@ class CurriculumRun:
     def difficulty(self) -> float:
         """The difficulty a training log shows for the run (NaN: none)."""
         return float(self.state.difficulty) if self.state is not None else math.nan
+
+    @property
+    def settable_difficulty(self) -> Any | None:
+        """The curriculum's ``settable_difficulty`` of this run's state."""
+        return self.curriculum.settable_difficulty(self.state)
 
     def share_through(self, directory: Path) -> None:
         """Back the shared state by files in ``directory`` for collector worker processes."""

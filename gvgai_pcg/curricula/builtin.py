@@ -153,6 +153,9 @@ class GeneratedCurriculum(Curriculum):
     def episodes_ended(self, state, next_tensordict, finished):
         state.record(next_tensordict, finished)
 
+    def settable_difficulty(self, state):
+        return state
+
 
 class FixedDifficulty(GeneratedCurriculum):
     name, summary = "pcg", "PCG X: generated levels at the fixed difficulty X"

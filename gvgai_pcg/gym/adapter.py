@@ -33,7 +33,6 @@ from tensordict import TensorDict, TensorDictBase
 
 import gvgai_pcg.envs.quiet_torchrl  # noqa: F401 (first: torchrl without its global side effect)
 from gvgai_pcg.curricula.signals import EpisodeOutcomes
-from gvgai_pcg.envs.difficulty import DifficultyTransform
 from gvgai_pcg.envs.gvgai_env import GVGAIEnv
 from gvgai_pcg.envs.inputs import checked_observation_kind
 from gvgai_pcg.envs.level_sources import LevelSource
@@ -172,7 +171,7 @@ class Regimen:
         # the run owns the level choice, as the trainer's does: its state, source and signals
         self.run = regimen_run(game, regimen, difficulty, alpha, win_rule, num_levels, start_seed)
         # the difficulty that PCG X and PPCG hand out; another curriculum's state is its own
-        self.curriculum = self.run.state if isinstance(self.run.state, DifficultyTransform) else None
+        self.curriculum = self.run.settable_difficulty
         given: list[Level] | None = None
         if regimen == "levels":
             given = _level_set(game, levels)
