@@ -120,8 +120,8 @@ def test_vgdl_list_names_the_corpus_games_played_and_refused(folder, capsys):
     assert len(refused) == 1 and "Bomber" in refused[0]
 
 
-@pytest.mark.slow  # the env and the Gymnasium env compile their ticks: tens of CPU-seconds
-def test_a_registered_corpus_game_plays_as_an_env_and_a_gymnasium_id(folder):
+def test_a_registered_corpus_game_plays_as_an_env_and_a_gymnasium_id(folder, monkeypatch):
+    monkeypatch.setenv("GVGAI_PCG_COMPILE", "0")  # a few eager ticks: compiling costs a minute
     import gymnasium
     import torch
 
@@ -146,7 +146,8 @@ def test_a_registered_corpus_game_plays_as_an_env_and_a_gymnasium_id(folder):
 
 
 @pytest.mark.parametrize("stem", corpus_games.CORPUS_GAMES)
-def test_each_corpus_game_plays_or_is_refused_in_one_line(stem, fresh_registry):
+def test_each_corpus_game_plays_or_is_refused_in_one_line(stem, fresh_registry, monkeypatch):
+    monkeypatch.setenv("GVGAI_PCG_COMPILE", "0")  # a reset tick: compiling costs a minute
     folder = corpus.corpus_dir()
     if folder is None or not (folder / f"{stem}.txt").is_file():
         pytest.skip(f"GVGAI's {stem}.txt is not in the corpus folder: set {ENV_VAR}")
