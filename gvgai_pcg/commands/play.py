@@ -10,7 +10,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from gvgai_pcg.games import registered_games
+from gvgai_pcg.games import get_game_spec, registered_games
 from gvgai_pcg.generators import generate_level
 from gvgai_pcg.levels import Level, human_level, resolve_level
 
@@ -18,7 +18,12 @@ RENDERS = ("text", "pixels")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--game", required=True, choices=registered_games())
+    parser.add_argument(
+        "--game",
+        required=True,
+        type=game_argument,
+        help=f"one of {', '.join(registered_games())} (GVGAI corpus games need GVGAI_VGDL_DIR)",
+    )
     source = parser.add_mutually_exclusive_group()
     source.add_argument("--level", help="a level name (zelda_lvl0) or a level file; default: human level 0")
     source.add_argument(
@@ -38,6 +43,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--png", type=Path, default=Path("gvgai-play.png"), help="where --render pixels writes"
     )
     parser.add_argument("--fps", type=float, default=0.0, help="ticks per second; 0: one tick per key press")
+
+
+def game_argument(name: str) -> str:
+    """A registered game's name; otherwise the registry's one line (the valid names, or what to
+    set for a GVGAI corpus game) as the argument's error."""
+    try:
+        get_game_spec(name)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+    return name
 
 
 def choose_level(args: argparse.Namespace) -> Level:

@@ -1,8 +1,11 @@
 """``gvgai-pcg vgdl``: GVGAI's VGDL games as this package reads them.
 
 ``list`` prints every registered VGDL game (the package's own descriptions that run through the
-generic step, ``gvgai_pcg.vgdl.registry``), one a line; ``list --corpus`` every game of the corpus
-folder (``gvgai_pcg.vgdl.corpus``) with the features the engine does not implement yet.
+generic step, ``gvgai_pcg.vgdl.registry``), one a line, then the GVGAI corpus games registered
+from the corpus folder (``gvgai_pcg.vgdl.corpus_games``) with their file, and those it holds but
+the engine refuses, with the refusal; ``list --corpus`` every
+game of the corpus folder (``gvgai_pcg.vgdl.corpus``) with the features the engine does not
+implement yet.
 ``inspect GAME`` prints the parsed description in Java's orders and the plan compiled from it
 (``--level FILE`` gives each table's slots for that level; ``--json`` for all of it as JSON; a
 game the engine cannot run yet shows the one-line refusal in the plan's place). ``GAME`` is a
@@ -22,7 +25,7 @@ import os
 from pathlib import Path
 
 from gvgai_pcg.vgdl import VGDLError, parse_file
-from gvgai_pcg.vgdl.corpus import ENV_VAR, find_game, vgdl_games
+from gvgai_pcg.vgdl.corpus import ENV_VAR, corpus_dir, find_game, vgdl_games
 from gvgai_pcg.vgdl.describe import describe, encode
 from gvgai_pcg.vgdl.plan import Plan, compile_plan
 from gvgai_pcg.vgdl.plan_text import describe_plan
@@ -85,8 +88,19 @@ def _level_rows(path: str) -> list[str]:
 
 
 def list_registered() -> int:
+    from gvgai_pcg.games import registered_games as games
+    from gvgai_pcg.vgdl.corpus_games import CORPUS_GAMES, corpus_file, game_name, refusal
+
     for name in registered_games():
         print(name)
+    for name in games():
+        path = corpus_file(name)
+        if path is not None:
+            print(f"{name}\tcorpus: {path}")
+    folder = corpus_dir()
+    for stem in CORPUS_GAMES:
+        if folder is not None and (folder / f"{stem}.txt").is_file() and game_name(stem) not in games():
+            print(f"{game_name(stem)}\tcorpus, refused: {refusal(game_name(stem))}")
     return 0
 
 

@@ -5,7 +5,8 @@ Gymnasium 1.x loads no plugins by itself, so the ids exist once this module has 
 (``import gvgai_pcg.envs.gym_registration``), or when an id is written with its module,
 ``gymnasium.make("gvgai_pcg.envs.gym_registration:gvgai_pcg/Zelda-v0")``. A game registered later
 gets its id from ``register_envs()``. Registration only records entry-point strings: the engine
-is imported when an env is made.
+is imported when an env is made. The GVGAI corpus games (``gvgai_pcg.vgdl.corpus_games``) have
+their ids even without the corpus folder, so that making one says in one line what to set.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from __future__ import annotations
 import gymnasium as gym
 
 from gvgai_pcg.games.registry import get_game_spec, registered_games
+from gvgai_pcg.vgdl import corpus_games
 
 NAMESPACE = "gvgai_pcg"
 VERSION = 0
@@ -27,8 +29,12 @@ def register_envs() -> list[str]:
     """Register every registered game (idempotent); returns the ids. The step limit lives in the
     env itself (``max_steps``), so no TimeLimit wrapper is registered on top of it."""
     ids = []
-    for game in registered_games():
-        name = get_game_spec(game).title
+    games = registered_games()
+    titles = [(game, get_game_spec(game).title) for game in games]
+    for stem in corpus_games.CORPUS_GAMES:  # their ids say what to set where they are not registered
+        if corpus_games.game_name(stem) not in games:
+            titles.append((corpus_games.game_name(stem), corpus_games.game_title(stem)))
+    for game, name in titles:
         ids.append(env_id(name))
         if env_id(name) in gym.registry:
             continue

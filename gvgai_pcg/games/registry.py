@@ -4,6 +4,9 @@ Where games come from, in order:
 
 * every folder ``gvgai_pcg/games/<name>/`` whose ``__init__.py`` defines ``SPEC`` (the four
   games of the study), found on first use;
+* the GVGAI corpus games (``gvgai_pcg.vgdl.corpus_games``) whose VGDL file the folder named by
+  ``GVGAI_VGDL_DIR`` holds, found on first use; one asked for without it is refused in one line
+  that says what to set;
 * ``register_game_spec(spec)``, in-process;
 * the entry-point group ``gvgai_pcg.games`` of installed packages: an entry point names a game
   and loads its ``GameSpec``.
@@ -75,7 +78,8 @@ def register_game_spec(spec: GameSpec) -> GameSpec:
 
 
 def _find_builtin_games() -> None:
-    """Register the ``SPEC`` of every game folder under gvgai_pcg/games/ (once)."""
+    """Register the ``SPEC`` of every game folder under gvgai_pcg/games/, then the corpus games
+    of the corpus folder (once)."""
     global _found_builtins
     if _found_builtins:
         return
@@ -86,6 +90,10 @@ def _find_builtin_games() -> None:
             spec = getattr(import_module(f"{BUILTIN_PACKAGE}.{module.name}"), "SPEC", None)
             if isinstance(spec, GameSpec):
                 _SPECS.setdefault(spec.name, spec)
+    from gvgai_pcg.vgdl.corpus_games import corpus_specs  # pure Python, no torch
+
+    for spec in corpus_specs():
+        _SPECS.setdefault(spec.name, spec)
 
 
 def _discover_games(again: bool = False) -> None:
@@ -117,12 +125,12 @@ def get_game_spec(name: str) -> GameSpec:
     _find_builtin_games()
     if name not in _SPECS:
         _discover_games(again=True)
-    try:
+    if name in _SPECS:
         return _SPECS[name]
-    except KeyError:
-        raise ValueError(
-            f"unknown game {name!r}; registered games are: {', '.join(sorted(_SPECS))}"
-        ) from None
+    from gvgai_pcg.vgdl.corpus_games import refusal
+
+    known = ", ".join(sorted(_SPECS))
+    raise ValueError(refusal(name) or f"unknown game {name!r}; registered games are: {known}")
 
 
 def find_game_spec(name: str) -> GameSpec | None:

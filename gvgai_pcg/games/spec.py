@@ -105,6 +105,9 @@ class GameSpec:
         data_package: the package whose folder holds ``human_levels/<name>_lvl<i>.txt`` and
             ``test_sets/`` (a manifest and its level files); ``None``: no shipped levels.
         human_levels: how many human-designed levels ``human_levels/`` holds.
+        human_level_files: instead of a data package, the path of the human level files with
+            ``{index}`` in it (a GVGAI corpus game's levels, read from the folder the user names:
+            ``gvgai_pcg.vgdl.corpus_games``); ``None``: they are in ``data_package``.
         study_index: the game's place in the study (0-3): the order of its tables and figures
             and the block of its frozen test-set seeds. ``None`` for a game outside the study.
         bench_target: the tiles steps/s at B = 4096 on 2 CPU cores that the benchmark holds the
@@ -127,6 +130,7 @@ class GameSpec:
     study_score_win: float | None = None
     data_package: str | None = None
     human_levels: int = 0
+    human_level_files: str | None = None
     study_index: int | None = None
     bench_target: int | None = None
     frame_cost: float = 1.0
@@ -143,8 +147,11 @@ class GameSpec:
                 f"game {self.name!r}: its level format says game {self.level_format.game!r}; "
                 "the two names must agree"
             )
-        if self.human_levels and self.data_package is None:
-            raise ValueError(f"game {self.name!r} has {self.human_levels} human levels but no data_package")
+        if self.human_levels and self.data_package is None and self.human_level_files is None:
+            raise ValueError(
+                f"game {self.name!r} has {self.human_levels} human levels but no data_package "
+                "or human_level_files"
+            )
 
 
 def load_object(reference: Any) -> Any:

@@ -1,13 +1,15 @@
 """The human-designed levels of each game (the study's 20), shipped as package data in each game's
-folder (``gvgai_pcg/games/<game>/human_levels/``; see ``gvgai_pcg/games/NOTICE``)."""
+folder (``gvgai_pcg/games/<game>/human_levels/``; see ``gvgai_pcg/games/NOTICE``); a GVGAI corpus
+game's are read from the folder that holds its VGDL file (``GameSpec.human_level_files``)."""
 
 from __future__ import annotations
 
 from functools import cache
 from importlib.resources import files
+from pathlib import Path
 
 from gvgai_pcg.games.registry import get_game_spec, registered_games
-from gvgai_pcg.levels.level import Level
+from gvgai_pcg.levels.level import Level, decode
 
 HUMAN_LEVELS_FOLDER = "human_levels"  # in a game's data package
 
@@ -16,11 +18,18 @@ HUMAN_LEVELS_FOLDER = "human_levels"  # in a game's data package
 def human_level(game: str, index: int) -> Level:
     """Human level ``index`` (0-4) of ``game``, e.g. ``human_level("zelda", 0)``."""
     spec = get_game_spec(game)  # refuses unknown games with the valid choices
-    if spec.human_levels == 0 or spec.data_package is None:
+    if spec.human_levels == 0 or (spec.data_package is None and spec.human_level_files is None):
         raise ValueError(f"game {game!r} ships no human levels")
     if not 0 <= index < spec.human_levels:
         raise ValueError(f"human level index must be 0..{spec.human_levels - 1}, got {index}")
     name = f"{game}_lvl{index}"
+    if spec.human_level_files is not None:
+        path = Path(spec.human_level_files.format(index=index))
+        try:
+            data = path.read_bytes()
+        except OSError as error:
+            raise ValueError(f"cannot read {game}'s human level {path}: {error.strerror}") from None
+        return Level.parse(decode(data, str(path)), game, source=str(path), name=name)
     text = files(spec.data_package).joinpath(HUMAN_LEVELS_FOLDER, f"{name}.txt").read_text()
     source = f"{spec.data_package.replace('.', '/')}/{HUMAN_LEVELS_FOLDER}/{name}.txt"
     return Level.parse(text, game, source=source, name=name)

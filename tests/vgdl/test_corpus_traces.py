@@ -1,0 +1,81 @@
+"""The Java traces of six GVGAI corpus games (``tests/data/vgdl_corpus_traces``) replay through the
+generic step, tick by tick, from GVGAI's own VGDL file of each game; GVGAI's zelda, recorded the
+same way, is the control that the engine already plays exactly.
+
+GVGAI's files are not in this repository: without the corpus folder (``GVGAI_VGDL_DIR``) every
+replay is skipped, saying so; a game the engine refuses is skipped with the engine's one-line
+refusal (the feature it lacks). A game the engine runs must match every recorded tick.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from gvgai_pcg.levels import Level
+from gvgai_pcg.vgdl import VGDLError
+from gvgai_pcg.vgdl.corpus import ENV_VAR, corpus_dir
+from gvgai_pcg.vgdl.engine import VGDLGame
+from gvgai_pcg.vgdl.engine.trace import play_trace
+
+TRACES = Path(__file__).parents[1] / "data" / "vgdl_corpus_traces"
+FIELDS = ("tick", "action", "score", "status", "avatar", "sprites")
+
+
+def trace_files() -> list[Path]:
+    return sorted(TRACES.glob("*_lvl*.json"))
+
+
+def corpus_game(name: str) -> VGDLGame:
+    """The generic step on GVGAI's file of ``name``: skipped without the file, or with the
+    engine's refusal."""
+    folder = corpus_dir()
+    if folder is None or not (folder / f"{name}.txt").is_file():
+        pytest.skip(f"GVGAI's {name}.txt is not in the corpus folder: set {ENV_VAR}")
+    try:
+        return VGDLGame.from_file(folder / f"{name}.txt", name=f"vgdl:{name}")
+    except VGDLError as error:
+        pytest.skip(f"the engine refuses {name}: {error}")
+
+
+def first_mismatch(expected: list[dict], actual: list[dict]) -> str | None:
+    """Where two tick lists first differ, in one message; None when they are equal."""
+    for want, got in zip(expected, actual, strict=False):
+        want = {key: want[key] for key in FIELDS}
+        if got != want:
+            return f"tick {want['tick']}:\nexpected {want}\nactual   {got}"
+    if len(expected) != len(actual):
+        return f"{len(actual)} ticks played, {len(expected)} recorded"
+    return None
+
+
+def test_every_game_has_its_five_human_levels_recorded():
+    names = [path.stem for path in trace_files()]
+    games = ("camelRace", "infection", "painter", "racebet", "racebet2", "zenpuzzle", "zelda")
+    assert names == sorted(f"{game}_lvl{index}" for game in games for index in range(5))
+    for path in trace_files():
+        trace = json.loads(path.read_text())
+        assert trace["engine_seeds"] == [0, 1, 2, 3] and trace["ticks"][0]["action"] == "NIL"
+        assert len(trace["ticks"]) == len(trace["actions"]) + 1
+
+
+def test_a_changed_tick_is_the_first_mismatch():
+    ticks = json.loads((TRACES / "zelda_lvl0.json").read_text())["ticks"]
+    played = [{key: tick[key] for key in FIELDS} for tick in ticks]
+    assert first_mismatch(ticks, played) is None
+    played[7] = played[7] | {"score": played[7]["score"] + 1}
+    assert first_mismatch(ticks, played).startswith("tick 7:")
+    assert first_mismatch(ticks, played[:7]) == f"7 ticks played, {len(ticks)} recorded"
+
+
+# a game the engine runs replays its 120 ticks eagerly in about 1 CPU-second
+@pytest.mark.parametrize("path", trace_files(), ids=lambda path: path.stem)
+def test_corpus_trace_replays_exactly(path):
+    trace = json.loads(path.read_text())
+    game = corpus_game(trace["game"])
+    level = Level(trace["game"], tuple(trace["level"]), name=path.stem)
+    ticks = play_trace(game, level, trace["actions"], exclude=trace["excluded"])
+    mismatch = first_mismatch(trace["ticks"], ticks)
+    assert mismatch is None, f"{path.name}, {mismatch}"
