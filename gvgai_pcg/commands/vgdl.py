@@ -2,7 +2,7 @@
 
 ``list`` prints every registered VGDL game (the package's own descriptions that run through the
 generic step, ``gvgai_pcg.vgdl.registry``), one a line, then the GVGAI corpus games registered
-from the corpus folder (``gvgai_pcg.vgdl.corpus_games``) with their file, and those it holds but
+from the corpus folder (``gvgai_pcg.games.corpus``) with their file, and those it holds but
 the engine refuses, with the refusal; ``list --corpus`` every
 game of the corpus folder (``gvgai_pcg.vgdl.corpus``) with the features the engine does not
 implement yet.
@@ -89,7 +89,7 @@ def _level_rows(path: str) -> list[str]:
 
 def list_registered() -> int:
     from gvgai_pcg.games import registered_games as games
-    from gvgai_pcg.vgdl.corpus_games import CORPUS_GAMES, corpus_file, game_name, refusal
+    from gvgai_pcg.games.corpus import CORPUS_GAMES, corpus_file, game_name, refusal
 
     for name in registered_games():
         print(name)

@@ -3,10 +3,10 @@
 Where games come from, in order:
 
 * every folder ``gvgai_pcg/games/<name>/`` whose ``__init__.py`` defines ``SPEC`` (the four
-  games of the study), found on first use;
-* the GVGAI corpus games (``gvgai_pcg.vgdl.corpus_games``) whose VGDL file the folder named by
-  ``GVGAI_VGDL_DIR`` holds, found on first use; one asked for without it is refused in one line
-  that says what to set;
+  games of the study), or ``SPECS``, a function that gives the specs of a folder of several
+  games (``games/corpus``: the GVGAI corpus games whose VGDL file the folder named by
+  ``GVGAI_VGDL_DIR`` holds), found on first use. Such a folder's ``refusal(name)`` says in one
+  line why a game of its own is not registered (what to set, or what the engine lacks);
 * ``register_game_spec(spec)``, in-process;
 * the entry-point group ``gvgai_pcg.games`` of installed packages: an entry point names a game
   and loads its ``GameSpec``.
@@ -54,6 +54,7 @@ _GAMES: dict[str, Game] = {}  # the rules of each game, made on first use
 _RULES: dict[str, type] = {}  # classes named by @register_game
 _GENERATORS: dict[str, Generator] = {}  # generators by name: the games' own (once loaded) and others
 _EDITORS: dict[str, Editor] = {}  # the games' editors, imported on first use
+_REFUSALS: list[Callable[[str], str | None]] = []  # game folders' reasons a game of theirs is missing
 _found_builtins = False
 _read_game_entry_points = False
 
@@ -78,8 +79,7 @@ def register_game_spec(spec: GameSpec) -> GameSpec:
 
 
 def _find_builtin_games() -> None:
-    """Register the ``SPEC`` of every game folder under gvgai_pcg/games/, then the corpus games
-    of the corpus folder (once)."""
+    """Register the ``SPEC`` or ``SPECS()`` of every game folder under gvgai_pcg/games/ (once)."""
     global _found_builtins
     if _found_builtins:
         return
@@ -87,13 +87,13 @@ def _find_builtin_games() -> None:
     package = import_module(BUILTIN_PACKAGE)
     for module in pkgutil.iter_modules(package.__path__):
         if module.ispkg:
-            spec = getattr(import_module(f"{BUILTIN_PACKAGE}.{module.name}"), "SPEC", None)
-            if isinstance(spec, GameSpec):
-                _SPECS.setdefault(spec.name, spec)
-    from gvgai_pcg.vgdl.corpus_games import corpus_specs  # pure Python, no torch
-
-    for spec in corpus_specs():
-        _SPECS.setdefault(spec.name, spec)
+            folder = import_module(f"{BUILTIN_PACKAGE}.{module.name}")
+            specs = [folder.SPEC] if hasattr(folder, "SPEC") else list(getattr(folder, "SPECS", list)())
+            for spec in specs:
+                if isinstance(spec, GameSpec):
+                    _SPECS.setdefault(spec.name, spec)
+            if hasattr(folder, "refusal") and folder.refusal not in _REFUSALS:
+                _REFUSALS.append(folder.refusal)
 
 
 def _discover_games(again: bool = False) -> None:
@@ -127,10 +127,9 @@ def get_game_spec(name: str) -> GameSpec:
         _discover_games(again=True)
     if name in _SPECS:
         return _SPECS[name]
-    from gvgai_pcg.vgdl.corpus_games import refusal
-
     known = ", ".join(sorted(_SPECS))
-    raise ValueError(refusal(name) or f"unknown game {name!r}; registered games are: {known}")
+    reason = next((line for line in (refusal(name) for refusal in _REFUSALS) if line), None)
+    raise ValueError(reason or f"unknown game {name!r}; registered games are: {known}")
 
 
 def find_game_spec(name: str) -> GameSpec | None:
