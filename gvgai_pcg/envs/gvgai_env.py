@@ -118,6 +118,9 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         self._runner = PlanRunner(self.game, plan, obs, num_envs, max_steps, shards, self.buffers)
         self.level_source = as_level_source(game, levels)
         self.obs_kind, self.max_steps, self.num_envs = obs, max_steps, num_envs
+        # A compiled tick meets fewer table widths where they are rounded up (envs/states.py);
+        # read once here, as every reset asks.
+        self._round_up = self.game.step_facts.compiles
         fmt = self.game.level_format
         self.grid_height, self.grid_width = fmt.height, fmt.width
         self._env_seeds = checked_seeds(seed, num_envs)
@@ -140,7 +143,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         # Sources whose next levels are known in advance get their partial resets prepared in bulk.
         observation_bytes = self.observation_spec[obs].shape.numel()  # uint8
         self._prepared_resets = PreparedResets.for_source(
-            self.level_source, num_envs, observation_bytes, round_up=self.game.step_facts.compiles
+            self.level_source, num_envs, observation_bytes, round_up=self._round_up
         )
 
     @property
@@ -213,9 +216,9 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         else:
             fresh, levels, observed = self._prepare(index, observe=True)
             if not partial:
-                self._state = bucket_entity_tables(fresh) if self.game.step_facts.compiles else fresh
+                self._state = bucket_entity_tables(fresh) if self._round_up else fresh
             else:
-                self._state = merge_states(self._state, fresh, rows, round_up=self.game.step_facts.compiles)
+                self._state = merge_states(self._state, fresh, rows, round_up=self._round_up)
         self._episodes[index] += 1
         for i, level in zip(index.tolist(), levels, strict=True):
             self._levels[i] = level
