@@ -42,7 +42,8 @@ from gvgai_pcg.games.render import ascii_frame, render_pixels
 from gvgai_pcg.games.rng import derive_seeds, mix64
 from gvgai_pcg.levels import Level
 
-COMPILED_LEVEL_CACHE = 64  # distinct levels whose compiled initial state an env keeps
+# Distinct recurring levels whose compiled state an env keeps (started, where tick 0 is seed-free).
+COMPILED_LEVEL_CACHE = 64
 
 
 class GVGAIEnv(CompleteStepHook, RowResetEnv):
@@ -131,8 +132,10 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         self._steps = torch.zeros(num_envs, dtype=torch.int64, device=self.device)
         self._difficulty = torch.full((num_envs,), difficulty, dtype=torch.float64, device=self.device)
         self._levels: list[Level | None] = [None] * num_envs
+        # Where tick 0 draws nothing, recurring levels are banked started (envs/level_bank.py).
+        start = self._start_levels if self.game.seed_free_reset_tick else None
         self._bank = CompiledLevelBank(
-            self.game, self.grid_height, self.grid_width, self.device, COMPILED_LEVEL_CACHE
+            self.game, self.grid_height, self.grid_width, self.device, COMPILED_LEVEL_CACHE, start
         )
         self._level_seeds = torch.full((num_envs,), -1, dtype=torch.int64)
         # The d each env's level was made at: the env's difficulty, or the source's own (DR).
@@ -246,9 +249,15 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         episode_seeds = mix64(self._env_seeds[index] ^ mix64(episodes))
         difficulties = self._difficulty[index.to(self.device)].cpu()
         levels = self.level_source.next_levels(index, episode_seeds, difficulties)
-        initial = self._bank.fresh_states(levels, episode_seeds, self.level_source.levels_recur)
-        fresh, observed = self._runner.reset_tick(initial, observe, self._state)
-        return fresh, levels, observed
+        fresh, observed = self._bank.fresh_states(levels, episode_seeds, self.level_source.levels_recur)
+        if observed is None:  # not started yet: the reset tick runs here
+            fresh, observed = self._runner.reset_tick(fresh, observe, self._state)
+        return fresh, levels, observed if observe else None
+
+    def _start_levels(self, compiled: TensorDict) -> tuple[TensorDict, torch.Tensor]:
+        """``compiled`` envs after their reset tick, with their observations: the bank keeps
+        recurring levels so where the game's reset tick is seed-free."""
+        return self._runner.reset_tick(compiled, True, self._state)
 
     def _step(self, tensordict: TensorDictBase) -> TensorDict:
         state = self.state

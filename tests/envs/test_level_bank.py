@@ -1,10 +1,14 @@
 """The bank of compiled recurring levels: the same states as compiling, each level compiled once."""
 
+import pytest
 import torch
 
+from gvgai_pcg.curricula import get_curriculum
+from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.level_bank import CompiledLevelBank
 from gvgai_pcg.games import get_game
 from gvgai_pcg.games.base import pad_level
+from gvgai_pcg.generators import generate_level
 from gvgai_pcg.levels import human_levels
 
 
@@ -113,3 +117,49 @@ def test_adding_a_level_to_a_full_bank_does_not_rebuild_it(monkeypatch):
     for state in (got, want):
         game.tick(state, torch.zeros(2, dtype=torch.int64))
     assert [game.snapshot(got, i) for i in range(2)] == [game.snapshot(want, i) for i in range(2)]
+
+
+@pytest.mark.parametrize("game", ["zelda", "boulderdash"])
+def test_a_seed_free_reset_tick_leaves_the_same_state_whatever_the_seed(game):
+    rules = get_game(game)
+    assert rules.seed_free_reset_tick
+    levels = [*human_levels(game), *(generate_level(game, d / 4, seed) for d in range(5) for seed in (1, 2))]
+    fmt = rules.level_format
+    padded = [pad_level(level, fmt.height, fmt.width) for level in levels]
+    generator = torch.Generator().manual_seed(0)
+    states = []
+    for _ in range(3):
+        seeds = torch.randint(0, 2**62, (len(padded),), generator=generator)
+        state = rules.compile(padded, seeds, torch.device("cpu"))
+        rules.reset_tick(state)
+        states.append(state.exclude("seed"))
+    assert all((state == states[0]).all() for state in states[1:])
+
+
+def plr_source(game: str):
+    """A PLR⊥ source over a full buffer of 12 generated levels, replaying them only."""
+    section = {"name": "plr", "buffer_size": 12, "replay_prob": 1.0, "temperature": 1.0}
+    run = get_curriculum("plr").start(game, section)
+    for i in range(12):
+        run.state.insert(7 + i, (i % 4) / 4, float(i), 0.0)
+    return run.source()
+
+
+@pytest.mark.parametrize("levels", ["human", "plr"])
+def test_levels_banked_started_give_the_episodes_their_reset_tick_gives(levels):
+    def rollout(banked_started: bool) -> list:
+        source = plr_source("zelda") if levels == "plr" else levels
+        env = GVGAIEnv("zelda", num_envs=5, levels=source, max_steps=7, seed=4, compile_tick=False)
+        if not banked_started:
+            env._bank.start = None  # every reset runs its own reset tick, as before banking started levels
+        generator = torch.Generator().manual_seed(1)
+        td, out = env.reset(), []
+        for _ in range(30):
+            td.set("action", torch.randint(0, env.game.num_actions, (5,), generator=generator))
+            stepped, td = env.step_and_maybe_reset(td)
+            out.append(stepped.clone())
+        return out
+
+    started, ticked = rollout(True), rollout(False)
+    for a, b in zip(started, ticked, strict=True):
+        assert (a == b).all()

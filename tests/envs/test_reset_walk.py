@@ -16,9 +16,10 @@ from gvgai_pcg.curricula import get_curriculum
 from gvgai_pcg.envs import GVGAIEnv
 
 PACKAGE = str(Path(gvgai_pcg.__file__).parent) + "/"
-# The most files of the package one replayed reset may call into (25 before replayed levels kept
-# their started state).
-WALK_MAX_FILES = 25
+# The most files of the package one replayed reset may call into: 25 before the level bank kept
+# Zelda's levels started (after their seed-free reset tick, with their first observation), the
+# lock of an unshared buffer went and PLR⊥ drew new levels only where it plays one.
+WALK_MAX_FILES = 14
 BUFFER_SIZE, REPLAYED = 300, 42
 SECTION = {
     "name": "plr",
