@@ -96,6 +96,7 @@ class PrioritizedLevels(LevelSource):
         self, game: str, buffer: LevelBuffer, settings: ReplaySettings, generator: str | None = None
     ) -> None:
         self.game, self.buffer, self.settings = game, buffer, settings
+        self.replayed_levels = buffer.capacity  # every level of the buffer may be replayed
         self.generator = checked_generator(game, generator)
         self._handed_d: dict[int, float] = {}  # env index -> the d of the level it was last handed
         self._running: dict[int, Episode] = {}  # env row -> its episode still running at the batch's end

@@ -135,7 +135,13 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         # Where tick 0 draws nothing, recurring levels are banked started (envs/level_bank.py).
         start = self._start_levels if self.game.seed_free_reset_tick else None
         self._bank = CompiledLevelBank(
-            self.game, self.grid_height, self.grid_width, self.device, COMPILED_LEVEL_CACHE, start
+            self.game,
+            self.grid_height,
+            self.grid_width,
+            self.device,
+            COMPILED_LEVEL_CACHE,
+            start,
+            replayed=self.level_source.replayed_levels,
         )
         self._level_seeds = torch.full((num_envs,), -1, dtype=torch.int64)
         # The d each env's level was made at: the env's difficulty, or the source's own (DR).
@@ -249,9 +255,12 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         episode_seeds = mix64(self._env_seeds[index] ^ mix64(episodes))
         difficulties = self._difficulty[index.to(self.device)].cpu()
         levels = self.level_source.next_levels(index, episode_seeds, difficulties)
-        fresh, observed = self._bank.fresh_states(levels, episode_seeds, self.level_source.levels_recur)
-        if observed is None:  # not started yet: the reset tick runs here
+        recur = self.level_source.levels_recur
+        fresh, started, observed = self._bank.fresh_states(levels, episode_seeds, recur)
+        if not started:  # compiled: the reset tick runs here
             fresh, observed = self._runner.reset_tick(fresh, observe, self._state)
+        elif observe and observed is None:  # started, with observations too large to keep
+            observed = self._runner.render(fresh)
         return fresh, levels, observed if observe else None
 
     def _start_levels(self, compiled: TensorDict) -> tuple[TensorDict, torch.Tensor]:

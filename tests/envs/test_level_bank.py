@@ -145,21 +145,43 @@ def plr_source(game: str):
     return run.source()
 
 
-@pytest.mark.parametrize("levels", ["human", "plr"])
-def test_levels_banked_started_give_the_episodes_their_reset_tick_gives(levels):
+@pytest.mark.parametrize(("levels", "obs"), [("human", "tiles"), ("plr", "tiles"), ("plr", "pixels")])
+def test_levels_banked_started_give_the_episodes_their_reset_tick_gives(levels, obs, monkeypatch):
+    if obs == "pixels":  # observations too large to keep: a reset draws them
+        monkeypatch.setattr("gvgai_pcg.envs.level_bank.OBSERVATIONS_MAX_BYTES", 0)
+
     def rollout(banked_started: bool) -> list:
         source = plr_source("zelda") if levels == "plr" else levels
-        env = GVGAIEnv("zelda", num_envs=5, levels=source, max_steps=7, seed=4, compile_tick=False)
-        if not banked_started:
-            env._bank.start = None  # every reset runs its own reset tick, as before banking started levels
+        env = GVGAIEnv("zelda", 5, levels=source, obs=obs, max_steps=40, seed=4, compile_tick=False)
+        if not banked_started:  # every reset compiles its levels and runs its own reset tick
+            env.level_source.levels_recur = False
         generator = torch.Generator().manual_seed(1)
         td, out = env.reset(), []
-        for _ in range(30):
+        for step in range(60):
             td.set("action", torch.randint(0, env.game.num_actions, (5,), generator=generator))
             stepped, td = env.step_and_maybe_reset(td)
-            out.append(stepped.clone())
+            done = torch.zeros_like(td.get("done"))
+            done[step % 5] = step % 4 == 0  # one env's episode cut short now and then: one-env resets
+            td = env.maybe_reset(td.set("done", done))
+            out += [stepped.clone(), td.clone()]
+        assert (env._bank._observations is None) == (obs == "pixels" or not banked_started)
         return out
 
     started, ticked = rollout(True), rollout(False)
     for a, b in zip(started, ticked, strict=True):
         assert (a == b).all()
+
+
+def test_a_source_of_replays_has_its_levels_kept_once_they_come_back():
+    source = plr_source("zelda")
+    assert source.replayed_levels == 12
+    env = GVGAIEnv("zelda", 2, levels=source, seed=1, compile_tick=False)
+    store = env._bank
+    assert store.capacity == 64 + 12
+    a, b = (generate_level("zelda", 0.5, seed) for seed in (1, 2))
+    one = torch.zeros(1, dtype=torch.int64)
+    assert not store.fresh_states([a], one, True)[1]  # met once: compiled, not kept
+    assert a not in store
+    states, started, observed = store.fresh_states([a], one, True)  # it came back: kept, started
+    assert started and a in store and observed.shape[0] == 1
+    assert not store.fresh_states([b], one, True)[1] and b not in store
