@@ -119,23 +119,6 @@ def test_adding_a_level_to_a_full_bank_does_not_rebuild_it(monkeypatch):
     assert [game.snapshot(got, i) for i in range(2)] == [game.snapshot(want, i) for i in range(2)]
 
 
-@pytest.mark.parametrize("game", ["zelda", "boulderdash"])
-def test_a_seed_free_reset_tick_leaves_the_same_state_whatever_the_seed(game):
-    rules = get_game(game)
-    assert rules.seed_free_reset_tick
-    levels = [*human_levels(game), *(generate_level(game, d / 4, seed) for d in range(5) for seed in (1, 2))]
-    fmt = rules.level_format
-    padded = [pad_level(level, fmt.height, fmt.width) for level in levels]
-    generator = torch.Generator().manual_seed(0)
-    states = []
-    for _ in range(3):
-        seeds = torch.randint(0, 2**62, (len(padded),), generator=generator)
-        state = rules.compile(padded, seeds, torch.device("cpu"))
-        rules.reset_tick(state)
-        states.append(state.exclude("seed"))
-    assert all((state == states[0]).all() for state in states[1:])
-
-
 def plr_source(game: str):
     """A PLR⊥ source over a full buffer of 12 generated levels, replaying them only."""
     section = {"name": "plr", "buffer_size": 12, "replay_prob": 1.0, "temperature": 1.0}
