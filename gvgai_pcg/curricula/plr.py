@@ -96,6 +96,7 @@ class PrioritizedLevels(LevelSource):
         self, game: str, buffer: LevelBuffer, settings: ReplaySettings, generator: str | None = None
     ) -> None:
         self.game, self.buffer, self.settings = game, buffer, settings
+        self.replayed_levels = buffer.capacity  # every level of the buffer may be replayed
         self.generator = checked_generator(game, generator)
         self._handed_d: dict[int, float] = {}  # env index -> the d of the level it was last handed
         self._running: dict[int, Episode] = {}  # env row -> its episode still running at the batch's end
@@ -107,8 +108,6 @@ class PrioritizedLevels(LevelSource):
         s = self.settings
         replay_draws = seed_uniforms(episode_seeds, _REPLAY_STREAM).tolist()
         pick_draws = seed_uniforms(episode_seeds, _PICK_STREAM).tolist()
-        new_d = s.min_difficulty + (s.max_difficulty - s.min_difficulty) * uniform_difficulties(episode_seeds)
-        new_seeds = (episode_seeds % TRAINING_SEED_SPACE).tolist()
         levels = []
         with self.buffer.locked():
             for k, env in enumerate(env_indices.tolist()):
@@ -120,11 +119,19 @@ class PrioritizedLevels(LevelSource):
                         index = self.buffer.pick(probabilities, pick_draws[k])
                         level, d = self.replayed_level(index), float(self.buffer.level_d[index])
                     else:
-                        d = float(new_d[k])
-                        level = self.generated_level(d, new_seeds[k])
+                        level, d = self.new_level(int(episode_seeds[k]))
                 self._handed_d[env] = d
                 levels.append(level)
         return levels
+
+    def new_level(self, episode_seed: int) -> tuple[Level, float]:
+        """The new generated level of an episode that replays none, and its d: DR's draw of the
+        episode seed, scaled to [``min_difficulty``, ``max_difficulty``], and the seed's low bits.
+        Drawn only for the envs that play one (a replay draws nothing here)."""
+        s = self.settings
+        drawn = float(uniform_difficulties(torch.tensor([episode_seed]))[0])
+        d = s.min_difficulty + (s.max_difficulty - s.min_difficulty) * drawn
+        return self.generated_level(d, episode_seed % TRAINING_SEED_SPACE), d
 
     def _special_level(self, env: int, episode_seed: torch.Tensor) -> tuple[Level | None, float]:
         """A level that comes before the replay decision (ACCEL's edited ones), or ``None``."""

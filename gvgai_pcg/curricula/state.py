@@ -39,7 +39,10 @@ class SharedState(nn.Module):
         self.lock_path = share_buffers_through(self, directory)
 
     def locked(self) -> contextlib.AbstractContextManager[None]:
-        """A lock across every process that shares the state (through ``share_through``)."""
+        """A lock across every process that shares the state (through ``share_through``); none
+        while the state is not shared (one process has nothing to lock out)."""
+        if self.lock_path is None:
+            return contextlib.nullcontext()
         return exclusive(self.lock_path)
 
     @property

@@ -42,7 +42,8 @@ from gvgai_pcg.games.render import ascii_frame, render_pixels
 from gvgai_pcg.games.rng import derive_seeds, mix64
 from gvgai_pcg.levels import Level
 
-COMPILED_LEVEL_CACHE = 64  # distinct levels whose compiled initial state an env keeps
+# Distinct recurring levels whose compiled state an env keeps (started, where tick 0 is seed-free).
+COMPILED_LEVEL_CACHE = 64
 
 
 class GVGAIEnv(CompleteStepHook, RowResetEnv):
@@ -118,6 +119,9 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         self._runner = PlanRunner(self.game, plan, obs, num_envs, max_steps, shards, self.buffers)
         self.level_source = as_level_source(game, levels)
         self.obs_kind, self.max_steps, self.num_envs = obs, max_steps, num_envs
+        # A compiled tick meets fewer table widths where they are rounded up (envs/states.py);
+        # read once here, as every reset asks.
+        self._round_up = self.game.step_facts.compiles
         fmt = self.game.level_format
         self.grid_height, self.grid_width = fmt.height, fmt.width
         self._env_seeds = checked_seeds(seed, num_envs)
@@ -128,8 +132,16 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         self._steps = torch.zeros(num_envs, dtype=torch.int64, device=self.device)
         self._difficulty = torch.full((num_envs,), difficulty, dtype=torch.float64, device=self.device)
         self._levels: list[Level | None] = [None] * num_envs
+        # Where tick 0 draws nothing, recurring levels are banked started (envs/level_bank.py).
+        start = self._start_levels if self.game.seed_free_reset_tick else None
         self._bank = CompiledLevelBank(
-            self.game, self.grid_height, self.grid_width, self.device, COMPILED_LEVEL_CACHE
+            self.game,
+            self.grid_height,
+            self.grid_width,
+            self.device,
+            COMPILED_LEVEL_CACHE,
+            start,
+            replayed=self.level_source.replayed_levels,
         )
         self._level_seeds = torch.full((num_envs,), -1, dtype=torch.int64)
         # The d each env's level was made at: the env's difficulty, or the source's own (DR).
@@ -140,7 +152,7 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         # Sources whose next levels are known in advance get their partial resets prepared in bulk.
         observation_bytes = self.observation_spec[obs].shape.numel()  # uint8
         self._prepared_resets = PreparedResets.for_source(
-            self.level_source, num_envs, observation_bytes, round_up=self.game.step_facts.compiles
+            self.level_source, num_envs, observation_bytes, round_up=self._round_up
         )
 
     @property
@@ -213,9 +225,9 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         else:
             fresh, levels, observed = self._prepare(index, observe=True)
             if not partial:
-                self._state = bucket_entity_tables(fresh) if self.game.step_facts.compiles else fresh
+                self._state = bucket_entity_tables(fresh) if self._round_up else fresh
             else:
-                self._state = merge_states(self._state, fresh, rows, round_up=self.game.step_facts.compiles)
+                self._state = merge_states(self._state, fresh, rows, round_up=self._round_up)
         self._episodes[index] += 1
         for i, level in zip(index.tolist(), levels, strict=True):
             self._levels[i] = level
@@ -243,9 +255,18 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         episode_seeds = mix64(self._env_seeds[index] ^ mix64(episodes))
         difficulties = self._difficulty[index.to(self.device)].cpu()
         levels = self.level_source.next_levels(index, episode_seeds, difficulties)
-        initial = self._bank.fresh_states(levels, episode_seeds, self.level_source.levels_recur)
-        fresh, observed = self._runner.reset_tick(initial, observe, self._state)
-        return fresh, levels, observed
+        recur = self.level_source.levels_recur
+        fresh, started, observed = self._bank.fresh_states(levels, episode_seeds, recur)
+        if not started:  # compiled: the reset tick runs here
+            fresh, observed = self._runner.reset_tick(fresh, observe, self._state)
+        elif observe and observed is None:  # started, with observations too large to keep
+            observed = self._runner.render(fresh)
+        return fresh, levels, observed if observe else None
+
+    def _start_levels(self, compiled: TensorDict) -> tuple[TensorDict, torch.Tensor]:
+        """``compiled`` envs after their reset tick, with their observations: the bank keeps
+        recurring levels so where the game's reset tick is seed-free."""
+        return self._runner.reset_tick(compiled, True, self._state)
 
     def _step(self, tensordict: TensorDictBase) -> TensorDict:
         state = self.state

@@ -54,6 +54,13 @@ class LevelSource(ABC):
     """False where a level hardly ever comes back (a new generated level each episode): the env
     then compiles each level directly instead of keeping it for reuse."""
 
+    replayed_levels: int = 0
+    """For a source that mixes new levels with replays of at most this many (a replay buffer's
+    capacity, as PLR⊥'s): the env keeps a level compiled only once it comes back, with room for
+    that many, so that new levels, most of which never come back, do not push the replayed ones
+    out (``gvgai_pcg.envs.level_bank``). 0: any level may come back, and the env keeps the last
+    few it met."""
+
     level_difficulties: DrawnDifficulties | None = None
     """``level_difficulties(env_indices, episode_seeds, difficulties)``, for a source that draws
     the difficulty of its levels itself (DR): ``[N]`` float64, which the env reports as each env's

@@ -99,6 +99,11 @@ class Game(ABC):
     # Observation channels of ``tiles``, one per sprite type that matters (decoration left out).
     tile_types: ClassVar[tuple[str, ...]]
     art: ClassVar[dict[str, SpriteArt]]
+    # True where the reset tick (tick 0, NIL) draws nothing from the RNG, by the rules, so the
+    # state after it is the same whatever the episode seed: an env then keeps a recurring level
+    # as it stands after its reset tick, with its first observation, and a replay of it runs no
+    # tick (gvgai_pcg.envs.level_bank). False (the safe default) where tick 0 may draw.
+    seed_free_reset_tick: ClassVar[bool] = False
 
     @property
     def step_facts(self) -> StepFacts:

@@ -1,10 +1,14 @@
 """The bank of compiled recurring levels: the same states as compiling, each level compiled once."""
 
+import pytest
 import torch
 
+from gvgai_pcg.curricula import get_curriculum
+from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.level_bank import CompiledLevelBank
 from gvgai_pcg.games import get_game
 from gvgai_pcg.games.base import pad_level
+from gvgai_pcg.generators import generate_level
 from gvgai_pcg.levels import human_levels
 
 
@@ -113,3 +117,54 @@ def test_adding_a_level_to_a_full_bank_does_not_rebuild_it(monkeypatch):
     for state in (got, want):
         game.tick(state, torch.zeros(2, dtype=torch.int64))
     assert [game.snapshot(got, i) for i in range(2)] == [game.snapshot(want, i) for i in range(2)]
+
+
+def plr_source(game: str):
+    """A PLR⊥ source over a full buffer of 12 generated levels, replaying them only."""
+    section = {"name": "plr", "buffer_size": 12, "replay_prob": 1.0, "temperature": 1.0}
+    run = get_curriculum("plr").start(game, section)
+    for i in range(12):
+        run.state.insert(7 + i, (i % 4) / 4, float(i), 0.0)
+    return run.source()
+
+
+@pytest.mark.parametrize(("levels", "obs"), [("human", "tiles"), ("plr", "tiles"), ("plr", "pixels")])
+def test_levels_banked_started_give_the_episodes_their_reset_tick_gives(levels, obs, monkeypatch):
+    if obs == "pixels":  # observations too large to keep: a reset draws them
+        monkeypatch.setattr("gvgai_pcg.envs.level_bank.OBSERVATIONS_MAX_BYTES", 0)
+
+    def rollout(banked_started: bool) -> list:
+        source = plr_source("zelda") if levels == "plr" else levels
+        env = GVGAIEnv("zelda", 5, levels=source, obs=obs, max_steps=40, seed=4, compile_tick=False)
+        if not banked_started:  # every reset compiles its levels and runs its own reset tick
+            env.level_source.levels_recur = False
+        generator = torch.Generator().manual_seed(1)
+        td, out = env.reset(), []
+        for step in range(60):
+            td.set("action", torch.randint(0, env.game.num_actions, (5,), generator=generator))
+            stepped, td = env.step_and_maybe_reset(td)
+            done = torch.zeros_like(td.get("done"))
+            done[step % 5] = step % 4 == 0  # one env's episode cut short now and then: one-env resets
+            td = env.maybe_reset(td.set("done", done))
+            out += [stepped.clone(), td.clone()]
+        assert (env._bank._observations is None) == (obs == "pixels" or not banked_started)
+        return out
+
+    started, ticked = rollout(True), rollout(False)
+    for a, b in zip(started, ticked, strict=True):
+        assert (a == b).all()
+
+
+def test_a_source_of_replays_has_its_levels_kept_once_they_come_back():
+    source = plr_source("zelda")
+    assert source.replayed_levels == 12
+    env = GVGAIEnv("zelda", 2, levels=source, seed=1, compile_tick=False)
+    store = env._bank
+    assert store.capacity == 64 + 12
+    a, b = (generate_level("zelda", 0.5, seed) for seed in (1, 2))
+    one = torch.zeros(1, dtype=torch.int64)
+    assert not store.fresh_states([a], one, True)[1]  # met once: compiled, not kept
+    assert a not in store
+    states, started, observed = store.fresh_states([a], one, True)  # it came back: kept, started
+    assert started and a in store and observed.shape[0] == 1
+    assert not store.fresh_states([b], one, True)[1] and b not in store

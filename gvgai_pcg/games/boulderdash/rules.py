@@ -174,6 +174,7 @@ def collect_gems(
 class Boulderdash(Game):
     actions = SHOOT_ACTIONS
     tile_types = ("wall", "sword", "dirt", "exitdoor", "diamond", "boulder", "crab", "butterfly", "avatar")
+    seed_free_reset_tick = True  # enemies move NONE at tick 0 (enemy_directions); nothing else draws
     art = {
         "background": SpriteArt((20, 20, 20)),
         "wall": SpriteArt((110, 80, 50)),

@@ -90,6 +90,9 @@ def random_npc_directions(
 class Zelda(Game):
     actions = SHOOT_ACTIONS
     tile_types = ("wall", "goal", "key", "sword", "nokey", "withkey", *MONSTER_TYPES)
+    # A monster first draws a direction once its counter (0 in every compiled level) reaches its
+    # cons (6 or more), so tick 0 draws nothing.
+    seed_free_reset_tick = True
     art = {
         "floor": SpriteArt((40, 40, 40)),
         "wall": SpriteArt((110, 90, 70)),
