@@ -9,7 +9,7 @@ Frogs use), and for the representations the plan gives them there. A description
 
 from __future__ import annotations
 
-from gvgai_pcg.vgdl.engine.columns import held_resources
+from gvgai_pcg.vgdl.engine.columns import held_resources, oriented_table
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.java_classes import defaults_of
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
@@ -18,7 +18,8 @@ from gvgai_pcg.vgdl.plan import Plan, RulePlan
 
 # Per class, its representation and the behaviour parameters a file may set.
 SPRITE_KERNELS: dict[str, tuple[str, frozenset[str]]] = {
-    "Immovable": (GRID, frozenset()),
+    # singleton: Java's creation guard (``TypePlan.singleton_guard``); speed: an Immovable never moves
+    "Immovable": (GRID, frozenset({"singleton", "speed"})),
     "Door": (GRID, frozenset()),
     "Flicker": (RECORD, frozenset({"limit", "singleton"})),
     "OrientedFlicker": (RECORD, frozenset({"limit", "singleton"})),
@@ -27,12 +28,13 @@ SPRITE_KERNELS: dict[str, tuple[str, frozenset[str]]] = {
     "OngoingAvatar": (RECORD, frozenset({"speed"})),
     "Passive": (GRID, frozenset()),
     "Resource": (GRID, frozenset({"limit", "value"})),
-    "MovingAvatar": (RECORD, frozenset()),
+    "MovingAvatar": (RECORD, frozenset({"speed"})),
     "Missile": (TABLE, frozenset({"speed", "cooldown", "orientation"})),
     "SpawnPoint": (GRID, frozenset({"stype", "prob", "cooldown"})),
 }
 # Classes whose kernels also hold them in another representation.
 MORE_REPRESENTATIONS: dict[str, frozenset[str]] = {
+    "Immovable": frozenset({TABLE}),
     "Passive": frozenset({TABLE}),
     "Flicker": frozenset({TABLE}),
 }
@@ -42,7 +44,7 @@ COSMETIC = frozenset(
 )
 # Per effect, the parameters its kernel reads; every other must keep Java's default.
 EFFECT_KERNELS: dict[str, frozenset[str]] = {
-    "stepBack": frozenset(),
+    "stepBack": frozenset({"pixelPerfect"}),
     "killSprite": frozenset({"scoreChange"}),
     "transformTo": frozenset({"scoreChange", "stype", "killSecond"}),
     "spawn": frozenset({"scoreChange", "stype", "prob"}),
@@ -232,17 +234,17 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
         raise VGDLError(path, line, "killIfFromAbove with a still (grid) type is not implemented")
     if rule.name == "transformTo" and any(held_resources(plan, name) for name in rule.firsts):
         raise VGDLError(path, line, "transformTo of a sprite holding resources is not implemented")
-    if rule.name == "transformTo" and not _into_grid(plan, rule):
+    if rule.name == "transformTo" and not _into_grid(plan, rule) and not _into_table(plan, rule):
         stype = rule.values.get("stype")
         target = plan.types.get(stype) if isinstance(stype, str) else None
-        if (
-            target is None
-            or target.representation != RECORD
-            or representations - {RECORD}
-            or stype in rule.firsts
-        ):
+        if target is None or target.representation != RECORD or representations - {RECORD}:
+            raise VGDLError(path, line, "transformTo is implemented from record types (the avatar) into one")
+        if stype in rule.firsts and any(stype in other.seconds for other in plan.pairs):
+            # renewed in place, the record cannot also be the killed sprite Java keeps as a second
             raise VGDLError(
-                path, line, "transformTo is implemented from one record type (the avatar) into another"
+                path,
+                line,
+                f"transformTo of {stype} into itself, with {stype} a second of a rule, is not implemented",
             )
     if rule.name == "shieldFrom":
         _check_shield(plan, rule)
@@ -250,36 +252,69 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
     if rule.name == "pullWithIt":
         _check_pull(plan, rule)
         return
+    if rule.name == "stepBack" and rule.values.get("pixelPerfect") and rule.kind == "F":
+        raise VGDLError(path, line, "a pixelPerfect stepBack among sprites of one group is not implemented")
     if rule.kind == "F":
         same = set(rule.firsts) == set(rule.seconds)
         if rule.name != "stepBack" or not same or representations != {TABLE}:
             raise VGDLError(
                 path, line, f"{rule.name} among sprites of one group is implemented for one table only"
             )
-    elif rule.kind not in ("P", "A") and not (rule.kind == "X" and rule.name == "collectResource"):
+    elif rule.kind not in ("P", "A") and not (rule.kind == "X" and _scanned(plan, rule)):
         raise VGDLError(
             path, line, f"{rule.name}: a rule of kind {rule.kind} ({rule.why}) is not implemented"
         )
 
 
+def _scanned(plan: Plan, rule: RulePlan) -> bool:
+    """A rule of kind X with a kernel: collectResource, or a transformTo into a table that a
+    singleton guards (``transform_table``: the first creation in processing order)."""
+    stype = rule.values.get("stype")
+    into_table = isinstance(stype, str) and plan.types[stype].representation == TABLE
+    return rule.name == "collectResource" or (rule.name == "transformTo" and into_table)
+
+
 def _into_grid(plan: Plan, rule: RulePlan) -> bool:
-    """transformTo from table types on whole cells into a grid type (``transform_grid``); refuses
-    the rest of what goes into a grid."""
+    """transformTo from table types or records on whole cells into a grid type that no singleton
+    guards (``transform_grid``); refuses the rest of what goes into a grid."""
     stype = rule.values.get("stype")
     target = plan.types.get(stype) if isinstance(stype, str) else None
     if target is None or target.representation != GRID:
         return False
     firsts = [plan.types[name] for name in rule.firsts]
     if (
-        any(sprite.representation != TABLE or not sprite.aligned for sprite in firsts)
+        any(sprite.representation == GRID or not sprite.aligned for sprite in firsts)
         or rule.values.get("killSecond")
         or stype in rule.firsts + rule.seconds
+        or target.singleton_guard
     ):
         raise VGDLError(
             plan.path,
             rule.line,
-            "transformTo into a still (grid) type is implemented from table types on whole cells, "
-            "without killSecond, into a type the rule does not name",
+            "transformTo into a still (grid) type is implemented from table types or records on whole "
+            "cells, without killSecond, into a type the rule does not name and no singleton guards",
+        )
+    return True
+
+
+def _into_table(plan: Plan, rule: RulePlan) -> bool:
+    """transformTo from tables or records into a table whose sprites hold no orientation, without
+    killSecond (``transform_table``); refuses the rest of what goes into a table."""
+    stype = rule.values.get("stype")
+    target = plan.types.get(stype) if isinstance(stype, str) else None
+    if target is None or target.representation != TABLE:
+        return False
+    firsts = [plan.types[name] for name in rule.firsts]
+    if (
+        any(sprite.representation == GRID for sprite in firsts)
+        or rule.values.get("killSecond")
+        or oriented_table(plan, (str(stype),))
+    ):
+        raise VGDLError(
+            plan.path,
+            rule.line,
+            "transformTo into a table is implemented from tables or records, without killSecond, into "
+            "a type that holds no orientation",
         )
     return True
 
@@ -292,7 +327,9 @@ def _check_off_grid(plan: Plan) -> None:
     for rule in plan.pairs:
         stype = rule.values.get("stype")
         if rule.name == "transformTo" and isinstance(stype, str) and plan.types[stype].representation == GRID:
-            made.setdefault(stype, set()).update(rule.firsts)
+            tables = {name for name in rule.firsts if plan.types[name].representation == TABLE}
+            if tables:
+                made.setdefault(stype, set()).update(tables)
     for rule in plan.pairs:
         reads_first = rule.name not in ("stepBack", "collectResource") and set(rule.firsts) & set(made)
         reads_second = (
@@ -371,7 +408,7 @@ def _check_spawn(plan: Plan, rule: RulePlan) -> None:
     path, line = plan.path, rule.line
     stype = rule.values.get("stype")
     target = plan.types.get(stype) if isinstance(stype, str) else None
-    if target is None or target.representation == RECORD or target.singleton:
+    if target is None or target.representation == RECORD or target.singleton_guard:
         raise VGDLError(
             path, line, f"{rule.name} into {stype!r}: only into a grid or a table, not a singleton"
         )

@@ -1,0 +1,185 @@
+"""The generic step's transformTo into a table (``vgdl/engine/transform_table.py``) with Java's
+singleton guard, an avatar made into a still (grid) type or renewed as its own type (``effects``),
+and the pixel-perfect stepBack (``pixel_perfect.py``), on small levels worked out by hand from
+Java's TransformTo, Game.addSprite and Effect.calculatePixelPerfect."""
+
+from __future__ import annotations
+
+import torch
+
+from gvgai_pcg.levels import Level
+from gvgai_pcg.vgdl.engine import VGDLGame
+
+NIL, LEFT, RIGHT = 0, 1, 2
+
+RACE = """BasicGame
+    SpriteSet
+        floor > Immovable
+        goal > Door
+        camel > Missile orientation=RIGHT speed=0.5
+            camelA >
+            camelB >
+        winner > Immovable {singleton}
+            winA >
+            winB >
+        avatar > MovingAvatar
+    InteractionSet
+{rules}
+    TerminationSet
+        SpriteCounter stype=avatar limit=0 win=False
+    LevelMapping
+        . > floor
+        g > floor goal
+        a > floor camelA
+        b > floor camelB
+        A > floor avatar
+"""
+
+
+def play(vgdl: VGDLGame, rows: tuple[str, ...], actions: list[int]) -> list:
+    state = vgdl.compile([Level("mine", rows)], torch.zeros(1, dtype=torch.int64), "cpu")
+    history = []
+    for action in actions:
+        vgdl.tick(state, torch.tensor([action]))
+        history.append(state.clone())
+    return history
+
+
+def sprites(vgdl: VGDLGame, state, names: list[str]) -> list:
+    return sorted(vgdl.sprites(state[0], names))
+
+
+def race(rules: str, singleton: str = "", path: str = "race.txt") -> VGDLGame:
+    return VGDLGame.from_text(RACE.format(rules=rules, singleton=singleton), path)
+
+
+def test_a_camel_at_the_goal_becomes_a_winner_in_a_table_where_it_is():
+    vgdl = race("        camel goal > transformTo stype=winA scoreChange=-1")
+    assert vgdl.layout.places["winA"].representation == "table"  # made off the cells
+    history = play(vgdl, ("a.g", "A.."), [NIL] * 4)
+    # 5 px a move from its second update: 0, 5, 10, then 15 overlaps the goal at 20
+    assert sprites(vgdl, history[2], ["camelA", "winA"]) == [["camelA", 10, 0]]
+    assert sprites(vgdl, history[3], ["camelA", "winA"]) == [["winA", 15, 0]]
+    table = history[3].get(vgdl.layout.places["winA"].key)
+    made = table.get("alive")[0]
+    assert table.get("lastx")[0][made].tolist() == [10]  # the camel's last position
+    assert history[3].get("score").item() == -1
+
+
+def test_a_singleton_winner_is_made_by_the_first_camel_in_the_rules_order_and_refuses_the_next():
+    """Both camels reach the goal in tick 3. The rule takes camelA before camelB (``iSubTypes``
+    order), though camelB is first in list order: camelA becomes the winner; camelB's transform
+    finds a winner (Java makes nothing and kills nothing), scores anyway and runs on."""
+    vgdl = race("        camel goal > transformTo stype=winA scoreChange=1", "singleton=True", "one.txt")
+    history = play(vgdl, ("b.g", "a.g", "A.."), [NIL] * 5)
+    assert sprites(vgdl, history[3], ["camelA", "camelB", "winA"]) == [["camelB", 15, 0], ["winA", 15, 10]]
+    assert history[3].get("score").item() == 2
+    assert sprites(vgdl, history[4], ["camelB"]) == [["camelB", 20, 0]]  # refused again: +1
+    assert history[4].get("score").item() == 3
+
+
+def test_a_singleton_made_by_an_earlier_rule_refuses_a_later_rules_transform():
+    rules = (
+        "        camelB goal > transformTo stype=winB scoreChange=1\n"
+        "        camelA goal > transformTo stype=winA scoreChange=2"
+    )
+    vgdl = race(rules, "singleton=True", "two.txt")
+    history = play(vgdl, ("a.g", "b.g", "A.."), [NIL] * 4)
+    assert sprites(vgdl, history[3], ["camelA", "camelB", "winA", "winB"]) == [
+        ["camelA", 15, 0],
+        ["winB", 15, 10],
+    ]
+    assert history[3].get("score").item() == 3
+
+
+PRIZE = """BasicGame
+    SpriteSet
+        floor > Immovable
+        goal > Immovable
+        prize > Immovable
+        avatar > MovingAvatar
+    InteractionSet
+        avatar goal > transformTo stype=prize scoreChange=1
+    TerminationSet
+        SpriteCounter stype=avatar limit=0 win=False
+    LevelMapping
+        . > floor
+        g > floor goal
+        G > floor goal goal
+        A > floor avatar
+"""
+
+
+def test_an_avatar_made_into_a_still_type_is_disabled_and_scores_for_every_second_it_meets():
+    vgdl = VGDLGame.from_text(PRIZE, "prize.txt")
+    assert vgdl.layout.places["prize"].representation == "grid"
+    for rows, score in ((("Ag.",), 1), (("AG.",), 2)):  # one goal, then two in the cell
+        history = play(vgdl, rows, [NIL, RIGHT])
+        assert history[0].get("score").item() == 0
+        assert history[1].get("prize")[0, 0].tolist() == [0, 1, 0]  # one prize however many goals
+        assert not history[1].get(("avatar", "alive")).item() and history[1].get("lost").item()
+        assert history[1].get("score").item() == score
+
+
+BETS = """BasicGame
+    SpriteSet
+        arena > Immovable
+        pit > Immovable
+        avatar > MovingAvatar
+            bet >
+            normal >
+    InteractionSet
+        avatar arena > transformTo stype=normal scoreChange=1
+        avatar pit > transformTo stype=bet scoreChange=10
+    TerminationSet
+        SpriteCounter stype=avatar limit=0 win=False
+    LevelMapping
+        . > arena
+        p > pit
+        A > normal arena
+"""
+
+
+def test_an_avatar_made_into_its_own_type_is_renewed_in_place_once_a_rule():
+    """On the arena ``normal`` becomes a new ``normal`` (+1) every tick; on the pit it becomes
+    ``bet`` (+10); back on the arena ``bet`` becomes ``normal`` (+1), and that new ``normal``,
+    made by the rule, is no first of it (no second +1)."""
+    vgdl = VGDLGame.from_text(BETS, "bets.txt")
+    history = play(vgdl, ("A.p",), [NIL, RIGHT, RIGHT, LEFT])
+    assert [state.get("score").item() for state in history] == [1, 2, 12, 13]
+    alive = [[n for n in ("bet", "normal") if state.get((n, "alive")).item()] for state in history]
+    assert alive == [["normal"], ["normal"], ["bet"], ["normal"]]
+    assert history[3].get(("normal", "x")).item() == 10
+    assert history[3].get(("normal", "lastx")).item() == 20  # the bet's last position
+
+
+WALLED = """BasicGame
+    SpriteSet
+        floor > Immovable
+        barrier > Immovable
+        camel > Missile orientation={orientation} speed=0.7
+        avatar > MovingAvatar
+    InteractionSet
+        camel barrier > stepBack {perfect}
+    TerminationSet
+        SpriteCounter stype=avatar limit=0 win=False
+    LevelMapping
+        . > floor
+        b > floor barrier
+        c > floor camel
+        A > floor avatar
+"""
+
+
+def test_a_pixel_perfect_step_back_puts_a_camel_flush_against_the_barrier():
+    """7 px a move: 0, 7, 14, then 21 overlaps the barrier at 30; a plain stepBack goes back to
+    14, a pixel-perfect one stops flush at 20 and stays there."""
+    for orientation, rows, perfect, seen in (
+        ("RIGHT", ("c..b", "A..."), "", [0, 7, 14, 14, 14]),
+        ("RIGHT", ("c..b", "A..."), "pixelPerfect=True", [0, 7, 14, 20, 20]),
+        ("LEFT", ("b..c", "A..."), "pixelPerfect=True", [30, 23, 16, 10, 10]),
+    ):
+        text = WALLED.format(orientation=orientation, perfect=perfect)
+        vgdl = VGDLGame.from_text(text, f"walled{orientation}{bool(perfect)}.txt")
+        history = play(vgdl, rows, [NIL] * 5)
+        assert [sprites(vgdl, state, ["camel"])[0][1] for state in history] == seen
