@@ -183,3 +183,42 @@ def test_a_pixel_perfect_step_back_puts_a_camel_flush_against_the_barrier():
         vgdl = VGDLGame.from_text(text, f"walled{orientation}{bool(perfect)}.txt")
         history = play(vgdl, rows, [NIL] * 5)
         assert [sprites(vgdl, state, ["camel"])[0][1] for state in history] == seen
+
+
+PAINT = """BasicGame
+    SpriteSet
+        ground > Immovable
+        paint > Immovable
+        mark > Flicker limit=2
+        marking > Resource limit=2
+        avatar > MovingAvatar
+    InteractionSet
+        mark avatar > killSprite
+        ground avatar > spawn stype=mark scoreChange=5
+        mark ground > changeResource resource=marking value=1
+        mark ground > spawnIfHasMore resource=marking limit=2 stype=paint
+        ground mark > killIfOtherHasMore resource=marking limit=2 scoreChange=1
+    TerminationSet
+        SpriteCounter stype=avatar limit=0 win=False
+    LevelMapping
+        . > ground
+        G > ground ground
+        A > avatar ground
+"""
+
+
+def test_a_still_type_spawns_once_per_sprite_and_is_killed_by_a_table_sprite_that_has_more():
+    """Tick 0: the ground under the avatar spawns a mark (+5), which takes 1 marking. Tick 1, one
+    cell right onto two grounds: each spawns a mark (+10), each of which takes a marking per ground
+    (2, the limit); the first mark, left behind, takes its second: each application of
+    spawnIfHasMore makes a paint (1 + 2 x 2), and every ground under a mark with 2 is killed (+3)."""
+    vgdl = VGDLGame.from_text(PAINT, "paint.txt")
+    assert vgdl.layout.places["ground"].representation == "grid"
+    assert vgdl.layout.places["mark"].representation == "table"
+    history = play(vgdl, ("AG..",), [NIL, RIGHT])  # 4 cells: 4 slots for marks
+    assert history[0].get("score").item() == 5
+    assert sprites(vgdl, history[0], ["mark"]) == [["mark", 0, 0]]
+    assert history[1].get("score").item() == 18
+    assert sprites(vgdl, history[1], ["mark"]) == [["mark", 0, 0], ["mark", 10, 0], ["mark", 10, 0]]
+    assert history[1].get("paint")[0].tolist() == [[1, 4, 0, 0]]
+    assert history[1].get("ground")[0].tolist() == [[0, 0, 1, 1]]

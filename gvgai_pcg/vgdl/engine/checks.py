@@ -9,7 +9,7 @@ Frogs use), and for the representations the plan gives them there. A description
 
 from __future__ import annotations
 
-from gvgai_pcg.vgdl.engine.columns import held_resources, oriented_table
+from gvgai_pcg.vgdl.engine.columns import held_columns, held_resources, oriented_table
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.java_classes import defaults_of
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
@@ -345,23 +345,26 @@ def _check_off_grid(plan: Plan) -> None:
 
 def _check_resource_rule(plan: Plan, rule: RulePlan) -> None:
     """collectResource and killIfOtherHasMore: a grid type as first (collectResource: a Resource),
-    avatar records on whole cells holding the resource as seconds."""
+    seconds on whole cells holding the resource: avatar records that collect it (killIfOtherHasMore:
+    or records and tables that a rule gives it to)."""
     firsts = [plan.types[name] for name in rule.firsts]
     seconds = [plan.types[name] for name in rule.seconds]
     resource = rule.firsts[0] if rule.name == "collectResource" else str(rule.values.get("resource"))
+    holders = (RECORD,) if rule.name == "collectResource" else (RECORD, TABLE)
+    holds = held_resources if rule.name == "collectResource" else held_columns
     if (
         len(firsts) != 1
         or firsts[0].representation != GRID
         or (rule.name == "collectResource" and firsts[0].java_class != "Resource")
-        or any(sprite.representation != RECORD or not sprite.aligned for sprite in seconds)
-        or any(resource not in held_resources(plan, name) for name in rule.seconds)
+        or any(sprite.representation not in holders or not sprite.aligned for sprite in seconds)
+        or any(resource not in holds(plan, name) for name in rule.seconds)
         or plan.types[resource].values.get("resource_name") is not None
     ):
         raise VGDLError(
             plan.path,
             rule.line,
-            f"{rule.name} is implemented from one still (grid) type onto records on whole cells "
-            "that collect the resource",
+            f"{rule.name} is implemented from one still (grid) type onto records"
+            f"{'' if rule.name == 'collectResource' else ' or tables'} on whole cells that hold the resource",
         )
 
 
@@ -412,8 +415,19 @@ def _check_spawn(plan: Plan, rule: RulePlan) -> None:
         raise VGDLError(
             path, line, f"{rule.name} into {stype!r}: only into a grid or a table, not a singleton"
         )
-    if any(plan.types[name].representation == GRID for name in rule.firsts):
-        raise VGDLError(path, line, f"{rule.name} from a still (grid) type is not implemented")
+    if any(plan.types[name].representation == GRID for name in rule.firsts) and (
+        rule.name != "spawn"
+        or float(rule.values.get("prob", 1)) < 1
+        or (target.representation == TABLE and target.java_class == "Missile")
+        or any(plan.types[name].representation == GRID for name in rule.seconds)
+    ):
+        # a grid's cells spawn in row-major order, not list order: no draws, no list order kept
+        raise VGDLError(
+            path,
+            line,
+            f"{rule.name} from a still (grid) type is implemented for spawn with prob 1 into a grid or "
+            "a table that keeps no list order, with records or tables as seconds",
+        )
     if target.representation == GRID and not all(plan.types[name].aligned for name in rule.firsts):
         raise VGDLError(path, line, f"{rule.name} into a grid from sprites off the cells is not implemented")
     if rule.name == "spawnIfHasMore" and rule.values.get("spend"):

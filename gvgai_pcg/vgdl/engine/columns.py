@@ -56,6 +56,17 @@ def held_resources(plan: Plan, name: str) -> tuple[str, ...]:
     return tuple(dict.fromkeys(resource for firsts in held for resource in firsts))
 
 
+def held_columns(plan: Plan, name: str) -> tuple[str, ...]:
+    """The resource types sprites of type ``name`` keep a count of: given by collectResource, or
+    changed or read by a rule that names ``name`` as first."""
+    changed = [
+        str(rule.values["resource"])
+        for rule in plan.pairs
+        if rule.name in RESOURCE_EFFECTS and name in rule.firsts
+    ]
+    return tuple(dict.fromkeys([*held_resources(plan, name), *changed]))
+
+
 def oriented_table(plan: Plan, names: tuple[str, ...]) -> bool:
     """Whether a table of ``names`` keeps each sprite's orientation."""
     return any(plan.types[name].java_class in ORIENTED_TABLES for name in names)
