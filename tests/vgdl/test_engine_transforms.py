@@ -222,3 +222,66 @@ def test_a_still_type_spawns_once_per_sprite_and_is_killed_by_a_table_sprite_tha
     assert sprites(vgdl, history[1], ["mark"]) == [["mark", 0, 0], ["mark", 10, 0], ["mark", 10, 0]]
     assert history[1].get("paint")[0].tolist() == [[1, 4, 0, 0]]
     assert history[1].get("ground")[0].tolist() == [[0, 0, 1, 1]]
+
+
+SICK = """BasicGame
+    SpriteSet
+        floor > Immovable
+        sick > Immovable
+        hosts >
+            fast > Missile orientation=LEFT speed=0.5
+                host1 >
+            slow > Missile orientation=RIGHT speed=0.1
+                host2 >
+        avatar > MovingAvatar
+    InteractionSet
+        hosts sick > transformTo stype=sick scoreChange=1
+    TerminationSet
+        SpriteCounter stype=avatar limit=0 win=False
+    LevelMapping
+        . > floor
+        s > floor sick
+        f > floor host1
+        l > floor host2
+        A > floor avatar
+"""
+
+
+def test_what_a_transform_makes_is_no_second_of_the_same_rule():
+    """Tick 3: host1 (5 px a move left from 20) reaches 5 and becomes a sick sprite there; host2
+    (1 px right from 10), at 13, overlaps that new sprite but not the old one at 0: Java's rule
+    took its seconds before it applied, so host2 becomes sick only in tick 4, at 14."""
+    vgdl = VGDLGame.from_text(SICK, "sick.txt")
+    assert vgdl.layout.places["host1"].key != vgdl.layout.places["host2"].key  # two sides
+    history = play(vgdl, ("slf", "A.."), [NIL] * 5)
+    names = ["sick", "host1", "host2"]
+    assert sprites(vgdl, history[3], names) == [["host2", 13, 0], ["sick", 0, 0], ["sick", 5, 0]]
+    assert history[3].get("score").item() == 1
+    assert sprites(vgdl, history[4], names) == [["sick", 0, 0], ["sick", 5, 0], ["sick", 14, 0]]
+
+
+DOORS = """BasicGame
+    SpriteSet
+        floor > Immovable
+        door > SpawnPoint stype=walker total=2 cooldown=3 portal=True
+        walker > RandomNPC speed=0
+        avatar > MovingAvatar
+    InteractionSet
+        avatar walker > killSprite
+    TerminationSet
+        SpriteCounter stype=avatar limit=0 win=False
+    LevelMapping
+        . > floor
+        d > floor door
+        A > floor avatar
+"""
+
+
+def test_a_spawn_point_with_a_total_is_killed_once_it_made_that_many():
+    vgdl = VGDLGame.from_text(DOORS, "doors.txt")
+    assert vgdl.layout.places["door"].representation == "table"  # it keeps a count
+    history = play(vgdl, ("A.d", "d.."), [NIL] * 5)
+    counts = [(len(sprites(vgdl, s, ["door"])), len(sprites(vgdl, s, ["walker"]))) for s in history]
+    # ticks 0 and 3 (tick % cooldown == 0) each door makes a walker; at 3 it has made 2: killed
+    assert counts == [(2, 2), (2, 2), (2, 2), (0, 4), (0, 4)]
+    assert sprites(vgdl, history[4], ["walker"]) == [["walker", 0, 10]] * 2 + [["walker", 20, 0]] * 2

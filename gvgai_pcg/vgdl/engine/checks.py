@@ -30,13 +30,15 @@ SPRITE_KERNELS: dict[str, tuple[str, frozenset[str]]] = {
     "Resource": (GRID, frozenset({"limit", "value"})),
     "MovingAvatar": (RECORD, frozenset({"speed"})),
     "Missile": (TABLE, frozenset({"speed", "cooldown", "orientation"})),
-    "SpawnPoint": (GRID, frozenset({"stype", "prob", "cooldown"})),
+    # portal: only the category an agent's observation gives it
+    "SpawnPoint": (GRID, frozenset({"stype", "prob", "cooldown", "total", "portal"})),
 }
 # Classes whose kernels also hold them in another representation.
 MORE_REPRESENTATIONS: dict[str, frozenset[str]] = {
     "Immovable": frozenset({TABLE}),
     "Passive": frozenset({TABLE}),
     "Flicker": frozenset({TABLE}),
+    "SpawnPoint": frozenset({TABLE}),
 }
 # Parameters that change only how a sprite is drawn.
 COSMETIC = frozenset(
@@ -171,13 +173,26 @@ def _check_missile(plan: Plan, name: str) -> None:
 
 
 def _check_spawner(plan: Plan, name: str) -> None:
-    stype = plan.types[name].values.get("stype")
+    sprite = plan.types[name]
+    stype = sprite.values.get("stype")
     made = plan.types.get(stype) if isinstance(stype, str) else None
-    if made is None or made.representation != TABLE or made.java_class != "Missile":
+    if (
+        made is None
+        or made.representation != TABLE
+        or made.java_class not in ("Missile", "RandomNPC")
+        or made.singleton_guard
+    ):
         raise VGDLError(
             plan.path,
-            plan.types[name].line,
-            f"{name}: a SpawnPoint is implemented for an stype of one Missile type held in a table",
+            sprite.line,
+            f"{name}: a SpawnPoint is implemented for an stype of one Missile or RandomNPC type held "
+            "in a table",
+        )
+    if sprite.representation == TABLE and (sprite.created_by or float(sprite.values.get("prob", 1)) < 1):
+        raise VGDLError(
+            plan.path,
+            sprite.line,
+            f"{name}: a SpawnPoint held as a table is implemented for level spawners with prob 1",
         )
 
 

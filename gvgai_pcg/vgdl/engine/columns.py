@@ -39,6 +39,8 @@ def fresh_columns(plan: Plan, names: tuple[str, ...]) -> dict[str, int | bool]:
         values["fresh"] = True
     if classes & COUNTING_MOVES:
         values["lastmove"] = 0
+    if "SpawnPoint" in classes:  # what it made so far (Java's counter, against its total)
+        values["spawned"] = 0
     if "RandomNPC" in classes:
         values.update({"counter": 0, "prev": NONE})
     for rule in plan.pairs:

@@ -30,16 +30,21 @@ KIND_RANK = 1 << 40
 
 def transform_into_table(frame: Frame, rule: Rule) -> None:
     """Each eligible first that overlaps a second becomes a ``stype`` sprite of a table (see the
-    module docstring)."""
+    module docstring). Every first's overlaps are found before anything is made: Java's rule takes
+    its firsts and seconds before it applies, so what it makes is neither (infection: a host that
+    becomes ``infected`` infects no other host in the same rule)."""
     made = str(rule.plan.values["stype"])
     guard = frame.layout.plan.types[made].singleton_guard
+    found = []
     for first in rule.firsts:
         x, y = frame.xy(first)
         hits = frame.overlap_count(x, y, first.aligned, first, list(rule.seconds)) * frame.eligible(first)
-        disabled = frame.disabled_mask(first)
-        fire = (hits > 0) & ~disabled
-        if guard:
-            fire = _first_in_order(fire, _order(frame, first)) & ~exists(frame, guard).unsqueeze(-1)
+        found.append((first, x, y, hits, (hits > 0) & ~frame.disabled_mask(first)))
+    taken = exists(frame, guard) if guard else None
+    for first, x, y, hits, fire in found:
+        if taken is not None:
+            fire = _first_in_order(fire, _order(frame, first)) & ~taken.unsqueeze(-1)
+            taken = taken | fire.any(-1)
         kept_going = (first.key in frame.layout.avatars) | ~fire  # applied to every second it meets
         frame.add_score(rule.score * torch.where(kept_going, hits, fire.long()).sum(-1))
         create(frame, made, fire.long(), x, y, rule.overflow, last=_last(frame, first))
