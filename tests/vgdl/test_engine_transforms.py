@@ -285,3 +285,40 @@ def test_a_spawn_point_with_a_total_is_killed_once_it_made_that_many():
     # ticks 0 and 3 (tick % cooldown == 0) each door makes a walker; at 3 it has made 2: killed
     assert counts == [(2, 2), (2, 2), (2, 2), (0, 4), (0, 4)]
     assert sprites(vgdl, history[4], ["walker"]) == [["walker", 0, 10]] * 2 + [["walker", 20, 0]] * 2
+
+
+ZEN = """BasicGame
+    SpriteSet
+        ground > Immovable
+        walked > Immovable
+        mark > Flicker limit=1
+        avatar > MovingAvatar
+    InteractionSet
+        avatar walked > stepBack
+        ground avatar > transformTo stype=walked scoreChange=1
+        walked avatar > spawn stype=mark
+    TerminationSet
+        MultiSpriteCounter stype1=mark stype2=ground limit=0 win=True
+    LevelMapping
+        . > ground
+        G > ground ground
+        A > avatar
+"""
+
+
+def test_a_still_type_transforms_into_another_in_its_own_cells():
+    """Tick 1 onto two grounds: both become walked (+2), each of which spawns a mark; tick 2 onto
+    the last ground (+1); tick 3 left onto walked: stepped back."""
+    vgdl = VGDLGame.from_text(ZEN, "zen.txt")
+    assert vgdl.layout.places["walked"].representation == "grid"
+    history = play(vgdl, ("AG.",), [NIL, RIGHT, RIGHT, LEFT])
+    assert [state.get("score").item() for state in history] == [0, 2, 3, 3]
+    assert [state.get("ground")[0].tolist() for state in history[:3]] == [
+        [[0, 2, 1]],
+        [[0, 0, 1]],
+        [[0, 0, 0]],
+    ]
+    assert history[2].get("walked")[0].tolist() == [[0, 2, 1]]
+    assert sprites(vgdl, history[1], ["mark"]) == [["mark", 10, 0]] * 2
+    assert history[3].get(("avatar", "x")).item() == 20
+    assert not history[3].get("won").item()  # the marks under the avatar keep it from winning

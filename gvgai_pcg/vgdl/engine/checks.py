@@ -290,15 +290,15 @@ def _scanned(plan: Plan, rule: RulePlan) -> bool:
 
 
 def _into_grid(plan: Plan, rule: RulePlan) -> bool:
-    """transformTo from table types or records on whole cells into a grid type that no singleton
-    guards (``transform_grid``); refuses the rest of what goes into a grid."""
+    """transformTo from grid types, or table types or records on whole cells, into a grid type
+    that no singleton guards (``transform_grid``); refuses the rest of what goes into a grid."""
     stype = rule.values.get("stype")
     target = plan.types.get(stype) if isinstance(stype, str) else None
     if target is None or target.representation != GRID:
         return False
     firsts = [plan.types[name] for name in rule.firsts]
     if (
-        any(sprite.representation == GRID or not sprite.aligned for sprite in firsts)
+        any(not sprite.aligned for sprite in firsts)
         or rule.values.get("killSecond")
         or stype in rule.firsts + rule.seconds
         or target.singleton_guard
@@ -306,8 +306,8 @@ def _into_grid(plan: Plan, rule: RulePlan) -> bool:
         raise VGDLError(
             plan.path,
             rule.line,
-            "transformTo into a still (grid) type is implemented from table types or records on whole "
-            "cells, without killSecond, into a type the rule does not name and no singleton guards",
+            "transformTo into a still (grid) type is implemented from types on whole cells, without "
+            "killSecond, into a type the rule does not name and no singleton guards",
         )
     return True
 

@@ -44,7 +44,19 @@ def cell_applications(
     frame: Frame, rule: Rule, first: Side
 ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
     """``applications`` of a grid type's sprites: each cell's position and its sprites not yet
-    killed times the seconds (records or tables, killed ones included) that cover the cell."""
+    killed times the seconds that cover the cell."""
+    standing, touched = standing_and_touched(frame, rule, first)
+    batch, height, width = frame.grid(first.key).shape
+    cells = torch.arange(height * width, device=standing.device)
+    x = (CELL * (cells % width)).expand(batch, -1)
+    y = (CELL * (cells // width)).expand(batch, -1)
+    return x, y, standing * touched
+
+
+def standing_and_touched(frame: Frame, rule: Rule, first: Side) -> tuple[torch.Tensor, torch.Tensor]:
+    """Per cell ``[B, H * W]`` of grid type ``first``: its sprites that may still be a first (not
+    killed, the rule not shielded) and how many of the rule's seconds (records or tables, killed
+    ones included) cover the cell."""
     grid = frame.grid(first.key)
     batch, height, width = grid.shape
     touched = torch.zeros(batch, height * width, dtype=torch.int64, device=grid.device)
@@ -56,10 +68,7 @@ def cell_applications(
     standing = (grid - frame.grid_killed(first.key)).reshape(batch, -1).long()
     if frame.skip is not None:
         standing = standing * ~frame.skip.unsqueeze(-1)
-    cells = torch.arange(height * width, device=grid.device)
-    x = (CELL * (cells % width)).expand(batch, -1)
-    y = (CELL * (cells // width)).expand(batch, -1)
-    return x, y, standing * touched
+    return standing, touched
 
 
 def spawn(frame: Frame, rule: Rule) -> None:
