@@ -5,9 +5,11 @@ Java's TransformTo, Game.addSprite and Effect.calculatePixelPerfect."""
 
 from __future__ import annotations
 
+import pytest
 import torch
 
 from gvgai_pcg.levels import Level
+from gvgai_pcg.vgdl import VGDLError
 from gvgai_pcg.vgdl.engine import VGDLGame
 
 NIL, LEFT, RIGHT = 0, 1, 2
@@ -322,3 +324,29 @@ def test_a_still_type_transforms_into_another_in_its_own_cells():
     assert sprites(vgdl, history[1], ["mark"]) == [["mark", 10, 0]] * 2
     assert history[3].get(("avatar", "x")).item() == 20
     assert not history[3].get("won").item()  # the marks under the avatar keep it from winning
+
+
+def refusal(text: str) -> str:
+    with pytest.raises(VGDLError) as caught:
+        VGDLGame.from_text(text, "mine.txt")
+    message = str(caught.value)
+    assert "\n" not in message
+    return message
+
+
+def test_what_these_kernels_do_not_cover_is_refused_in_one_line():
+    renewed_second = BETS.replace(
+        "        avatar pit > transformTo stype=bet scoreChange=10",
+        "        avatar pit > transformTo stype=bet scoreChange=10\n        pit normal > killSprite",
+    )
+    assert refusal(renewed_second) == (
+        "mine.txt:9: transformTo of normal into itself, with normal a second of a rule, is not implemented"
+    )
+    drawn = DOORS.replace("cooldown=3 portal=True", "cooldown=3 prob=0.5")
+    assert refusal(drawn) == (
+        "mine.txt:4: door: a SpawnPoint held as a table is implemented for level spawners with prob 1"
+    )
+    kept = PAINT.replace("mark > Flicker limit=2", "mark > Missile orientation=LEFT")
+    assert refusal(kept).startswith(
+        "mine.txt:10: spawn from a still (grid) type is implemented for spawn with"
+    )

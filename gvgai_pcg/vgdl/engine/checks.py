@@ -247,7 +247,7 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
         _check_resource_rule(plan, rule)
     if rule.name == "killIfFromAbove" and GRID in representations | seconds:
         raise VGDLError(path, line, "killIfFromAbove with a still (grid) type is not implemented")
-    if rule.name == "transformTo" and any(held_resources(plan, name) for name in rule.firsts):
+    if rule.name == "transformTo" and any(held_columns(plan, name) for name in rule.firsts):
         raise VGDLError(path, line, "transformTo of a sprite holding resources is not implemented")
     if rule.name == "transformTo" and not _into_grid(plan, rule) and not _into_table(plan, rule):
         stype = rule.values.get("stype")

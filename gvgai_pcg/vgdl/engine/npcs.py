@@ -1,10 +1,9 @@
 """Every other sprite's update, type by type in Java's update order (reverse drawing order).
 
 Grid types never change on their own (nor do Immovable tables); spawners, a grid of them or a
-table, create sprites (``spawn``). A table
-group is updated whole, at the first of its kinds in that order: its classes' updates touch only
-the sprite itself, and its draws are keyed by slot (``layout``'s draw-key rule), so the order of
-its sprites within the phase changes nothing.
+table, create sprites (``spawn``). A table group is updated whole, at the first of its kinds in
+that order: its classes' updates touch only the sprite itself, and its draws are keyed by slot
+(``layout``'s draw-key rule), so the order of its sprites within the phase changes nothing.
 """
 
 from __future__ import annotations
