@@ -64,6 +64,9 @@ class TypePlan:
     values: Mapping[str, object]  # behaviour fields, Java's defaults filled in
     created_by: tuple[Creation, ...]
     capacity: Capacity | None  # tables only
+    # the leaf types whose sprites refuse a creation of this type: Java's singleton check over the
+    # type and its ancestors whose own line says singleton=True (empty: never refused)
+    singleton_guard: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -159,6 +162,7 @@ def analyse(game: GameDescription) -> Plan:
             values=_sprite_values(game.types[name]),
             created_by=tuple(made.get(name, ())),
             capacity=tables.get(name),
+            singleton_guard=_singleton_guard(game, name),
         )
         for name in types
     }
@@ -224,6 +228,18 @@ def _representation(
     if sprite.name in unaligned:
         return TABLE, unaligned[sprite.name]
     return GRID, "still, stateless, on whole cells"
+
+
+def _singleton_guard(game: GameDescription, name: str) -> tuple[str, ...]:
+    """The leaves of every type from ``name`` up its ancestors that Java registers as a singleton
+    (its own line says so): a creation of ``name`` is refused while any of them has a sprite."""
+    guard: list[str] = []
+    current: str | None = name
+    while current is not None:
+        if game.types[current].singleton:
+            guard += leaves(game, current)
+        current = game.types[current].parent
+    return tuple(dict.fromkeys(guard))
 
 
 def _sprite_values(sprite: SpriteType) -> dict[str, object]:

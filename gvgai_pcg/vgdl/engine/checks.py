@@ -9,7 +9,7 @@ Frogs use), and for the representations the plan gives them there. A description
 
 from __future__ import annotations
 
-from gvgai_pcg.vgdl.engine.columns import held_resources
+from gvgai_pcg.vgdl.engine.columns import held_columns, held_resources, oriented_table
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.java_classes import defaults_of
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
@@ -18,7 +18,8 @@ from gvgai_pcg.vgdl.plan import Plan, RulePlan
 
 # Per class, its representation and the behaviour parameters a file may set.
 SPRITE_KERNELS: dict[str, tuple[str, frozenset[str]]] = {
-    "Immovable": (GRID, frozenset()),
+    # singleton: Java's creation guard (``TypePlan.singleton_guard``); speed: an Immovable never moves
+    "Immovable": (GRID, frozenset({"singleton", "speed"})),
     "Door": (GRID, frozenset()),
     "Flicker": (RECORD, frozenset({"limit", "singleton"})),
     "OrientedFlicker": (RECORD, frozenset({"limit", "singleton"})),
@@ -27,14 +28,17 @@ SPRITE_KERNELS: dict[str, tuple[str, frozenset[str]]] = {
     "OngoingAvatar": (RECORD, frozenset({"speed"})),
     "Passive": (GRID, frozenset()),
     "Resource": (GRID, frozenset({"limit", "value"})),
-    "MovingAvatar": (RECORD, frozenset()),
+    "MovingAvatar": (RECORD, frozenset({"speed"})),
     "Missile": (TABLE, frozenset({"speed", "cooldown", "orientation"})),
-    "SpawnPoint": (GRID, frozenset({"stype", "prob", "cooldown"})),
+    # portal: only the category an agent's observation gives it
+    "SpawnPoint": (GRID, frozenset({"stype", "prob", "cooldown", "total", "portal"})),
 }
 # Classes whose kernels also hold them in another representation.
 MORE_REPRESENTATIONS: dict[str, frozenset[str]] = {
+    "Immovable": frozenset({TABLE}),
     "Passive": frozenset({TABLE}),
     "Flicker": frozenset({TABLE}),
+    "SpawnPoint": frozenset({TABLE}),
 }
 # Parameters that change only how a sprite is drawn.
 COSMETIC = frozenset(
@@ -42,7 +46,7 @@ COSMETIC = frozenset(
 )
 # Per effect, the parameters its kernel reads; every other must keep Java's default.
 EFFECT_KERNELS: dict[str, frozenset[str]] = {
-    "stepBack": frozenset(),
+    "stepBack": frozenset({"pixelPerfect"}),
     "killSprite": frozenset({"scoreChange"}),
     "transformTo": frozenset({"scoreChange", "stype", "killSecond"}),
     "spawn": frozenset({"scoreChange", "stype", "prob"}),
@@ -169,13 +173,26 @@ def _check_missile(plan: Plan, name: str) -> None:
 
 
 def _check_spawner(plan: Plan, name: str) -> None:
-    stype = plan.types[name].values.get("stype")
+    sprite = plan.types[name]
+    stype = sprite.values.get("stype")
     made = plan.types.get(stype) if isinstance(stype, str) else None
-    if made is None or made.representation != TABLE or made.java_class != "Missile":
+    if (
+        made is None
+        or made.representation != TABLE
+        or made.java_class not in ("Missile", "RandomNPC")
+        or made.singleton_guard
+    ):
         raise VGDLError(
             plan.path,
-            plan.types[name].line,
-            f"{name}: a SpawnPoint is implemented for an stype of one Missile type held in a table",
+            sprite.line,
+            f"{name}: a SpawnPoint is implemented for an stype of one Missile or RandomNPC type held "
+            "in a table",
+        )
+    if sprite.representation == TABLE and (sprite.created_by or float(sprite.values.get("prob", 1)) < 1):
+        raise VGDLError(
+            plan.path,
+            sprite.line,
+            f"{name}: a SpawnPoint held as a table is implemented for level spawners with prob 1",
         )
 
 
@@ -230,19 +247,19 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
         _check_resource_rule(plan, rule)
     if rule.name == "killIfFromAbove" and GRID in representations | seconds:
         raise VGDLError(path, line, "killIfFromAbove with a still (grid) type is not implemented")
-    if rule.name == "transformTo" and any(held_resources(plan, name) for name in rule.firsts):
+    if rule.name == "transformTo" and any(held_columns(plan, name) for name in rule.firsts):
         raise VGDLError(path, line, "transformTo of a sprite holding resources is not implemented")
-    if rule.name == "transformTo" and not _into_grid(plan, rule):
+    if rule.name == "transformTo" and not _into_grid(plan, rule) and not _into_table(plan, rule):
         stype = rule.values.get("stype")
         target = plan.types.get(stype) if isinstance(stype, str) else None
-        if (
-            target is None
-            or target.representation != RECORD
-            or representations - {RECORD}
-            or stype in rule.firsts
-        ):
+        if target is None or target.representation != RECORD or representations - {RECORD}:
+            raise VGDLError(path, line, "transformTo is implemented from record types (the avatar) into one")
+        if stype in rule.firsts and any(stype in other.seconds for other in plan.pairs):
+            # renewed in place, the record cannot also be the killed sprite Java keeps as a second
             raise VGDLError(
-                path, line, "transformTo is implemented from one record type (the avatar) into another"
+                path,
+                line,
+                f"transformTo of {stype} into itself, with {stype} a second of a rule, is not implemented",
             )
     if rule.name == "shieldFrom":
         _check_shield(plan, rule)
@@ -250,36 +267,69 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
     if rule.name == "pullWithIt":
         _check_pull(plan, rule)
         return
+    if rule.name == "stepBack" and rule.values.get("pixelPerfect") and rule.kind == "F":
+        raise VGDLError(path, line, "a pixelPerfect stepBack among sprites of one group is not implemented")
     if rule.kind == "F":
         same = set(rule.firsts) == set(rule.seconds)
         if rule.name != "stepBack" or not same or representations != {TABLE}:
             raise VGDLError(
                 path, line, f"{rule.name} among sprites of one group is implemented for one table only"
             )
-    elif rule.kind not in ("P", "A") and not (rule.kind == "X" and rule.name == "collectResource"):
+    elif rule.kind not in ("P", "A") and not (rule.kind == "X" and _scanned(plan, rule)):
         raise VGDLError(
             path, line, f"{rule.name}: a rule of kind {rule.kind} ({rule.why}) is not implemented"
         )
 
 
+def _scanned(plan: Plan, rule: RulePlan) -> bool:
+    """A rule of kind X with a kernel: collectResource, or a transformTo into a table that a
+    singleton guards (``transform_table``: the first creation in processing order)."""
+    stype = rule.values.get("stype")
+    into_table = isinstance(stype, str) and plan.types[stype].representation == TABLE
+    return rule.name == "collectResource" or (rule.name == "transformTo" and into_table)
+
+
 def _into_grid(plan: Plan, rule: RulePlan) -> bool:
-    """transformTo from table types on whole cells into a grid type (``transform_grid``); refuses
-    the rest of what goes into a grid."""
+    """transformTo from grid types, or table types or records on whole cells, into a grid type
+    that no singleton guards (``transform_grid``); refuses the rest of what goes into a grid."""
     stype = rule.values.get("stype")
     target = plan.types.get(stype) if isinstance(stype, str) else None
     if target is None or target.representation != GRID:
         return False
     firsts = [plan.types[name] for name in rule.firsts]
     if (
-        any(sprite.representation != TABLE or not sprite.aligned for sprite in firsts)
+        any(not sprite.aligned for sprite in firsts)
         or rule.values.get("killSecond")
         or stype in rule.firsts + rule.seconds
+        or target.singleton_guard
     ):
         raise VGDLError(
             plan.path,
             rule.line,
-            "transformTo into a still (grid) type is implemented from table types on whole cells, "
-            "without killSecond, into a type the rule does not name",
+            "transformTo into a still (grid) type is implemented from types on whole cells, without "
+            "killSecond, into a type the rule does not name and no singleton guards",
+        )
+    return True
+
+
+def _into_table(plan: Plan, rule: RulePlan) -> bool:
+    """transformTo from tables or records into a table whose sprites hold no orientation, without
+    killSecond (``transform_table``); refuses the rest of what goes into a table."""
+    stype = rule.values.get("stype")
+    target = plan.types.get(stype) if isinstance(stype, str) else None
+    if target is None or target.representation != TABLE:
+        return False
+    firsts = [plan.types[name] for name in rule.firsts]
+    if (
+        any(sprite.representation == GRID for sprite in firsts)
+        or rule.values.get("killSecond")
+        or oriented_table(plan, (str(stype),))
+    ):
+        raise VGDLError(
+            plan.path,
+            rule.line,
+            "transformTo into a table is implemented from tables or records, without killSecond, into "
+            "a type that holds no orientation",
         )
     return True
 
@@ -292,7 +342,9 @@ def _check_off_grid(plan: Plan) -> None:
     for rule in plan.pairs:
         stype = rule.values.get("stype")
         if rule.name == "transformTo" and isinstance(stype, str) and plan.types[stype].representation == GRID:
-            made.setdefault(stype, set()).update(rule.firsts)
+            tables = {name for name in rule.firsts if plan.types[name].representation == TABLE}
+            if tables:
+                made.setdefault(stype, set()).update(tables)
     for rule in plan.pairs:
         reads_first = rule.name not in ("stepBack", "collectResource") and set(rule.firsts) & set(made)
         reads_second = (
@@ -308,23 +360,26 @@ def _check_off_grid(plan: Plan) -> None:
 
 def _check_resource_rule(plan: Plan, rule: RulePlan) -> None:
     """collectResource and killIfOtherHasMore: a grid type as first (collectResource: a Resource),
-    avatar records on whole cells holding the resource as seconds."""
+    seconds on whole cells holding the resource: avatar records that collect it (killIfOtherHasMore:
+    or records and tables that a rule gives it to)."""
     firsts = [plan.types[name] for name in rule.firsts]
     seconds = [plan.types[name] for name in rule.seconds]
     resource = rule.firsts[0] if rule.name == "collectResource" else str(rule.values.get("resource"))
+    holders = (RECORD,) if rule.name == "collectResource" else (RECORD, TABLE)
+    holds = held_resources if rule.name == "collectResource" else held_columns
     if (
         len(firsts) != 1
         or firsts[0].representation != GRID
         or (rule.name == "collectResource" and firsts[0].java_class != "Resource")
-        or any(sprite.representation != RECORD or not sprite.aligned for sprite in seconds)
-        or any(resource not in held_resources(plan, name) for name in rule.seconds)
+        or any(sprite.representation not in holders or not sprite.aligned for sprite in seconds)
+        or any(resource not in holds(plan, name) for name in rule.seconds)
         or plan.types[resource].values.get("resource_name") is not None
     ):
         raise VGDLError(
             plan.path,
             rule.line,
-            f"{rule.name} is implemented from one still (grid) type onto records on whole cells "
-            "that collect the resource",
+            f"{rule.name} is implemented from one still (grid) type onto records"
+            f"{'' if rule.name == 'collectResource' else ' or tables'} on whole cells that hold the resource",
         )
 
 
@@ -371,12 +426,23 @@ def _check_spawn(plan: Plan, rule: RulePlan) -> None:
     path, line = plan.path, rule.line
     stype = rule.values.get("stype")
     target = plan.types.get(stype) if isinstance(stype, str) else None
-    if target is None or target.representation == RECORD or target.singleton:
+    if target is None or target.representation == RECORD or target.singleton_guard:
         raise VGDLError(
             path, line, f"{rule.name} into {stype!r}: only into a grid or a table, not a singleton"
         )
-    if any(plan.types[name].representation == GRID for name in rule.firsts):
-        raise VGDLError(path, line, f"{rule.name} from a still (grid) type is not implemented")
+    if any(plan.types[name].representation == GRID for name in rule.firsts) and (
+        rule.name != "spawn"
+        or float(rule.values.get("prob", 1)) < 1
+        or (target.representation == TABLE and target.java_class == "Missile")
+        or any(plan.types[name].representation == GRID for name in rule.seconds)
+    ):
+        # a grid's cells spawn in row-major order, not list order: no draws, no list order kept
+        raise VGDLError(
+            path,
+            line,
+            f"{rule.name} from a still (grid) type is implemented for spawn with prob 1 into a grid or "
+            "a table that keeps no list order, with records or tables as seconds",
+        )
     if target.representation == GRID and not all(plan.types[name].aligned for name in rule.firsts):
         raise VGDLError(path, line, f"{rule.name} into a grid from sprites off the cells is not implemented")
     if rule.name == "spawnIfHasMore" and rule.values.get("spend"):

@@ -39,6 +39,8 @@ def fresh_columns(plan: Plan, names: tuple[str, ...]) -> dict[str, int | bool]:
         values["fresh"] = True
     if classes & COUNTING_MOVES:
         values["lastmove"] = 0
+    if "SpawnPoint" in classes:  # what it made so far (Java's counter, against its total)
+        values["spawned"] = 0
     if "RandomNPC" in classes:
         values.update({"counter": 0, "prev": NONE})
     for rule in plan.pairs:
@@ -54,6 +56,17 @@ def held_resources(plan: Plan, name: str) -> tuple[str, ...]:
     """The resource types a ``collectResource`` can give to sprites of type ``name``."""
     held = [rule.firsts for rule in plan.pairs if rule.name == "collectResource" and name in rule.seconds]
     return tuple(dict.fromkeys(resource for firsts in held for resource in firsts))
+
+
+def held_columns(plan: Plan, name: str) -> tuple[str, ...]:
+    """The resource types sprites of type ``name`` keep a count of: given by collectResource, or
+    changed or read by a rule that names ``name`` as first."""
+    changed = [
+        str(rule.values["resource"])
+        for rule in plan.pairs
+        if rule.name in RESOURCE_EFFECTS and name in rule.firsts
+    ]
+    return tuple(dict.fromkeys([*held_resources(plan, name), *changed]))
 
 
 def oriented_table(plan: Plan, names: tuple[str, ...]) -> bool:

@@ -21,11 +21,18 @@ from gvgai_pcg.vgdl.layout import GRID, TABLE
 
 
 def create(
-    frame: Frame, name: str, count: torch.Tensor, x: torch.Tensor, y: torch.Tensor, overflow: str
+    frame: Frame,
+    name: str,
+    count: torch.Tensor,
+    x: torch.Tensor,
+    y: torch.Tensor,
+    overflow: str,
+    last: tuple[torch.Tensor, torch.Tensor] | None = None,
 ) -> None:
     """Make ``count`` ``[B, N]`` sprites of type ``name`` at ``x, y`` ``[B, N]`` (the creators in
     their processing order): a count more in a cell of a grid, or the first free slots of a table,
-    in that order (``overflow`` is the error where a table has too few)."""
+    in that order (``overflow`` is the error where a table has too few). ``last``: the new sprites'
+    last positions ``[B, N]`` (a transform copies its first's), else ``x, y``."""
     place = frame.layout.places[name]
     if place.representation == GRID:
         grid = frame.grid(name)
@@ -49,12 +56,13 @@ def create(
     made = free & (free_rank < end[:, -1:])
     creator = torch.searchsorted(end, free_rank.clamp(min=0), right=True).clamp(max=end.shape[-1] - 1)
     new_x, new_y = torch.gather(x, 1, creator), torch.gather(y, 1, creator)
+    last_x, last_y = (new_x, new_y) if last is None else (torch.gather(v, 1, creator) for v in last)
     group = frame.layout.group(place.key)
     values = {
         "x": torch.where(made, new_x, table.get("x")),
         "y": torch.where(made, new_y, table.get("y")),
-        "lastx": torch.where(made, new_x, table.get("lastx")),
-        "lasty": torch.where(made, new_y, table.get("lasty")),
+        "lastx": torch.where(made, last_x, table.get("lastx")),
+        "lasty": torch.where(made, last_y, table.get("lasty")),
         "kind": torch.where(made, place.kind, table.get("kind")),
         "alive": alive | made,
     }

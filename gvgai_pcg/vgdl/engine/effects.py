@@ -19,15 +19,18 @@ from gvgai_pcg._private_apis import assert_async
 from gvgai_pcg.games.geometry import NONE, aligned_cell, covered_cells
 from gvgai_pcg.games.rules import step_back_in_order
 from gvgai_pcg.vgdl.engine.checks import score_of
+from gvgai_pcg.vgdl.engine.columns import fresh_columns
 from gvgai_pcg.vgdl.engine.frame import Entry, Frame, Side, sides
 from gvgai_pcg.vgdl.engine.from_above import kill_if_from_above
-from gvgai_pcg.vgdl.engine.layout import FLICKERS, Layout
+from gvgai_pcg.vgdl.engine.layout import Layout
+from gvgai_pcg.vgdl.engine.pixel_perfect import step_back_pixel_perfect
 from gvgai_pcg.vgdl.engine.pull import pull_with_it
 from gvgai_pcg.vgdl.engine.resources import change_resource, collect_resource, kill_if_other_has_more
 from gvgai_pcg.vgdl.engine.reverse import reverse_direction
 from gvgai_pcg.vgdl.engine.shield import shield_from
 from gvgai_pcg.vgdl.engine.spawn_effects import spawn, spawn_if_has_more
 from gvgai_pcg.vgdl.engine.transform_grid import transform_into_grid
+from gvgai_pcg.vgdl.engine.transform_table import transform_into_table
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
 from gvgai_pcg.vgdl.plan import RulePlan
@@ -86,7 +89,10 @@ def apply_rule(frame: Frame, rule: Rule) -> None:
 
 def step_back(frame: Frame, rule: Rule) -> None:
     """stepBack: a first that overlaps a second goes back to where it started the tick. A still
-    (grid) first started there already."""
+    (grid) first started there already. ``pixelPerfect``: ``pixel_perfect``."""
+    if rule.plan.values.get("pixelPerfect"):
+        step_back_pixel_perfect(frame, rule)
+        return
     for first in rule.firsts:
         if first.representation == GRID:
             continue
@@ -141,18 +147,26 @@ def _kill_cells(frame: Frame, rule: Rule, first: Side) -> None:
 def transform_to(frame: Frame, rule: Rule) -> None:
     """transformTo (first a record, ``stype`` a record): a first not disabled that overlaps a
     second becomes an ``stype`` sprite where it is (its last position copied; its facing copied
-    only if ``stype``'s default is NONE), is killed, and kills the first second it overlaps in
-    list order with ``killSecond``; once, since it is then killed. A disabled first is not
-    transformed but scores for every second it overlaps (Java adds the score anyway)."""
+    only if ``stype``'s default is NONE; its other columns fresh), is killed, and kills the first
+    second it overlaps in list order with ``killSecond``; once, since it is then killed. A disabled
+    first is not transformed but scores for every second it overlaps (Java adds the score anyway).
+    A record made into its own type is renewed in place; one made by this rule is no first of it
+    (Java's rule takes its sprites before it applies)."""
     made = str(rule.plan.values["stype"])
     if made in frame.layout.grids:
         transform_into_grid(frame, rule)
         return
+    if frame.layout.places[made].representation == TABLE:
+        transform_into_table(frame, rule)
+        return
     target = frame.entry(made)
+    made_now = torch.zeros_like(target.get("alive"))
     for first in rule.firsts:
         record = frame.entry(first.key)
         x, y = record.get("x").unsqueeze(-1), record.get("y").unsqueeze(-1)
         eligible = frame.eligible(first).squeeze(-1)
+        if first.key == made:
+            eligible = eligible & ~made_now
         hits = torch.zeros_like(record.get("x"))
         firsts_hit: list[tuple[Side, torch.Tensor, torch.Tensor | None]] = []
         found = torch.zeros_like(eligible)
@@ -172,12 +186,15 @@ def transform_to(frame: Frame, rule: Rule) -> None:
         disabled = torch.zeros_like(eligible) if disabled is None else disabled
         fire = (hits > 0) & ~disabled
         frame.add_score(rule.score * torch.where(disabled, hits, fire.long()))
-        assert_async(  # no host sync: the tick stays one graph
-            ~(fire & target.get("alive")).any(),
-            rule.overflow,
-        )
+        if first.key != made:
+            assert_async(  # no host sync: the tick stays one graph
+                ~(fire & target.get("alive")).any(),
+                rule.overflow,
+            )
         _create(frame, made, fire, record)
-        frame.mark_killed(first.key, fire)
+        made_now = made_now | fire
+        if first.key != made:
+            frame.mark_killed(first.key, fire)
         if rule.plan.values.get("killSecond"):
             for second, first_hit, index in firsts_hit:
                 chosen = first_hit & fire.unsqueeze(-1)
@@ -188,7 +205,8 @@ def transform_to(frame: Frame, rule: Rule) -> None:
 
 
 def _create(frame: Frame, name: str, where: torch.Tensor, source: Entry) -> None:
-    """Put an ``name`` sprite (a record) where ``source`` (a record) is, where ``where``."""
+    """Put an ``name`` sprite (a record) where ``source`` (a record) is, where ``where``: fresh
+    but for its position, last position and facing."""
     layout = frame.layout
     target = frame.entry(name)
     default = layout.orientation[name]
@@ -198,8 +216,9 @@ def _create(frame: Frame, name: str, where: torch.Tensor, source: Entry) -> None
     }
     values["ori"] = torch.where(where, ori, target.get("ori"))
     values["alive"] = target.get("alive") | where
-    if layout.plan.types[name].java_class in FLICKERS:
-        values["age"] = torch.where(where, torch.zeros_like(target.get("age")), target.get("age"))
+    for column, value in fresh_columns(layout.plan, (name,)).items():
+        current = target.get(column)
+        values[column] = torch.where(where, torch.full_like(current, value), current)
     target.update(values)
 
 

@@ -167,6 +167,12 @@ class Frame:
     def is_disabled(self, key: str) -> torch.Tensor | None:
         return self.disabled.get(key)
 
+    def disabled_mask(self, side: Side) -> torch.Tensor:
+        """Sprites of ``side`` that Java skips as a transform's first (a disabled avatar), shaped
+        like ``present``."""
+        disabled = self.disabled.get(side.key) if side.representation == RECORD else None
+        return torch.zeros_like(self.present(side)) if disabled is None else disabled.unsqueeze(-1)
+
     def add_score(self, delta: torch.Tensor) -> None:
         self.put("score", self.value("score") + delta)
 

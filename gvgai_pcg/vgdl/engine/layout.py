@@ -159,7 +159,8 @@ def make_layout(game: GameDescription, plan: Plan, draw_order: tuple[str, ...] =
         made = rule.values.get("stype")
         if rule.name != "transformTo" or made not in grids:
             continue
-        for source in {places[name].key for name in rule.firsts if name in places}:
+        held = (name for name in rule.firsts if name in places and places[name].representation == TABLE)
+        for source in {places[name].key for name in held}:
             if spills.setdefault(str(made), source) != source:
                 raise VGDLError(
                     plan.path, rule.line, f"transformTo into {made} from two tables is not implemented"

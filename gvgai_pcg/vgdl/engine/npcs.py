@@ -1,9 +1,9 @@
 """Every other sprite's update, type by type in Java's update order (reverse drawing order).
 
-Grid types never change on their own; a grid of spawners creates sprites (``spawn``). A table
-group is updated whole, at the first of its kinds in that order: its classes' updates touch only
-the sprite itself, and its draws are keyed by slot (``layout``'s draw-key rule), so the order of
-its sprites within the phase changes nothing.
+Grid types never change on their own (nor do Immovable tables); spawners, a grid of them or a
+table, create sprites (``spawn``). A table group is updated whole, at the first of its kinds in
+that order: its classes' updates touch only the sprite itself, and its draws are keyed by slot
+(``layout``'s draw-key rule), so the order of its sprites within the phase changes nothing.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from gvgai_pcg.vgdl.engine.flicker import table_flicker
 from gvgai_pcg.vgdl.engine.frame import Frame
 from gvgai_pcg.vgdl.engine.layout import FLICKERS, TableGroup
 from gvgai_pcg.vgdl.engine.missiles import missile
-from gvgai_pcg.vgdl.engine.spawn import spawn_point
+from gvgai_pcg.vgdl.engine.spawn import spawn_point, table_spawn_point
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
 
 DIRECTIONS = 4  # RandomNPC draws one of the four base directions
@@ -39,6 +39,8 @@ def update_npcs(frame: Frame) -> None:
                 missile(frame, group)
             elif group.java_class in FLICKERS:
                 table_flicker(frame, group)
+            elif group.java_class == "SpawnPoint":
+                table_spawn_point(frame, group)
         elif place.representation == RECORD and layout.plan.types[name].java_class in FLICKERS:
             flicker(frame, name)
         elif place.representation == GRID and layout.plan.types[name].java_class == "SpawnPoint":

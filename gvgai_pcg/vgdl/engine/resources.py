@@ -4,8 +4,9 @@ touches), ``killIfOtherHasMore`` (a sprite goes when the record it touches holds
 
 Java keeps a record's resources in a map; here each is a field ``resource_<type>`` of the record
 (``columns.held_resources``; ``changeResource``'s first holds a column per resource it changes,
-a record or a table). The firsts of the first two are grid types and the seconds records on whole
-cells (``checks``), so the sprites a second touches are the counts of the one cell it covers.
+a record or a table). The firsts of the first two are grid types and the seconds records
+(killIfOtherHasMore: or tables) on whole cells (``checks``), so the sprites a second touches are
+the counts of the one cell it covers.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from typing import TYPE_CHECKING
 
 import torch
 
+from gvgai_pcg.games.geometry import aligned_cell
 from gvgai_pcg.vgdl.engine.columns import resource_column
 from gvgai_pcg.vgdl.engine.frame import Frame
 from gvgai_pcg.vgdl.engine.off_grid import off_key, off_overlaps
@@ -58,22 +60,27 @@ def collect_resource(frame: Frame, rule: Rule) -> None:
 
 
 def kill_if_other_has_more(frame: Frame, rule: Rule) -> None:
-    """killIfOtherHasMore: every first not yet killed on the cell of a second holding at least
-    ``limit`` of ``resource`` is killed (score if fired)."""
+    """killIfOtherHasMore: every first not yet killed in the cell of a second (a record or a
+    table's sprite, killed ones included) holding at least ``limit`` of ``resource`` is killed
+    (score if fired): once, however many such seconds it meets."""
     (first,) = rule.firsts
     resource, limit = str(rule.plan.values["resource"]), int(rule.plan.values["limit"])
+    grid = frame.grid(first.key)
+    batch, height, width = grid.shape
+    covered = torch.zeros(batch, height * width, dtype=torch.int64, device=grid.device)
     for second in rule.seconds:
-        record = frame.entry(second.key)
+        held = frame.entry(second.key).get(resource_column(resource))
+        held = held.unsqueeze(-1) if second.representation == RECORD else held
+        rich = frame.present(second) & (held >= limit)
         x, y = frame.xy(second)
-        index, counts = frame.cell_counts(first.key, x, y, True)
-        index, counts = index.view(-1, 1), counts.view(-1, 1)
-        killed = frame.grid_killed(first.key).flatten(1)
-        rich = record.get("alive") & (record.get(f"resource_{resource}") >= limit)
-        newly = (counts - killed.gather(1, index)) * rich.unsqueeze(-1)
-        frame.killed[first.key] = killed.scatter_add(1, index, newly.to(killed.dtype)).view(
-            frame.grid(first.key).shape
+        index, inside = aligned_cell(x, y, height, width)
+        covered = covered.scatter_add(
+            1, index.reshape(batch, -1), (rich.unsqueeze(-1) & inside).reshape(batch, -1).long()
         )
-        frame.add_score(rule.score * newly.squeeze(-1).long())
+    killed = frame.grid_killed(first.key)
+    newly = torch.where(covered.view(grid.shape) > 0, grid - killed, torch.zeros_like(grid))
+    frame.killed[first.key] = killed + newly
+    frame.add_score(rule.score * newly.flatten(1).sum(-1, dtype=torch.int64))
 
 
 def change_resource(frame: Frame, rule: Rule) -> None:

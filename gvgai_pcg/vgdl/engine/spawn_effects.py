@@ -16,11 +16,12 @@ import torch
 
 from gvgai_pcg._private_apis import assert_async
 from gvgai_pcg.games import rng
+from gvgai_pcg.games.geometry import CELL, aligned_cell, covered_cells
 from gvgai_pcg.games.lookup import lookup
 from gvgai_pcg.vgdl.engine.columns import resource_column
 from gvgai_pcg.vgdl.engine.creation import create
 from gvgai_pcg.vgdl.engine.frame import Frame, Side
-from gvgai_pcg.vgdl.layout import RECORD
+from gvgai_pcg.vgdl.layout import GRID, RECORD
 
 if TYPE_CHECKING:
     from gvgai_pcg.vgdl.engine.effects import Rule
@@ -30,10 +31,44 @@ ONE_DRAW = "a spawn with prob below 1 whose first overlaps several seconds (one 
 
 def applications(frame: Frame, rule: Rule, first: Side) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
     """Positions ``[B, N]`` of the firsts of ``first`` and how many seconds each eligible one
-    overlaps (the rule's applications to it)."""
+    overlaps (the rule's applications to it). A grid's firsts are its cells (``N = H * W``, row-major),
+    each applied to as often as its sprites not yet killed times the seconds covering it."""
+    if first.representation == GRID:
+        return cell_applications(frame, rule, first)
     x, y = frame.xy(first)
     hits = frame.overlap_count(x, y, first.aligned, first, list(rule.seconds)) * frame.eligible(first)
     return x, y, hits
+
+
+def cell_applications(
+    frame: Frame, rule: Rule, first: Side
+) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+    """``applications`` of a grid type's sprites: each cell's position and its sprites not yet
+    killed times the seconds that cover the cell."""
+    standing, touched = standing_and_touched(frame, rule, first)
+    batch, height, width = frame.grid(first.key).shape
+    cells = torch.arange(height * width, device=standing.device)
+    x = (CELL * (cells % width)).expand(batch, -1)
+    y = (CELL * (cells // width)).expand(batch, -1)
+    return x, y, standing * touched
+
+
+def standing_and_touched(frame: Frame, rule: Rule, first: Side) -> tuple[torch.Tensor, torch.Tensor]:
+    """Per cell ``[B, H * W]`` of grid type ``first``: its sprites that may still be a first (not
+    killed, the rule not shielded) and how many of the rule's seconds (records or tables, killed
+    ones included) cover the cell."""
+    grid = frame.grid(first.key)
+    batch, height, width = grid.shape
+    touched = torch.zeros(batch, height * width, dtype=torch.int64, device=grid.device)
+    for second in rule.seconds:
+        x, y = frame.xy(second)
+        index, valid = (aligned_cell if second.aligned else covered_cells)(x, y, height, width)
+        valid = valid & frame.present(second).unsqueeze(-1)
+        touched = touched.scatter_add(1, index.reshape(batch, -1), valid.reshape(batch, -1).long())
+    standing = (grid - frame.grid_killed(first.key)).reshape(batch, -1).long()
+    if frame.skip is not None:
+        standing = standing * ~frame.skip.unsqueeze(-1)
+    return standing, touched
 
 
 def spawn(frame: Frame, rule: Rule) -> None:
