@@ -191,12 +191,17 @@ def analyse(game: GameDescription) -> Plan:
     )
 
 
+PADDING = " "  # the batch's padding character (gvgai_pcg.games.base.OUTSIDE)
+
+
 def level_counts(plan: Plan, level_rows: Sequence[str]) -> Counter[str]:
     """Sprites of each type a level starts with; a character the mapping lacks, or a second
     sprite of a record type, is refused in one line."""
     counts: Counter[str] = Counter()
     for row_index, row in enumerate(level_rows, start=1):
         for char in row:
+            if char == PADDING and PADDING not in plan.level_mapping:
+                continue  # beyond a smaller level's screen in a batch: no sprite there
             if char not in plan.level_mapping:
                 raise ValueError(f"level row {row_index}: character {char!r} is not in the LevelMapping")
             counts.update(plan.level_mapping[char])
