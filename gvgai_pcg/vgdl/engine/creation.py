@@ -39,6 +39,7 @@ def create(
         return
     if place.representation != TABLE:  # checks refuses creations into a record by these effects
         raise AssertionError(f"{name}: a creation into a {place.representation}")
+    frame.make_room(place.key, count)
     table = frame.entry(place.key)
     alive = table.get("alive")
     free = ~alive

@@ -6,10 +6,19 @@ later rules until cleanup, and is skipped as a first. A killed avatar is only di
 a first too (and keeps scoring) until cleanup. The marks live here, not in the state, and
 ``cleanup`` applies them. A rule's types are split by where they live (``Side``): one entry per
 record, table group or grid, in the rule's ``iSubTypes`` order.
+
+**Narrowed tables.** A table is as wide as its capacity, but its sprites sit in its first slots
+(a level's in slot order, a created one in the first free slot). Eagerly, the frame hands the
+kernels only a table's occupied prefix (``narrow``: the slots up to the last one alive in any env,
+rounded up to a power of two) and puts the untouched rest back when it writes the state; a
+creation that needs more free slots than the prefix holds widens it first (``make_room``). No
+kernel reads a free slot past the prefix (they mask by ``alive``, and a creation resets every
+column of the slot it takes), so the tick is the same; compiled, the tables keep their width.
 """
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass
 
 import torch
@@ -24,6 +33,8 @@ from gvgai_pcg.vgdl.layout import GRID, RECORD
 # Aligned firsts x seconds of at least this many pairs are counted by sorting, not pairwise.
 SORT_PAIRS = 4096
 POSITION_KEY = 1 << 32  # x * POSITION_KEY + y: one int64 per position
+# Tables narrower than this are used whole; a narrowed one keeps at least half of it.
+NARROW_FROM = 16
 # The entries every state has that a tick reads or writes.
 COMMON = ("seed", "tick", "score", "won", "lost", "height", "width")
 
@@ -91,6 +102,13 @@ class Frame:
         # shieldFrom's shields, per (first leaf, stype, effect name): [B] bool (``shield``)
         self.shields: dict[tuple[str, str, str], torch.Tensor] = {}
         self.skip: torch.Tensor | None = None  # [B]: envs where the rule being applied is shielded
+        # narrowed tables (see the module docstring): their columns at full width
+        self.full: dict[str, dict[str, torch.Tensor]] = {}
+        if not torch.compiler.is_compiling():
+            sources = set(layout.spills.values())  # their spills share their slots: kept whole
+            for group in layout.tables:
+                if group.key not in sources:
+                    self.narrow(group.key)
 
     def value(self, key: str) -> torch.Tensor:
         """A top-level entry: a common one (``tick``, ``score``...) or a grid."""
@@ -99,9 +117,60 @@ class Frame:
     def put(self, key: str, value: torch.Tensor) -> None:
         self.values[key] = self.changed[key] = value
 
+    def narrow(self, key: str) -> None:
+        """Hand the kernels only table ``key``'s occupied prefix (eager only: it reads one
+        number back from the tensors)."""
+        entry = self.entries[key]
+        alive = entry.get("alive")
+        width = alive.shape[-1]
+        if width < NARROW_FROM:
+            return
+        ranks = torch.arange(1, width + 1, device=alive.device)
+        used = int((alive.any(0) * ranks).max())  # one past the last slot alive in any env
+        slots = max(NARROW_FROM // 2, 1 << used.bit_length())  # at least one free slot more
+        if slots >= width:
+            return
+        self.full[key] = entry.values
+        entry.values = {column: value[:, :slots] for column, value in entry.values.items()}
+
+    def widen(self, key: str, in_place: bool = False) -> None:
+        """Give table ``key`` back its full width: its prefix as the kernels left it, then the
+        untouched rest. ``in_place`` (the tick's end) writes a changed prefix into the state's
+        own column, where no other column shares that column's memory."""
+        full = self.full.pop(key, None)
+        if full is None:
+            return
+        entry = self.entries[key]
+        slots = entry.get("alive").shape[-1]
+        shared = Counter(_memory(value) for value in full.values())
+        values, copies = dict(full), {}
+        for column, value in entry.changed.items():
+            target = full[column]
+            if in_place and shared[_memory(target)] == 1 and target.is_contiguous():
+                # a value read from the state (``lastx := x``) is copied before any column is written
+                copies[column] = value.clone() if _memory(value) in shared else value
+            else:
+                values[column] = torch.cat([value, target[:, slots:]], 1)
+        for column, value in copies.items():
+            full[column][:, :slots].copy_(value)
+        entry.values = values
+        entry.changed = {column: values[column] for column in entry.changed}
+        mask = self.killed.get(key)
+        if mask is not None:
+            rest = torch.zeros_like(full["alive"][:, slots:])
+            self.killed[key] = torch.cat([mask, rest], 1)
+
+    def make_room(self, key: str, count: torch.Tensor) -> None:
+        """Widen narrowed table ``key`` where some env makes more sprites (``count``, ``[B, N]``)
+        than its prefix has free slots."""
+        if key in self.full and bool((count.sum(-1) > (~self.entries[key].get("alive")).sum(-1)).any()):
+            self.widen(key)
+
     def write(self) -> None:
         """Write what changed back into the state, unchecked: every kernel keeps a field's shape
         and dtype."""
+        for key in list(self.full):
+            self.widen(key, in_place=True)
         write_entries(self.state, self.changed)
         top = entries(self.state)
         for key, entry in self.entries.items():
@@ -247,3 +316,8 @@ class Frame:
         for key, mask in self.disabled.items():
             entry = self.entry(key)
             entry.set("alive", entry.get("alive") & ~mask)
+
+
+def _memory(tensor: torch.Tensor) -> int:
+    """Where ``tensor``'s storage starts: two tensors that share memory give the same number."""
+    return tensor.untyped_storage().data_ptr()
