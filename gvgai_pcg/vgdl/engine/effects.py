@@ -22,6 +22,7 @@ from gvgai_pcg.vgdl.engine.checks import score_of
 from gvgai_pcg.vgdl.engine.frame import Entry, Frame, Side, sides
 from gvgai_pcg.vgdl.engine.from_above import kill_if_from_above
 from gvgai_pcg.vgdl.engine.layout import FLICKERS, Layout
+from gvgai_pcg.vgdl.engine.ordered import ordered_step_back
 from gvgai_pcg.vgdl.engine.pull import pull_with_it
 from gvgai_pcg.vgdl.engine.resources import change_resource, collect_resource, kill_if_other_has_more
 from gvgai_pcg.vgdl.engine.reverse import reverse_direction
@@ -93,7 +94,11 @@ def step_back(frame: Frame, rule: Rule) -> None:
         entry = frame.entry(first.key)
         x, y, lastx, lasty = (entry.get(key) for key in ("x", "y", "lastx", "lasty"))
         eligible = frame.eligible(first)
-        if rule.plan.kind == "F":
+        axis = _aligned_axis(frame.layout, first)
+        if rule.plan.kind == "F" and axis is not None:
+            present = frame.present(rule.seconds[0])
+            x, y = ordered_step_back(x, y, lastx, lasty, eligible, present, axis == "x")
+        elif rule.plan.kind == "F":
             x, y = step_back_in_order(
                 x, y, lastx, lasty, eligible, frame.present(rule.seconds[0]), first.aligned
             )
@@ -104,6 +109,18 @@ def step_back(frame: Frame, rule: Rule) -> None:
             back = back.squeeze(-1) if first.representation == RECORD else back
             x, y = torch.where(back, lastx, x), torch.where(back, lasty, y)
         entry.update({"x": x, "y": y})
+
+
+def _aligned_axis(layout: Layout, side: Side) -> str | None:
+    """The one axis along which every sprite of ``side`` stays on whole cells; None where both
+    do (``step_back_in_order`` compares those by position) or neither does."""
+    if side.aligned or side.representation != TABLE:
+        return None
+    names = [layout.group(side.key).kinds[code] for code in side.kinds]
+    for axis in ("x", "y"):
+        if all(getattr(layout.plan.types[name], f"aligned_{axis}") for name in names):
+            return axis
+    return None
 
 
 def kill_sprite(frame: Frame, rule: Rule) -> None:
