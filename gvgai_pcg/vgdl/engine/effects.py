@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import torch
 
 from gvgai_pcg._private_apis import assert_async
-from gvgai_pcg.games.geometry import NONE, aligned_cell, covered_cells
+from gvgai_pcg.games.geometry import NONE
 from gvgai_pcg.games.rules import step_back_in_order
 from gvgai_pcg.vgdl.engine.checks import score_of
 from gvgai_pcg.vgdl.engine.frame import Entry, Frame, Side, sides
@@ -146,7 +146,7 @@ def _kill_cells(frame: Frame, rule: Rule, first: Side) -> None:
     touched = torch.zeros(batch, height * width, dtype=torch.int32, device=grid.device)
     for second in rule.seconds:
         x, y = frame.xy(second)
-        index, valid = (aligned_cell if second.aligned else covered_cells)(x, y, height, width)
+        index, valid = frame.cells(x, y, second.aligned, height, width)
         valid = valid & frame.present(second).unsqueeze(-1)
         touched = touched.scatter_add(1, index.reshape(batch, -1), valid.reshape(batch, -1).to(torch.int32))
     killed = frame.grid_killed(first.key)

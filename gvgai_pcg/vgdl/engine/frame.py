@@ -102,6 +102,9 @@ class Frame:
         # shieldFrom's shields, per (first leaf, stype, effect name): [B] bool (``shield``)
         self.shields: dict[tuple[str, str, str], torch.Tensor] = {}
         self.skip: torch.Tensor | None = None  # [B]: envs where the rule being applied is shielded
+        self._cells: dict[tuple, tuple] = {}  # ``cells``' results this tick
+        self._record_xy: dict[str, tuple] = {}  # ``xy`` of the records
+        self.draws: dict[str, tuple] = {}  # a spawning table's draws this tick (``spawn_effects``)
         # narrowed tables (see the module docstring): their columns at full width
         self.full: dict[str, dict[str, torch.Tensor]] = {}
         if not torch.compiler.is_compiling():
@@ -182,9 +185,17 @@ class Frame:
         return self.entries[key]
 
     def xy(self, side: Side) -> tuple[torch.Tensor, torch.Tensor]:
+        """Positions ``[B, N]``; a record's the same tensors while it stays put (``cells``)."""
         entry = self.entry(side.key)
         x, y = entry.get("x"), entry.get("y")
-        return (x.unsqueeze(-1), y.unsqueeze(-1)) if side.representation == RECORD else (x, y)
+        if side.representation != RECORD:
+            return x, y
+        if torch.compiler.is_compiling():
+            return x.unsqueeze(-1), y.unsqueeze(-1)
+        known = self._record_xy.get(side.key)
+        if known is None or known[0] is not x or known[1] is not y:
+            known = self._record_xy[side.key] = (x, y, x.unsqueeze(-1), y.unsqueeze(-1))
+        return known[2], known[3]
 
     def present(self, side: Side) -> torch.Tensor:
         """Sprites of ``side`` that exist this tick (killed ones included: they are still seconds)."""
@@ -255,9 +266,23 @@ class Frame:
         for aligned rectangles, else up to four, row-major)."""
         grid = self.grid(key)
         batch, height, width = grid.shape
-        index, valid = (aligned_cell if aligned else covered_cells)(x, y, height, width)
+        index, valid = self.cells(x, y, aligned, height, width)
         counts = torch.gather(grid.reshape(batch, -1), 1, index.reshape(batch, -1)).view(index.shape)
         return index, counts * valid
+
+    def cells(
+        self, x: torch.Tensor, y: torch.Tensor, aligned: bool, height: int, width: int
+    ) -> tuple[torch.Tensor, torch.Tensor]:
+        """``aligned_cell`` or ``covered_cells`` of ``x, y``, once a tick for the same position
+        tensors (the avatar against several grids, rule after rule: about 30 ops each time)."""
+        if torch.compiler.is_compiling():  # a graph computes it once anyway (common subexpressions)
+            return (aligned_cell if aligned else covered_cells)(x, y, height, width)
+        key = (id(x), id(y), aligned, height, width)
+        known = self._cells.get(key)
+        if known is None or known[0] is not x or known[1] is not y:
+            cover = aligned_cell if aligned else covered_cells
+            known = self._cells[key] = (x, y, cover(x, y, height, width))  # holds x, y: ids stay theirs
+        return known[2]
 
     # --- overlaps of firsts with a side of seconds ---
     def overlap_matrix(
