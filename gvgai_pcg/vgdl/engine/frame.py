@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from collections import Counter
 from dataclasses import dataclass
+from functools import cache
 
 import torch
 from tensordict import TensorDict
@@ -110,7 +111,9 @@ class Frame:
         if not torch.compiler.is_compiling():
             sources = set(layout.spills.values())  # their spills share their slots: kept whole
             for group in layout.tables:
-                if group.key not in sources:
+                # a table nothing creates into holds its level's sprites: it seldom narrows
+                made = any(layout.plan.types[name].created_by for name in group.kinds)
+                if made and group.key not in sources:
                     self.narrow(group.key)
 
     def value(self, key: str) -> torch.Tensor:
@@ -128,8 +131,9 @@ class Frame:
         width = alive.shape[-1]
         if width < NARROW_FROM:
             return
-        ranks = torch.arange(1, width + 1, device=alive.device)
-        used = int((alive.any(0) * ranks).max())  # one past the last slot alive in any env
+        used = int(
+            (alive.any(0) * _ranks(width, alive.device)).max()
+        )  # one past the last slot alive in any env
         slots = max(NARROW_FROM // 2, 1 << used.bit_length())  # at least one free slot more
         if slots >= width:
             return
@@ -341,6 +345,12 @@ class Frame:
         for key, mask in self.disabled.items():
             entry = self.entry(key)
             entry.set("alive", entry.get("alive") & ~mask)
+
+
+@cache
+def _ranks(width: int, device: torch.device) -> torch.Tensor:
+    """1, 2, ... ``width``, made once: never write to it."""
+    return torch.arange(1, width + 1, device=device)
 
 
 def _memory(tensor: torch.Tensor) -> int:
