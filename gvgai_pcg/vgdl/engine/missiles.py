@@ -16,7 +16,7 @@ import torch
 from gvgai_pcg.games.geometry import DIRECTION_DX, DIRECTION_DY, NONE, direction_dx, direction_dy
 from gvgai_pcg.games.lookup import lookup
 from gvgai_pcg.vgdl.engine.frame import Frame
-from gvgai_pcg.vgdl.engine.layout import TableGroup
+from gvgai_pcg.vgdl.engine.layout import Layout, TableGroup
 
 
 def missile(frame: Frame, group: TableGroup) -> None:
@@ -33,10 +33,7 @@ def missile(frame: Frame, group: TableGroup) -> None:
     move = alive & ~fresh
     if max(cooldowns) > 1:  # a live sprite's lastmove is at least 1: the gate of 1 is open
         move = move & (lastmove >= lookup(cooldowns, kind))
-    turned = any(
-        rule.name == "reverseDirection" and set(rule.firsts) & set(group.kinds) for rule in layout.plan.pairs
-    )
-    if turned:
+    if turned(layout, group.kinds):
         move = move & (ori != NONE)
         dx, dy = direction_dx(ori), direction_dy(ori)
     else:  # each kind keeps the direction it starts with (``layout``, ``creation``)
@@ -57,6 +54,24 @@ def missile(frame: Frame, group: TableGroup) -> None:
             "fresh": fresh & ~alive,
         }
     )
+
+
+def turned(layout: Layout, kinds: tuple[str, ...]) -> bool:
+    """Whether a rule may turn sprites of ``kinds`` from the direction each kind starts with."""
+    return any(
+        rule.name == "reverseDirection" and set(rule.firsts) & set(kinds) for rule in layout.plan.pairs
+    )
+
+
+def shared_direction(layout: Layout, kinds: tuple[str, ...]) -> tuple[int, int] | None:
+    """The unit ``(dx, dy)`` every sprite of ``kinds`` (a table's) moves along at every tick,
+    where they share one that no rule turns; None otherwise."""
+    if turned(layout, kinds):
+        return None
+    units = {
+        (DIRECTION_DX[layout.orientation[name]], DIRECTION_DY[layout.orientation[name]]) for name in kinds
+    }
+    return units.pop() if len(units) == 1 else None
 
 
 def _per_kind(values: tuple[int, ...], kind: torch.Tensor) -> int | torch.Tensor:
