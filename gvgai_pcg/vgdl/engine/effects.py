@@ -152,7 +152,7 @@ def _kill_cells(frame: Frame, rule: Rule, first: Side) -> None:
     killed = frame.grid_killed(first.key)
     newly = torch.where(touched.view(grid.shape) > 0, grid - killed, torch.zeros_like(grid))
     frame.killed[first.key] = killed + newly
-    frame.add_score(rule.score * newly.flatten(1).sum(-1, dtype=torch.int64))
+    frame.add_score(rule.score * newly.flatten(1).sum(-1, dtype=torch.int32))  # int32: a faster sum
 
 
 def transform_to(frame: Frame, rule: Rule) -> None:

@@ -307,17 +307,22 @@ class Frame:
         self, x: torch.Tensor, y: torch.Tensor, aligned: bool, first: Side, seconds: list[Side]
     ) -> torch.Tensor:
         """``[B, N]`` int64: how many present seconds each first sprite at ``x, y`` overlaps."""
-        total = torch.zeros_like(x)
+        terms = []
         for second in seconds:
             if second.representation == GRID:
-                total = total + self.cell_counts(second.key, x, y, aligned)[1].sum(-1)
+                terms.append(self.cell_counts(second.key, x, y, aligned)[1].sum(-1))
                 if second.key in self.layout.spills:  # its sprites off the array
                     off = self.entry(off_key(second.key)).values
-                    total = total + off_overlaps(off, None, x, y, aligned).sum(-1)
+                    terms.append(off_overlaps(off, None, x, y, aligned).sum(-1))
             elif aligned and second.aligned and first.key != second.key and self._wide(x, second):
-                total = total + self.same_cell_count(x, y, second)
+                terms.append(self.same_cell_count(x, y, second))
             else:
-                total = total + self.overlap_matrix(x, y, aligned, first, second).sum(-1)
+                terms.append(self.overlap_matrix(x, y, aligned, first, second).sum(-1))
+        if not terms:
+            return torch.zeros_like(x, dtype=torch.int64)
+        total = terms[0]
+        for term in terms[1:]:
+            total = total + term
         return total
 
     def _wide(self, x: torch.Tensor, second: Side) -> bool:
