@@ -28,7 +28,7 @@ def missile(frame: Frame, group: TableGroup) -> None:
     table = frame.entry(group.key)
     kind, alive, fresh, ori = (table.get(key) for key in ("kind", "alive", "fresh", "ori"))
     cooldowns = tuple(max(1, int(types[name].values["cooldown"])) for name in group.kinds)
-    step = _per_kind(tuple(types[name].step_px for name in group.kinds), kind)
+    step = per_kind(tuple(types[name].step_px for name in group.kinds), kind)
     lastmove = table.get("lastmove") + alive
     move = alive & ~fresh
     if max(cooldowns) > 1:  # a live sprite's lastmove is at least 1: the gate of 1 is open
@@ -40,8 +40,8 @@ def missile(frame: Frame, group: TableGroup) -> None:
         defaults = tuple(layout.orientation[name] for name in group.kinds)
         if NONE in defaults:
             move = move & (ori != NONE)
-        dx = _per_kind(tuple(DIRECTION_DX[code] for code in defaults), kind)
-        dy = _per_kind(tuple(DIRECTION_DY[code] for code in defaults), kind)
+        dx = per_kind(tuple(DIRECTION_DX[code] for code in defaults), kind)
+        dy = per_kind(tuple(DIRECTION_DY[code] for code in defaults), kind)
     x, y = table.get("x"), table.get("y")
     distance = move * step
     table.update(
@@ -74,7 +74,7 @@ def shared_direction(layout: Layout, kinds: tuple[str, ...]) -> tuple[int, int] 
     return units.pop() if len(units) == 1 else None
 
 
-def _per_kind(values: tuple[int, ...], kind: torch.Tensor) -> int | torch.Tensor:
+def per_kind(values: tuple[int, ...], kind: torch.Tensor) -> int | torch.Tensor:
     """``values[kind]``: the one value where the kinds share it."""
     return values[0] if len(set(values)) == 1 else lookup(values, kind)
 
