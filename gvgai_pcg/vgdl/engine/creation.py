@@ -13,7 +13,7 @@ from __future__ import annotations
 import torch
 
 from gvgai_pcg._private_apis import assert_async
-from gvgai_pcg.games.geometry import aligned_cell
+from gvgai_pcg.vgdl.engine.cells import aligned_cell
 from gvgai_pcg.vgdl.engine.columns import fresh_columns, oriented_table
 from gvgai_pcg.vgdl.engine.frame import Frame
 from gvgai_pcg.vgdl.engine.layout import BORN_TICK

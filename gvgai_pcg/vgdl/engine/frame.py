@@ -26,7 +26,8 @@ import torch
 from tensordict import TensorDict
 
 from gvgai_pcg._private_apis import entries, write_entries
-from gvgai_pcg.games.geometry import aligned_cell, covered_cells, overlaps, overlaps_aligned
+from gvgai_pcg.games.geometry import covered_cells, overlaps, overlaps_aligned
+from gvgai_pcg.vgdl.engine.cells import aligned_cell
 from gvgai_pcg.vgdl.engine.layout import Layout
 from gvgai_pcg.vgdl.engine.off_grid import off_key, off_overlaps
 from gvgai_pcg.vgdl.layout import GRID, RECORD

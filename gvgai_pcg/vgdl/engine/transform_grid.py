@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 import torch
 
-from gvgai_pcg.games.geometry import aligned_cell
+from gvgai_pcg.vgdl.engine.cells import aligned_cell
 from gvgai_pcg.vgdl.engine.frame import Frame
 from gvgai_pcg.vgdl.engine.off_grid import off_key, put_off_grid
 
