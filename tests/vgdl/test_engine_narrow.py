@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import torch
 
-from gvgai_pcg.levels import Level
+from gvgai_pcg.levels import Level, human_levels
 from gvgai_pcg.vgdl.engine import VGDLGame, frame
 from gvgai_pcg.vgdl.registry import registered_game
 
@@ -52,3 +52,13 @@ def test_narrowed_tables_tick_as_whole_ones(monkeypatch):
         assert narrowed.get("log").batch_size == whole.get("log").batch_size
     assert "log" in widened  # a creation widened the table mid-tick
     assert 8 < max(len(sprites) for sprites in alive_sprites(whole, "log")) < whole.get("log").batch_size[1]
+
+
+def test_a_large_batch_with_a_wide_created_table_ticks_eagerly():
+    game = VGDLGame.from_file(registered_game("frogs").description, name="vgdl:frogs")
+    levels = human_levels("frogs")
+    small = game.compile(levels * 12, torch.arange(60), "cpu")
+    large = game.compile(levels * 103, torch.arange(515), "cpu")
+    assert small.get("log").batch_size[1] >= 256  # as wide in both
+    assert game.host_arguments(small) == {"crowded": False}
+    assert game.host_arguments(large) == {"crowded": True}
