@@ -40,3 +40,12 @@ def test_ordered_step_back_equals_the_pairwise_one(seed, axis):
     )
     assert torch.equal(torch.where(back, lastx, x), expected[0])
     assert torch.equal(torch.where(back, lasty, y), expected[1])
+
+
+@pytest.mark.slow  # a compile of its own (about 10 CPU-seconds)
+def test_ordered_step_back_compiled_equals_the_pairwise_one():
+    compiled = torch.compile(ordered.ordered_step_back, fullgraph=True, dynamic=False)
+    x, y, lastx, lasty, first, second = crowded_columns(0, batch=50)
+    expected = step_back_in_order(x, y, lastx, lasty, first, second, aligned=False)
+    actual = compiled(x, y, lastx, lasty, first, second, True)
+    assert torch.equal(actual[0], expected[0]) and torch.equal(actual[1], expected[1])
