@@ -8,12 +8,13 @@ a first too (and keeps scoring) until cleanup. The marks live here, not in the s
 record, table group or grid, in the rule's ``iSubTypes`` order.
 
 **Narrowed tables.** A table is as wide as its capacity, but its sprites sit in its first slots
-(a level's in slot order, a created one in the first free slot). Eagerly, the frame hands the
-kernels only a table's occupied prefix (``narrow``: the slots up to the last one alive in any env,
-rounded up to a power of two) and puts the untouched rest back when it writes the state; a
-creation that needs more free slots than the prefix holds widens it first (``make_room``). No
-kernel reads a free slot past the prefix (they mask by ``alive``, and a creation resets every
-column of the slot it takes), so the tick is the same; compiled, the tables keep their width.
+(a level's in slot order, a created one in the first free slot). Eagerly on the CPU
+(``reads_back``), the frame hands the kernels only a table's occupied prefix (``narrow``: the
+slots up to the last one alive in any env, rounded up to a power of two) and puts the untouched
+rest back when it writes the state; a creation that needs more free slots than the prefix holds
+widens it first (``make_room``). No kernel reads a free slot past the prefix (they mask by
+``alive``, and a creation resets every column of the slot it takes), so the tick is the same;
+compiled (or on a GPU), the tables keep their width.
 """
 
 from __future__ import annotations
@@ -110,7 +111,7 @@ class Frame:
         self.draws: dict[str, tuple] = {}  # a spawning table's draws this tick (``spawn_effects``)
         # narrowed tables (see the module docstring): their columns at full width
         self.full: dict[str, dict[str, torch.Tensor]] = {}
-        if not torch.compiler.is_compiling():
+        if reads_back(self.values["score"]):
             sources = set(layout.spills.values())  # their spills share their slots: kept whole
             for group in layout.tables:
                 # a table nothing creates into holds its level's sprites: it seldom narrows
@@ -358,6 +359,13 @@ class Frame:
 def _ranks(width: int, device: torch.device) -> torch.Tensor:
     """1, 2, ... ``width``, made once: never write to it."""
     return torch.arange(1, width + 1, device=device)
+
+
+def reads_back(tensor: torch.Tensor) -> bool:
+    """Whether the tick may read a number back from ``tensor`` to shrink its work: eagerly on
+    the CPU, where that costs about a microsecond (a graph cannot; on a GPU it would wait for the
+    device, and that has not been measured)."""
+    return tensor.device.type == "cpu" and not torch.compiler.is_compiling()
 
 
 def _memory(tensor: torch.Tensor) -> int:

@@ -7,9 +7,9 @@ place and b > a at its moved place (``games.rules.step_back_in_order``, which co
 by both coordinates each round). Here each place is one number, the aligned coordinate times
 ``KEY_AXIS`` plus the other: two places overlap exactly when their numbers differ by less than a
 cell, so a pair costs one subtraction, and the pairs are compared once, before the rounds (each
-round then combines bool masks). Eagerly, only the sprites near another (within a cell, at its
-moved or last place: ``near``) take part, gathered in slot order: a sprite near none is never
-stepped back and steps back none.
+round then combines bool masks). Eagerly on the CPU (``frame.reads_back``), only the sprites
+near another (within a cell, at its moved or last place: ``near``) take part, gathered in slot
+order: a sprite near none is never stepped back and steps back none.
 """
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ from __future__ import annotations
 import torch
 
 from gvgai_pcg.games.geometry import CELL, any_last
+from gvgai_pcg.vgdl.engine.frame import reads_back
 
 KEY_AXIS = 1 << 32  # aligned coordinate * KEY_AXIS + the other (|coordinates| < 2^31)
 FAR = 1 << 62  # an absent sprite's place: far from every place and from each other's
@@ -36,7 +37,7 @@ def ordered_step_back(
     ``second``: those present; ``aligned_x``: x is on whole cells (else y is)."""
     major, minor, last_major, last_minor = (x, y, lastx, lasty) if aligned_x else (y, x, lasty, lastx)
     key, last = major * KEY_AXIS + minor, last_major * KEY_AXIS + last_minor
-    if torch.compiler.is_compiling():
+    if not reads_back(key):
         back = _resolve(key, last, first, second)
     else:
         near = _near(key, last, second)

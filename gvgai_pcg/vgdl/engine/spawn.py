@@ -16,7 +16,7 @@ import torch
 from gvgai_pcg.games import rng
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.vgdl.engine.creation import create
-from gvgai_pcg.vgdl.engine.frame import Frame
+from gvgai_pcg.vgdl.engine.frame import Frame, reads_back
 from gvgai_pcg.vgdl.engine.layout import SPAWNER_ROW, Layout
 
 
@@ -32,9 +32,9 @@ def spawn_point(frame: Frame, name: str) -> None:
     due = (tick % cooldown == 0).unsqueeze(-1)
     placed = grid.reshape(batch, -1) > 0
     cells = torch.arange(height * width, device=grid.device)
-    if not torch.compiler.is_compiling():
-        # eagerly, only the cells where some env has a spawner that is due: a draw is keyed by
-        # its cell, so the others' draws change nothing (one number read back)
+    if reads_back(grid):
+        # eagerly on the CPU, only the cells where some env has a spawner that is due: a draw
+        # is keyed by its cell, so the others' draws change nothing (``reads_back``)
         cells = (placed & due).any(0).nonzero().flatten()
         if cells.numel() == 0:
             return
