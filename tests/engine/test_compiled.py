@@ -17,7 +17,7 @@ from gvgai_pcg.engine.compiled import (
     large_batch,
 )
 from gvgai_pcg.envs import GVGAIEnv
-from gvgai_pcg.games import get_game, registered_games
+from gvgai_pcg.games import get_game, get_game_spec, registered_games
 from gvgai_pcg.games.spec import StepFacts
 from gvgai_pcg.generators import get_generator
 from gvgai_pcg.levels import Level, human_levels
@@ -237,7 +237,7 @@ def test_frogs_ticks_eagerly_on_cuda():
     assert all(get_game(name).step_facts.compiled_devices == ("cpu", "cuda") for name in others)
 
 
-@pytest.mark.parametrize("game_name", sorted(registered_games()))
+@pytest.mark.parametrize("game_name", sorted(g for g in registered_games() if get_game_spec(g).generator))
 def test_the_traced_render_draws_what_the_render_draws(game_name):
     from gvgai_pcg.games.render import render_tiles, render_tiles_traced
 

@@ -8,6 +8,7 @@ import json
 import pytest
 
 from gvgai_pcg.cli import main
+from tests.vgdl.test_corpus_games import reset_registry
 
 READY = """BasicGame
     SpriteSet
@@ -37,6 +38,7 @@ def corpus(tmp_path, monkeypatch):
     (tmp_path / "needs.txt").write_text(NEEDS)
     (tmp_path / "needs_lvl0.txt").write_text("wwww\n")  # a level file, not a game
     monkeypatch.setenv("GVGAI_VGDL_DIR", str(tmp_path))
+    reset_registry(monkeypatch)  # corpus games found in this folder, not in one the process met first
     return tmp_path
 
 

@@ -6,9 +6,8 @@ corpus folder (``GVGAI_VGDL_DIR``, ``gvgai_pcg.vgdl.corpus``) holds its file, an
 generic step runs it: a registered game is one every env, test and tool can play. Its human
 levels are that folder's ``<file>_lvl0..4.txt``, its level legend the file's LevelMapping, its
 rules the generic step on the file. Asking for one that is not registered is refused in one line
-(``refusal``): what to set without the folder, else why the file cannot be played (the engine's
-own refusal, naming the file, the line and the feature). Finding them imports torch (the engine
-decides), which only a process with the folder set pays.
+(``refusal``): what to set without the folder, else why the file cannot be played (the feature
+it needs, naming the file and the line). Finding them parses the files and imports no torch.
 """
 
 from __future__ import annotations
@@ -20,6 +19,7 @@ from gvgai_pcg.vgdl.corpus import ENV_VAR, corpus_dir
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.layout import is_avatar
 from gvgai_pcg.vgdl.parser import parse_file
+from gvgai_pcg.vgdl.support import check_supported
 
 # Corpus games that need no VGDL feature the four study games lack (CORPUS.md, "Staging"); the
 # file stems, as GVGAI spells them. A game's registered name is its stem in lower case.
@@ -74,11 +74,13 @@ def _size(level: Path) -> tuple[int, int]:
 
 
 def playable_spec(path: Path) -> GameSpec:
-    """``corpus_spec`` of a file the generic step runs; the engine's refusal (``VGDLError``)
-    otherwise."""
+    """``corpus_spec`` of a file whose every feature the generic step implements
+    (``gvgai_pcg.vgdl.support``, pure Python: listing the games imports no torch); the refusal
+    (``VGDLError``) naming the first missing one otherwise. What only the engine's own checks
+    find is refused, in one line, where the game's rules are first asked for (``get_game``)."""
     spec = corpus_spec(path)
     try:
-        __getattr__(spec.name)  # compiles the game: refuses what has no kernel
+        check_supported(parse_file(path))
     except VGDLError:
         del _FILES[spec.name]
         raise

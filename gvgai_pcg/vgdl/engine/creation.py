@@ -13,7 +13,7 @@ from __future__ import annotations
 import torch
 
 from gvgai_pcg._private_apis import assert_async
-from gvgai_pcg.games.geometry import aligned_cell
+from gvgai_pcg.vgdl.engine.cells import aligned_cell
 from gvgai_pcg.vgdl.engine.columns import fresh_columns, oriented_table
 from gvgai_pcg.vgdl.engine.frame import Frame
 from gvgai_pcg.vgdl.engine.layout import BORN_TICK
@@ -46,6 +46,7 @@ def create(
         return
     if place.representation != TABLE:  # checks refuses creations into a record by these effects
         raise AssertionError(f"{name}: a creation into a {place.representation}")
+    frame.make_room(place.key, count)
     table = frame.entry(place.key)
     alive = table.get("alive")
     free = ~alive

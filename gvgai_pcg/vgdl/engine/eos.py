@@ -19,7 +19,8 @@ from gvgai_pcg.games.geometry import CELL, direction_dx, direction_dy, off_scree
 from gvgai_pcg.vgdl.engine.checks import score_of
 from gvgai_pcg.vgdl.engine.frame import Frame, Side, sides
 from gvgai_pcg.vgdl.engine.layout import Layout
-from gvgai_pcg.vgdl.layout import GRID, RECORD
+from gvgai_pcg.vgdl.engine.missiles import shared_direction
+from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
 from gvgai_pcg.vgdl.plan import RulePlan
 
 
@@ -88,6 +89,12 @@ def edge_wrap(
     Java's ``lastmove := 0`` is not held: ``checks`` refuses it for a cooldown above 1 (with a
     cooldown of 1 the gate is open again at its next update)."""
     x, y = frame.xy(side)
+    names = frame.layout.group(side.key).kinds if side.representation == TABLE else ()
+    shared = shared_direction(frame.layout, tuple(names[code] for code in side.kinds)) if names else None
+    if shared is not None and shared[0] != 0:  # one horizontal direction: a number
+        far_x = (screen_w - CELL).to(x.dtype).expand_as(x)
+        _write_xy(frame, side, torch.where(edge, 0 if shared[0] > 0 else far_x, x), y)
+        return
     ori = _field(frame, side, "ori")
     dx, dy = direction_dx(ori), direction_dy(ori)
     far_x, far_y = (screen_w - CELL).to(x.dtype), (screen_h - CELL).to(y.dtype)

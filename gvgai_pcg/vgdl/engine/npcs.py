@@ -12,11 +12,10 @@ import torch
 
 from gvgai_pcg.games import rng
 from gvgai_pcg.games.geometry import NONE, direction_dx, direction_dy
-from gvgai_pcg.games.lookup import lookup
 from gvgai_pcg.vgdl.engine.flicker import table_flicker
 from gvgai_pcg.vgdl.engine.frame import Frame
 from gvgai_pcg.vgdl.engine.layout import FLICKERS, TableGroup
-from gvgai_pcg.vgdl.engine.missiles import missile
+from gvgai_pcg.vgdl.engine.missiles import missile, per_kind
 from gvgai_pcg.vgdl.engine.spawn import spawn_point, table_spawn_point
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
 
@@ -53,9 +52,9 @@ def random_npc(frame: Frame, group: TableGroup) -> None:
     types = frame.layout.plan.types
     table = frame.entry(group.key)
     kind, alive = table.get("kind"), table.get("alive")
-    cons = lookup(tuple(int(types[name].values["cons"]) for name in group.kinds), kind)
-    cooldown = lookup(tuple(max(1, int(types[name].values["cooldown"])) for name in group.kinds), kind)
-    step = lookup(tuple(types[name].step_px for name in group.kinds), kind)
+    cons = per_kind(tuple(int(types[name].values["cons"]) for name in group.kinds), kind)
+    cooldown = per_kind(tuple(max(1, int(types[name].values["cooldown"])) for name in group.kinds), kind)
+    step = per_kind(tuple(types[name].step_px for name in group.kinds), kind)
     counter, prev = table.get("counter"), table.get("prev")
     drawn = rng.randint(frame.value("seed"), frame.value("tick"), table.get("draw"), group.stream, DIRECTIONS)
     draw = counter >= cons

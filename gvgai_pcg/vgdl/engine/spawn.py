@@ -20,7 +20,7 @@ import torch
 from gvgai_pcg.games import rng
 from gvgai_pcg.games.geometry import CELL
 from gvgai_pcg.vgdl.engine.creation import create
-from gvgai_pcg.vgdl.engine.frame import Frame
+from gvgai_pcg.vgdl.engine.frame import Frame, reads_back
 from gvgai_pcg.vgdl.engine.layout import SPAWNER_ROW, Layout, TableGroup
 
 
@@ -31,13 +31,21 @@ def spawn_point(frame: Frame, name: str) -> None:
     made = str(values["stype"])
     grid = frame.grid(name)
     batch, height, width = grid.shape
-    cells = torch.arange(height * width, device=grid.device)
-    cell_x, cell_y = CELL * (cells % width), CELL * (cells // width)
     tick = frame.value("tick")
-    drawn = rng.uniform(frame.value("seed"), tick, cell_y * SPAWNER_ROW + cell_x, layout.spawner_stream)
     cooldown = max(1, int(values["cooldown"]))
     due = (tick % cooldown == 0).unsqueeze(-1)
-    fires = (grid.reshape(batch, -1) > 0) & due & (drawn < float(values["prob"]))
+    placed = grid.reshape(batch, -1) > 0
+    cells = torch.arange(height * width, device=grid.device)
+    if reads_back(grid):
+        # eagerly on the CPU, only the cells where some env has a spawner that is due: a draw
+        # is keyed by its cell, so the others' draws change nothing (``reads_back``)
+        cells = (placed & due).any(0).nonzero().flatten()
+        if cells.numel() == 0:
+            return
+        placed = placed[:, cells]
+    cell_x, cell_y = CELL * (cells % width), CELL * (cells // width)
+    drawn = rng.uniform(frame.value("seed"), tick, cell_y * SPAWNER_ROW + cell_x, layout.spawner_stream)
+    fires = placed & due & (drawn < float(values["prob"]))
     cells_x, cells_y = cell_x.expand(batch, -1), cell_y.expand(batch, -1)
     create(frame, made, fires.long(), cells_x, cells_y, _overflow(layout, name))
 

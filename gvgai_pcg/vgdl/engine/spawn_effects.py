@@ -112,10 +112,16 @@ def draw(frame: Frame, rule: Rule, first: Side) -> torch.Tensor:
     )
     table = frame.entry(first.key)
     alive, kind = table.get("alive"), table.get("kind")
+    # every drawing rule of the group draws the same numbers while its sprites stay: drawn once
+    known = frame.draws.get(first.key)
+    if known is not None and known[0] is alive and known[1] is kind and not torch.compiler.is_compiling():
+        return known[2]
     position = lookup(order, kind)  # [B, K]
     slots = torch.arange(kind.shape[1], device=kind.device)
     before = (position.unsqueeze(-1) < position.unsqueeze(-2)) | (
         (position.unsqueeze(-1) == position.unsqueeze(-2)) & (slots.unsqueeze(-1) < slots.unsqueeze(-2))
     )  # [B, j, k]: sprite j is visited before sprite k
     rank = (before & alive.unsqueeze(-1)).sum(-2)
-    return rng.uniform(frame.value("seed"), frame.value("tick"), rank, group.stream)
+    drawn = rng.uniform(frame.value("seed"), frame.value("tick"), rank, group.stream)
+    frame.draws[first.key] = (alive, kind, drawn)  # holds alive, kind: their ids stay theirs
+    return drawn

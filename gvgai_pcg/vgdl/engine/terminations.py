@@ -19,7 +19,7 @@ def check_terminations(frame: Frame) -> None:
         for leaves in termination.counted:
             for side in sides(frame.layout, leaves):
                 if side.representation == GRID:
-                    count = count + frame.grid(side.key).flatten(1).sum(-1, dtype=torch.int64)
+                    count = count + frame.grid(side.key).flatten(1).sum(-1, dtype=torch.int32)
                     if side.key in frame.layout.spills:  # its sprites off the array
                         count = count + frame.entry(off_key(side.key)).get("alive").sum(-1)
                 else:

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 import torch
 
 from gvgai_pcg._private_apis import assert_async
-from gvgai_pcg.games.geometry import aligned_cell
+from gvgai_pcg.vgdl.engine.cells import aligned_cell
 from gvgai_pcg.vgdl.engine.frame import Frame, Side
 from gvgai_pcg.vgdl.engine.off_grid import off_key, put_off_grid
 from gvgai_pcg.vgdl.engine.spawn_effects import standing_and_touched
