@@ -68,7 +68,9 @@ def test_small_partial_resets_of_recurring_levels_compile_nothing(monkeypatch):
 
     from gvgai_pcg.envs import GVGAIEnv
 
-    env = GVGAIEnv("zelda", num_envs=10, levels="human", seed=0)
+    # eager: "compile" here is the level's (its parse into a state), and banked levels start with
+    # their reset tick, which a compiled tick would compile anew for each batch of new levels
+    env = GVGAIEnv("zelda", num_envs=10, levels="human", seed=0, compile_tick=False)
     env.reset()
     calls = []
     compile_level = env.game.compile
