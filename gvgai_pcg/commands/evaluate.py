@@ -37,6 +37,7 @@ from typing import TYPE_CHECKING
 from gvgai_pcg.commands.folders import refuse_files_for_folders
 from gvgai_pcg.games import get_game, registered_games
 from gvgai_pcg.levels import Level, human_levels, resolve_level
+from gvgai_pcg.rundir.atomic_files import atomic_write_text
 
 if TYPE_CHECKING:
     from gvgai_pcg.evaluation.protocol import Protocol
@@ -384,8 +385,6 @@ def _run_levels(args: argparse.Namespace, agent: str) -> int:
         print(table, file=sys.stderr)
         return 0
     if args.json:  # whole or not at all: a full disk leaves no empty or half file
-        from gvgai_pcg.rundir.atomic_files import atomic_write_text
-
         atomic_write_text(Path(args.json), json.dumps(payload, indent=1))
     print(table)
     return 0

@@ -24,6 +24,9 @@ import json
 import os
 from pathlib import Path
 
+from gvgai_pcg.games import corpus as corpus_games
+from gvgai_pcg.games import registered_games as registered_game_names
+from gvgai_pcg.rundir.atomic_files import atomic_write_text
 from gvgai_pcg.vgdl import VGDLError, parse_file
 from gvgai_pcg.vgdl.corpus import ENV_VAR, corpus_dir, find_game, vgdl_games
 from gvgai_pcg.vgdl.describe import describe, encode
@@ -88,25 +91,23 @@ def _level_rows(path: str) -> list[str]:
 
 
 def list_registered() -> int:
-    from gvgai_pcg.games import registered_games as games
-    from gvgai_pcg.games.corpus import CORPUS_GAMES, corpus_file, game_name, refusal
-
     for name in registered_games():
         print(name)
-    for name in games():
-        path = corpus_file(name)
+    games = registered_game_names()
+    for name in games:
+        path = corpus_games.corpus_file(name)
         if path is not None:
             print(f"{name}\tcorpus: {path}")
     folder = corpus_dir()
-    for stem in CORPUS_GAMES:
-        if folder is not None and (folder / f"{stem}.txt").is_file() and game_name(stem) not in games():
-            print(f"{game_name(stem)}\tcorpus, refused: {refusal(game_name(stem))}")
+    for stem in corpus_games.CORPUS_GAMES:
+        name = corpus_games.game_name(stem)
+        if folder is not None and (folder / f"{stem}.txt").is_file() and name not in games:
+            print(f"{name}\tcorpus, refused: {corpus_games.refusal(name)}")
     return 0
 
 
 def write_trace(args: argparse.Namespace) -> int:
     """``vgdl trace``: every input checked before the play, the file written whole or not at all."""
-    from gvgai_pcg.rundir.atomic_files import atomic_write_text
     from gvgai_pcg.vgdl.engine import VGDLGame
     from gvgai_pcg.vgdl.engine.trace import play_trace, read_level
 
