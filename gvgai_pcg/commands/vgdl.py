@@ -2,7 +2,7 @@
 
 ``list`` prints every registered VGDL game (the package's own descriptions that run through the
 generic step, ``gvgai_pcg.vgdl.registry``), one a line, then the GVGAI corpus games registered
-from the corpus folder (``gvgai_pcg.games.corpus``) with their file, and those it holds but
+from the corpus folder (``gvgai_pcg.vgdl.corpus_games``) with their file, and those it holds but
 the engine refuses, with the refusal; ``list --corpus`` every
 game of the corpus folder (``gvgai_pcg.vgdl.corpus``) with the features the engine does not
 implement yet.
@@ -24,10 +24,9 @@ import json
 import os
 from pathlib import Path
 
-from gvgai_pcg.games import corpus as corpus_games
 from gvgai_pcg.games import registered_games as registered_game_names
 from gvgai_pcg.rundir.atomic_files import atomic_write_text
-from gvgai_pcg.vgdl import VGDLError, parse_file
+from gvgai_pcg.vgdl import VGDLError, corpus_games, parse_file
 from gvgai_pcg.vgdl.corpus import ENV_VAR, corpus_dir, find_game, vgdl_games
 from gvgai_pcg.vgdl.describe import describe, encode
 from gvgai_pcg.vgdl.plan import Plan, compile_plan

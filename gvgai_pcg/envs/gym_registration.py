@@ -5,7 +5,7 @@ Gymnasium 1.x loads no plugins by itself, so the ids exist once this module has 
 (``import gvgai_pcg.envs.gym_registration``), or when an id is written with its module,
 ``gymnasium.make("gvgai_pcg.envs.gym_registration:gvgai_pcg/Zelda-v0")``. A game registered later
 gets its id from ``register_envs()``. Registration only records entry-point strings: the engine
-is imported when an env is made. The GVGAI corpus games (``gvgai_pcg.games.corpus``) have
+is imported when an env is made. The GVGAI corpus games (``gvgai_pcg.vgdl.corpus_games``) have
 their ids even without the corpus folder, so that making one says in one line what to set.
 """
 
@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import gymnasium as gym
 
-from gvgai_pcg.games import corpus as corpus_games
 from gvgai_pcg.games.registry import get_game_spec, registered_games
+from gvgai_pcg.vgdl import corpus_games
 
 NAMESPACE = "gvgai_pcg"
 VERSION = 0

@@ -3,10 +3,12 @@
 Where games come from, in order:
 
 * every folder ``gvgai_pcg/games/<name>/`` whose ``__init__.py`` defines ``SPEC`` (the four
-  games of the study), or ``SPECS``, a function that gives the specs of a folder of several
-  games (``games/corpus``: the GVGAI corpus games whose VGDL file the folder named by
-  ``GVGAI_VGDL_DIR`` holds), found on first use. Such a folder's ``refusal(name)`` says in one
-  line why a game of its own is not registered (what to set, or what the engine lacks);
+  games of the study), found on first use;
+* the modules of ``GAME_PROVIDERS``, each of several games: its ``SPECS()`` gives their specs
+  (``gvgai_pcg.vgdl.corpus_games``: the GVGAI corpus games whose VGDL file the folder named by
+  ``GVGAI_VGDL_DIR`` holds), found on first use and imported by name like the game folders, and
+  its ``refusal(name)`` says in one line why a game of its own is not registered (what to set,
+  or what the engine lacks);
 * ``register_game_spec(spec)``, in-process;
 * the entry-point group ``gvgai_pcg.games`` of installed packages: an entry point names a game
   and loads its ``GameSpec``.
@@ -48,6 +50,8 @@ if TYPE_CHECKING:
 GAME_ENTRY_POINT_GROUP = "gvgai_pcg.games"
 ENTRY_POINT_GROUP = "gvgai_pcg.generators"
 BUILTIN_PACKAGE = "gvgai_pcg.games"
+# modules of several games each (``SPECS()``, ``refusal(name)``), imported by name on first use
+GAME_PROVIDERS = ("gvgai_pcg.vgdl.corpus_games",)
 
 _SPECS: dict[str, GameSpec] = {}
 _GAMES: dict[str, Game] = {}  # the rules of each game, made on first use
@@ -79,7 +83,8 @@ def register_game_spec(spec: GameSpec) -> GameSpec:
 
 
 def _find_builtin_games() -> None:
-    """Register the ``SPEC`` or ``SPECS()`` of every game folder under gvgai_pcg/games/ (once)."""
+    """Register the ``SPEC`` of every game folder under gvgai_pcg/games/ and the ``SPECS()`` of
+    every game provider (once)."""
     global _found_builtins
     if _found_builtins:
         return
@@ -87,13 +92,15 @@ def _find_builtin_games() -> None:
     package = import_module(BUILTIN_PACKAGE)
     for module in pkgutil.iter_modules(package.__path__):
         if module.ispkg:
-            folder = import_module(f"{BUILTIN_PACKAGE}.{module.name}")
-            specs = [folder.SPEC] if hasattr(folder, "SPEC") else list(getattr(folder, "SPECS", list)())
-            for spec in specs:
-                if isinstance(spec, GameSpec):
-                    _SPECS.setdefault(spec.name, spec)
-            if hasattr(folder, "refusal") and folder.refusal not in _REFUSALS:
-                _REFUSALS.append(folder.refusal)
+            spec = getattr(import_module(f"{BUILTIN_PACKAGE}.{module.name}"), "SPEC", None)
+            if isinstance(spec, GameSpec):
+                _SPECS.setdefault(spec.name, spec)
+    for name in GAME_PROVIDERS:
+        provider = import_module(name)
+        for spec in provider.SPECS():
+            _SPECS.setdefault(spec.name, spec)
+        if provider.refusal not in _REFUSALS:
+            _REFUSALS.append(provider.refusal)
 
 
 def _discover_games(again: bool = False) -> None:

@@ -107,7 +107,7 @@ class GameSpec:
         human_levels: how many human-designed levels ``human_levels/`` holds.
         human_level_files: instead of a data package, the path of the human level files with
             ``{index}`` in it (a GVGAI corpus game's levels, read from the folder the user names:
-            ``gvgai_pcg.games.corpus``); ``None``: they are in ``data_package``.
+            ``gvgai_pcg.vgdl.corpus_games``); ``None``: they are in ``data_package``.
         study_index: the game's place in the study (0-3): the order of its tables and figures
             and the block of its frozen test-set seeds. ``None`` for a game outside the study.
         bench_target: the tiles steps/s at B = 4096 on 2 CPU cores that the benchmark holds the

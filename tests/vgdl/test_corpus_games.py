@@ -1,4 +1,4 @@
-"""GVGAI corpus games as registered games (``gvgai_pcg.games.corpus``): found in the folder
+"""GVGAI corpus games as registered games (``gvgai_pcg.vgdl.corpus_games``): found in the folder
 ``GVGAI_VGDL_DIR`` names, registered when the generic step runs them, refused in one line
 otherwise (what to set without the folder, the engine's refusal with it).
 
@@ -14,10 +14,9 @@ import shutil
 import pytest
 
 from gvgai_pcg.cli import main
-from gvgai_pcg.games import corpus as corpus_games
 from gvgai_pcg.games import registry
 from gvgai_pcg.levels import human_level, human_levels
-from gvgai_pcg.vgdl import corpus
+from gvgai_pcg.vgdl import corpus, corpus_games
 from gvgai_pcg.vgdl.corpus import ENV_VAR
 from gvgai_pcg.vgdl.registry import DESCRIPTIONS
 

@@ -87,7 +87,7 @@ def playable_spec(path: Path) -> GameSpec:
     return spec
 
 
-def SPECS() -> list[GameSpec]:  # noqa: N802 (the registry's name for a folder's specs)
+def SPECS() -> list[GameSpec]:  # noqa: N802 (the registry's name for a provider's specs)
     """The specs of the corpus games of the folder that the generic step runs; none without a
     folder, or when the folder is unusable (``refusal`` says why when such a game is asked for)."""
     try:
@@ -129,7 +129,7 @@ def refusal(name: str) -> str | None:
 
 
 def __getattr__(name: str) -> type:
-    """A corpus game's rules (``GameSpec.rules`` names them ``gvgai_pcg.games.corpus:<name>``):
+    """A corpus game's rules (``GameSpec.rules`` names them ``gvgai_pcg.vgdl.corpus_games:<name>``):
     the generic step's class for its file; a game the engine cannot run is refused here."""
     if name not in _FILES:
         raise AttributeError(name)
