@@ -281,7 +281,7 @@ def curricula_block(published: Path, budget: Budget, images: Path, prefix: str, 
             "editor unbounded), UED columns on "
             + ", ".join(
                 f"{game.capitalize()}: {_protocol_text(budget, name)}"
-                for game, name in reference_protocols.items()
+                for game, name in sorted(reference_protocols.items())
             )
             + ".",
             "",
