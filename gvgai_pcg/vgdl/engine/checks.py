@@ -14,7 +14,7 @@ from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.java_classes import defaults_of
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
 from gvgai_pcg.vgdl.model import GameDescription
-from gvgai_pcg.vgdl.plan import Plan, RulePlan
+from gvgai_pcg.vgdl.plan import Plan, RulePlan, TypePlan
 
 # Per class, its representation and the behaviour parameters a file may set.
 SPRITE_KERNELS: dict[str, tuple[str, frozenset[str]]] = {
@@ -289,12 +289,19 @@ def _scanned(plan: Plan, rule: RulePlan) -> bool:
     return rule.name == "collectResource" or (rule.name == "transformTo" and into_table)
 
 
+def _transform_target(plan: Plan, rule: RulePlan, representation: str) -> tuple[object, TypePlan | None]:
+    """A transformTo's ``stype`` and its type's plan where it is held as ``representation``
+    (else None)."""
+    stype = rule.values.get("stype")
+    target = plan.types.get(stype) if isinstance(stype, str) else None
+    return stype, target if target is not None and target.representation == representation else None
+
+
 def _into_grid(plan: Plan, rule: RulePlan) -> bool:
     """transformTo from grid types, or table types or records on whole cells, into a grid type
     that no singleton guards (``transform_grid``); refuses the rest of what goes into a grid."""
-    stype = rule.values.get("stype")
-    target = plan.types.get(stype) if isinstance(stype, str) else None
-    if target is None or target.representation != GRID:
+    stype, target = _transform_target(plan, rule, GRID)
+    if target is None:
         return False
     firsts = [plan.types[name] for name in rule.firsts]
     if (
@@ -315,9 +322,8 @@ def _into_grid(plan: Plan, rule: RulePlan) -> bool:
 def _into_table(plan: Plan, rule: RulePlan) -> bool:
     """transformTo from tables or records into a table whose sprites hold no orientation, without
     killSecond (``transform_table``); refuses the rest of what goes into a table."""
-    stype = rule.values.get("stype")
-    target = plan.types.get(stype) if isinstance(stype, str) else None
-    if target is None or target.representation != TABLE:
+    stype, target = _transform_target(plan, rule, TABLE)
+    if target is None:
         return False
     firsts = [plan.types[name] for name in rule.firsts]
     if (
