@@ -46,7 +46,8 @@ def steps_per_second(game, tick, envs: int) -> float:
 
 def main(sizes: list[int]) -> None:
     torch.set_num_threads(1)
-    games = {"hand-written": get_game("zelda"), "generic": VGDLGame.from_file(registered_game("zelda").description)}
+    generic = VGDLGame.from_file(registered_game("zelda").description)
+    games = {"hand-written": get_game("zelda"), "generic": generic}
     print(f"{'envs':>6} {'engine':>13} {'eager':>10} {'compiled':>10}  (env steps per CPU second)")
     for envs in sizes:
         for name, game in games.items():

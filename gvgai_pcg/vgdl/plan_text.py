@@ -25,6 +25,8 @@ def describe_plan(plan: Plan) -> str:
         text = f"  {sprite.name}: {sprite.representation} ({sprite.why}); {aligned}"
         if sprite.step_px:
             text += f"; {sprite.step_px} px a move"
+        if sprite.singleton_guard:
+            text += f"; not created while a {' or '.join(sprite.singleton_guard)} exists (singleton)"
         if sprite.capacity is not None:
             text += f"; slots {sprite.capacity.formula()}"
             if plan.slots is not None:

@@ -192,3 +192,13 @@ def test_what_a_carried_sprite_pushes_moves_along_both_axes():
     ).types
     assert (types["raft"].aligned_x, types["raft"].aligned_y) == (False, True)  # lifted a whole cell
     assert not types["box"].aligned_y  # the raft's last move may be the lift's, up
+
+
+def test_inspect_says_which_sprites_refuse_a_singletons_creation():
+    from gvgai_pcg.vgdl.plan_text import describe_plan
+
+    text = describe_plan(analyse(game_of()))
+    assert "  slash: record (" in text
+    line = next(line for line in text.splitlines() if line.startswith("  slash:"))
+    assert line.endswith("; not created while a slash exists (singleton)")
+    assert "singleton" not in next(line for line in text.splitlines() if line.startswith("  hero:"))
