@@ -26,7 +26,7 @@ from tensordict import TensorDict
 from gvgai_pcg._private_apis import unchecked_tensordict
 from gvgai_pcg.engine.compiled import INDUCTOR_OPTIONS, _configured_thread, tick_and_draw
 from gvgai_pcg.envs import GVGAIEnv
-from gvgai_pcg.games.base import entity_capacities, pad_entity_tables
+from gvgai_pcg.envs.states import entity_capacities, pad_entity_tables
 
 
 def tick_draw_reset(game, state, next_state, next_obs, action, steps, max_steps, **arguments):

@@ -105,7 +105,7 @@ class LevelBuffer(SharedState):
         probabilities[valid] = (1.0 - staleness_coef) * by_score + staleness_coef * by_staleness
         return probabilities
 
-    # --- moving (inside ``with self.locked():``) ---
+    # --- moving (inside ``with self.lock:``) ---
     def tick(self) -> int:
         """Count one level handed out; returns the new clock."""
         self.clock.add_(1)

@@ -109,7 +109,7 @@ class PrioritizedLevels(LevelSource):
         replay_draws = seed_uniforms(episode_seeds, _REPLAY_STREAM).tolist()
         pick_draws = seed_uniforms(episode_seeds, _PICK_STREAM).tolist()
         levels = []
-        with self.buffer.locked():
+        with self.buffer.lock:
             for k, env in enumerate(env_indices.tolist()):
                 self.buffer.tick()
                 level, d = self._special_level(env, episode_seeds[k])
@@ -166,7 +166,7 @@ class PrioritizedLevels(LevelSource):
         difficulties = nxt.get("level_difficulty").reshape(shape).cpu().to(torch.float64)
         pairs = torch.stack([seeds.flatten(), difficulties.flatten().view(torch.int64)])
         unique, inverse = torch.unique(pairs, dim=1, return_inverse=True)
-        with self.buffer.locked():
+        with self.buffer.lock:
             found = self.buffer.find(unique[0], unique[1].view(torch.float64)) >= 0
         return found[inverse].reshape(shape).to(rollout.device)
 
@@ -201,7 +201,7 @@ class PrioritizedLevels(LevelSource):
             else:
                 self._running[env] = episode
         if finished:
-            with self.buffer.locked():
+            with self.buffer.lock:
                 self._score(finished)
 
     def _score(self, finished: list[tuple[Episode, float]]) -> None:

@@ -70,7 +70,7 @@ class LearnabilityBuffer(SharedState):
         self, difficulties: torch.Tensor, seeds: torch.Tensor, scores: torch.Tensor, frames: int
     ) -> None:
         count = len(seeds)
-        with self.locked():
+        with self.lock:
             self.difficulties[:count] = difficulties
             self.seeds[:count] = seeds
             self.learnability[:count] = scores

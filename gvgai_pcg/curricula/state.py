@@ -5,7 +5,7 @@ moved by ``observe`` (or, for PPCG, by its transform). ``SharedState`` gives a p
 ``DifficultyTransform`` has for PPCG's d: tensors registered as buffers (``register_shared``) live
 in shared memory, so in-process envs see one value; ``share_through(directory)`` backs them by
 memory-mapped files, so collector worker processes, which receive a pickled copy, read and
-move the very same values; ``locked()`` serialises the moves of all processes; and
+move the very same values; ``with state.lock:`` serialises the moves of all processes; and
 ``state_dict`` / ``load_state_dict`` carry them into checkpoints and back.
 """
 
@@ -23,11 +23,13 @@ from gvgai_pcg.envs.shared_buffers import exclusive, share_buffers_through
 
 class SharedState(nn.Module):
     """Base of a curriculum's shared state: register tensors with ``register_shared``, move them
-    inside ``with self.locked():``."""
+    inside ``with self.lock:``."""
 
     def __init__(self) -> None:
         super().__init__()
         self.lock_path: Path | None = None
+        # Decided when the state is shared, so that a move pays no call to find its lock.
+        self.lock: contextlib.AbstractContextManager[None] = contextlib.nullcontext()
 
     def register_shared(self, name: str, value: torch.Tensor) -> torch.Tensor:
         """Keep ``value`` as the shared buffer ``name`` (in shared memory) and return it."""
@@ -37,13 +39,7 @@ class SharedState(nn.Module):
     def share_through(self, directory: Path) -> None:
         """Share the buffers with worker processes through files in ``directory``."""
         self.lock_path = share_buffers_through(self, directory)
-
-    def locked(self) -> contextlib.AbstractContextManager[None]:
-        """A lock across every process that shares the state (through ``share_through``); none
-        while the state is not shared (one process has nothing to lock out)."""
-        if self.lock_path is None:
-            return contextlib.nullcontext()
-        return exclusive(self.lock_path)
+        self.lock = exclusive(self.lock_path)
 
     @property
     def difficulty(self) -> float:

@@ -23,8 +23,7 @@ import torch
 from tensordict import TensorDict
 
 from gvgai_pcg.engine.rows import copy_tensor_rows_, select_rows
-from gvgai_pcg.envs.states import bucket_entity_tables, merge_states
-from gvgai_pcg.games.base import entity_capacities, pad_entity_tables
+from gvgai_pcg.envs.states import bucket_entity_tables, entity_capacities, merge_states, pad_entity_tables
 from gvgai_pcg.levels import Level
 
 

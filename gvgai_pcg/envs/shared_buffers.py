@@ -9,7 +9,6 @@ maps. ``DifficultyTransform`` and the curricula's ``SharedState`` both share the
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Iterator
 from pathlib import Path
 
 from filelock import FileLock
@@ -29,14 +28,30 @@ def share_buffers_through(module: nn.Module, directory: Path) -> Path:
     return directory / f"{type(module).__name__.lower()}.lock"
 
 
-@contextlib.contextmanager
-def exclusive(path: Path | None) -> Iterator[None]:
-    """Hold an exclusive lock on the file ``path`` (nothing if ``None``)."""
-    if path is None:
-        yield
-        return
-    # Kept on release: a process already waiting holds the file open, and a new file at the same
-    # path would let a third process in beside it. Forked workers each open their own lock.
-    lock = FileLock(path, thread_local=False, fallback_to_soft=False, preserve_lock_file=True)
-    with lock:
-        yield
+def exclusive(path: Path | None) -> contextlib.AbstractContextManager[None]:
+    """An exclusive lock on the file ``path`` for each ``with`` block (nothing if ``None``); the
+    object can be kept and entered again."""
+    return FileMutex(path) if path is not None else contextlib.nullcontext()
+
+
+class FileMutex:
+    """An exclusive lock on the file ``path`` around each ``with`` block; reusable and picklable,
+    so a shared state keeps one from the moment it is shared."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self._held: list[FileLock] = []  # at most one: the lock keeps every other holder out
+
+    def __enter__(self) -> None:
+        # A new FileLock per block, kept on release: a process already waiting holds the file
+        # open, and a new file at the same path would let a third process in beside it. Forked
+        # workers each open their own.
+        lock = FileLock(self.path, thread_local=False, fallback_to_soft=False, preserve_lock_file=True)
+        lock.acquire()
+        self._held.append(lock)
+
+    def __exit__(self, *exc_info: object) -> None:
+        self._held.pop().release()
+
+    def __getstate__(self) -> dict:
+        return {"path": self.path, "_held": []}

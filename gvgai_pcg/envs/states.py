@@ -8,14 +8,14 @@ operations grow the smaller ones with empty (zero) slots, as padding would give 
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 
 import torch
 from tensordict import TensorDict
 
-from gvgai_pcg._private_apis import entries
+from gvgai_pcg._private_apis import entries, unchecked_tensordict
 from gvgai_pcg.engine.rows import copy_tensor_rows_
-from gvgai_pcg.games.base import entity_capacities, grow_slots, pad_entity_tables
 
 
 def merge_states(
@@ -85,3 +85,43 @@ def concatenate_states(states: Sequence[TensorDict]) -> TensorDict:
         for key, size in entity_capacities(state).items():
             sizes[key] = max(size, sizes.get(key, 0))
     return torch.cat([pad_entity_tables(state.clone(False), sizes) for state in states], dim=0)
+
+
+def pad_entity_tables(state: TensorDict, capacities: dict[str, int]) -> TensorDict:
+    """``state`` with each entity table named in ``capacities`` grown to that many slots."""
+    for key, size in capacities.items():
+        table = state.get(key)
+        missing = size - table.batch_size[1]
+        if missing > 0:
+            # Leaf by leaf into an unchecked TensorDict: a TensorDict ``cat`` validates every
+            # entry and costs much more, and ``apply`` a third more (Frogs' one-env reset: 240
+            # against 378 us).
+            grown = {
+                name: grow_slots(value, missing)
+                if isinstance(value, torch.Tensor)
+                else pad_rows_of(value, missing)
+                for name, value in table.items()
+            }
+            state.set(key, unchecked_tensordict(grown, torch.Size([len(table), size]), table.device))
+    return state
+
+
+def pad_rows_of(table: TensorDict, missing: int) -> TensorDict:
+    """A table nested in an entity table, its leaves grown by ``missing`` zero slots."""
+    return table.apply(
+        functools.partial(grow_slots, missing=missing), batch_size=[len(table), table.batch_size[1] + missing]
+    )
+
+
+def grow_slots(tensor: torch.Tensor, missing: int) -> torch.Tensor:
+    """``tensor [B, K, ...]`` with ``missing`` zero slots appended along ``K``."""
+    return torch.cat([tensor, tensor.new_zeros((tensor.shape[0], missing, *tensor.shape[2:]))], dim=1)
+
+
+def entity_capacities(state: TensorDict) -> dict[str, int]:
+    """The slot count of every entity table (nested TensorDict with a ``[B, K]`` batch)."""
+    return {
+        key: value.batch_size[1]
+        for key, value in state.items()
+        if isinstance(value, TensorDict) and value.batch_dims == 2
+    }

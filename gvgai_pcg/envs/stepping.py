@@ -16,8 +16,8 @@ from gvgai_pcg.engine.outputs import episode_outputs
 from gvgai_pcg.engine.rows import first_rows, select_rows
 from gvgai_pcg.engine.step_plan import StepPlan
 from gvgai_pcg.envs.shards import ShardedStepper
-from gvgai_pcg.envs.states import slot_bucket
-from gvgai_pcg.games.base import Game, entity_capacities, pad_entity_tables
+from gvgai_pcg.envs.states import entity_capacities, pad_entity_tables, slot_bucket
+from gvgai_pcg.games.base import Game
 from gvgai_pcg.games.render import render_pixels, render_tiles
 
 Outputs = dict[str, torch.Tensor]

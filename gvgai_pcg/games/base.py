@@ -18,7 +18,6 @@ off-grid test uses the env's own ``height`` and ``width``, never the batch's gri
 
 from __future__ import annotations
 
-import functools
 from abc import ABC, abstractmethod
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -298,43 +297,3 @@ def pad_level(level: Level, height: int, width: int) -> Level:
     if (level.height, level.width) == (height, width):
         return level
     return Level(level.game, tuple(rows), name=level.name, seed=level.seed)
-
-
-def pad_entity_tables(state: TensorDict, capacities: dict[str, int]) -> TensorDict:
-    """``state`` with each entity table named in ``capacities`` grown to that many slots."""
-    for key, size in capacities.items():
-        table = state.get(key)
-        missing = size - table.batch_size[1]
-        if missing > 0:
-            # Leaf by leaf into an unchecked TensorDict: a TensorDict ``cat`` validates every
-            # entry and costs much more, and ``apply`` a third more (Frogs' one-env reset: 240
-            # against 378 us).
-            grown = {
-                name: grow_slots(value, missing)
-                if isinstance(value, torch.Tensor)
-                else pad_rows_of(value, missing)
-                for name, value in table.items()
-            }
-            state.set(key, unchecked_tensordict(grown, torch.Size([len(table), size]), table.device))
-    return state
-
-
-def pad_rows_of(table: TensorDict, missing: int) -> TensorDict:
-    """A table nested in an entity table, its leaves grown by ``missing`` zero slots."""
-    return table.apply(
-        functools.partial(grow_slots, missing=missing), batch_size=[len(table), table.batch_size[1] + missing]
-    )
-
-
-def grow_slots(tensor: torch.Tensor, missing: int) -> torch.Tensor:
-    """``tensor [B, K, ...]`` with ``missing`` zero slots appended along ``K``."""
-    return torch.cat([tensor, tensor.new_zeros((tensor.shape[0], missing, *tensor.shape[2:]))], dim=1)
-
-
-def entity_capacities(state: TensorDict) -> dict[str, int]:
-    """The slot count of every entity table (nested TensorDict with a ``[B, K]`` batch)."""
-    return {
-        key: value.batch_size[1]
-        for key, value in state.items()
-        if isinstance(value, TensorDict) and value.batch_dims == 2
-    }

@@ -34,3 +34,18 @@ def test_two_processes_never_interleave_inside_the_lock(tmp_path):
 def test_no_path_means_no_lock():
     with exclusive(None):
         pass
+
+
+def test_a_kept_lock_is_entered_again_and_travels_to_workers(tmp_path):
+    import pickle
+
+    lock = exclusive(tmp_path / "state.lock")
+    for _ in range(2):  # a shared state keeps one lock for every move
+        with lock:
+            assert lock._held
+        assert not lock._held
+    with lock:
+        copy = pickle.loads(pickle.dumps(lock))  # a worker's copy holds nothing of the parent's
+    assert copy.path == lock.path and copy._held == []
+    with copy:
+        pass

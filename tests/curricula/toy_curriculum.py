@@ -41,7 +41,7 @@ class LeastPlayed(LevelSource):
 
     def observe(self, signals) -> None:
         seeds = signals["level_seed"][signals["finished"]]
-        with self.state.locked():
+        with self.state.lock:
             self.state.finished.index_add_(0, seeds, torch.ones_like(seeds))
 
 

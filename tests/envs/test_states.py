@@ -4,9 +4,9 @@ running batch merge as if they had been padded first."""
 import torch
 
 from gvgai_pcg.engine.rows import copy_rows
-from gvgai_pcg.envs.states import merge_states
+from gvgai_pcg.envs.states import entity_capacities, merge_states, pad_entity_tables
 from gvgai_pcg.games import get_game
-from gvgai_pcg.games.base import entity_capacities, pad_entity_tables, pad_level
+from gvgai_pcg.games.base import pad_level
 from gvgai_pcg.generators import generate_level
 
 
