@@ -6,6 +6,7 @@ from the corpus folder (``gvgai_pcg.vgdl.corpus_games``) with their file, and th
 the engine refuses, with the refusal; ``list --corpus`` every
 game of the corpus folder (``gvgai_pcg.vgdl.corpus``) with the features the engine does not
 implement yet.
+``games --out FILE`` writes ``docs/games.md`` (``gvgai_pcg.vgdl.games_page``).
 ``inspect GAME`` prints the parsed description in Java's orders and the plan compiled from it
 (``--level FILE`` gives each table's slots for that level; ``--json`` for all of it as JSON; a
 game the engine cannot run yet shows the one-line refusal in the plan's place). ``GAME`` is a
@@ -29,6 +30,7 @@ from gvgai_pcg.rundir.atomic_files import atomic_write_text
 from gvgai_pcg.vgdl import VGDLError, corpus_games, parse_file
 from gvgai_pcg.vgdl.corpus import ENV_VAR, corpus_dir, find_game, vgdl_games
 from gvgai_pcg.vgdl.describe import describe, encode
+from gvgai_pcg.vgdl.games_page import game_rows, games_markdown
 from gvgai_pcg.vgdl.plan import Plan, compile_plan
 from gvgai_pcg.vgdl.plan_text import describe_plan
 from gvgai_pcg.vgdl.registry import registered_game, registered_games
@@ -40,6 +42,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     listing = actions.add_parser("list", help="every registered VGDL game, one a line")
     listing.add_argument(
         "--corpus", action="store_true", help="the corpus folder's games instead, with what the engine lacks"
+    )
+    games = actions.add_parser(
+        "games", help="write the page of every corpus game: plays or not, what it lacks"
+    )
+    games.add_argument(
+        "--out", required=True, metavar="FILE", help="the Markdown page to write (docs/games.md)"
+    )
+    games.add_argument(
+        "--traces",
+        default="tests/data/vgdl_corpus_traces",
+        metavar="DIR",
+        help="the folder of recorded Java traces (<game>_*.json) the page counts",
     )
     inspect = actions.add_parser("inspect", help="a game's parsed structure in Java's orders")
     inspect.add_argument("game", metavar="GAME", help="a name from 'gvgai-pcg vgdl list' or a path to a .txt")
@@ -63,6 +77,8 @@ def run(args: argparse.Namespace) -> int:
         return list_corpus() if args.corpus else list_registered()
     if args.action == "trace":
         return write_trace(args)
+    if args.action == "games":
+        return write_games_page(Path(args.out), Path(args.traces))
     game = parse_file(find_game(args.game))
     rows = _level_rows(args.level) if args.level else None
     try:
@@ -139,6 +155,21 @@ def write_trace(args: argparse.Namespace) -> int:
     except OSError as error:
         raise ValueError(f"cannot write {out}: {error.strerror}") from None
     print(f"{len(ticks)} ticks ({ticks[-1]['status']}, score {ticks[-1]['score']}) written to {out}")
+    return 0
+
+
+def write_games_page(out: Path, traces: Path) -> int:
+    folder = corpus_dir()
+    if folder is None:
+        raise ValueError(f"no VGDL games: set {ENV_VAR} to a folder of GVGAI's VGDL files")
+    if not traces.is_dir():
+        raise ValueError(f"no traces folder {traces}")
+    rows = game_rows(folder, traces)
+    try:
+        atomic_write_text(out, games_markdown(rows))
+    except OSError as error:
+        raise ValueError(f"cannot write {out}: {error.strerror}") from None
+    print(f"{sum(row.registered for row in rows)} of {len(rows)} games play; written to {out}")
     return 0
 
 

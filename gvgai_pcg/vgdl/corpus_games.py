@@ -111,10 +111,12 @@ def corpus_file(name: str) -> Path | None:
 
 
 def refusal(name: str) -> str | None:
-    """Why corpus game ``name`` is not registered, in one line; None for another name."""
+    """Why corpus game ``name`` is not registered, in one line; None for another name. A game of
+    the folder that is not among ``CORPUS_GAMES`` is refused with the first feature the engine
+    lacks, or, where it has them all, as not yet verified against Java."""
     stem = next((stem for stem in CORPUS_GAMES if game_name(stem) == name), None)
     if stem is None:
-        return None
+        return _unlisted_refusal(name)
     need = f"set {ENV_VAR} to a folder holding GVGAI's {stem}.txt and {stem}_lvl0..4.txt"
     try:
         folder = corpus_dir()
@@ -126,6 +128,28 @@ def refusal(name: str) -> str | None:
     except (OSError, ValueError) as error:
         return f"game {name!r}: {error} ({need})"
     return None
+
+
+def _unlisted_refusal(name: str) -> str | None:
+    try:
+        folder = corpus_dir()
+    except ValueError:
+        return None
+    if folder is None:
+        return None
+    path = next(
+        (path for path in folder.glob("*.txt") if "_lvl" not in path.stem and game_name(path.stem) == name),
+        None,
+    )
+    if path is None:
+        return None
+    try:
+        check_supported(parse_file(path))
+    except VGDLError as error:
+        return f"game {name!r} cannot be played yet: {error}"
+    return (
+        f"game {name!r} ({path}) has every feature the engine implements but is not verified against Java yet"
+    )
 
 
 def __getattr__(name: str) -> type:

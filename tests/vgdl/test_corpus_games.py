@@ -162,3 +162,50 @@ def test_each_corpus_game_plays_or_is_refused_in_one_line(stem, fresh_registry, 
 
     env = GVGAIEnv(name, num_envs=2, seed=0)
     assert env.reset()["tiles"].shape[0] == 2
+
+
+def test_an_unlisted_corpus_game_is_refused_with_what_it_lacks_or_as_unverified(folder):
+    shutil.copy(DESCRIPTIONS / "zelda.txt", folder / "unchecked.txt")
+    (folder / "lacking.txt").write_text(REFUSED)
+    with pytest.raises(ValueError, match=r"'unchecked' .* is not verified against Java yet"):
+        registry.get_game_spec("unchecked")
+    with pytest.raises(
+        ValueError, match=r"'lacking' cannot be played yet: .*lacking.txt:4: Bomber is not"
+    ):
+        registry.get_game_spec("lacking")
+
+
+def test_the_games_page_has_a_row_per_file_saying_what_it_lacks(folder, tmp_path_factory, capsys):
+    shutil.copy(DESCRIPTIONS / "zelda.txt", folder / "unchecked.txt")
+    traces = tmp_path_factory.mktemp("traces")
+    for index in range(3):
+        (traces / f"zcopy_lvl{index}.json").write_text("{}")
+    out = tmp_path_factory.mktemp("docs") / "games.md"
+    assert main(["vgdl", "games", "--out", str(out), "--traces", str(traces)]) == 0
+    assert capsys.readouterr().out.startswith("1 of 3 games play")
+    page = out.read_text()
+    assert "| zcopy | yes | 11 | - | 3 Java traces, replayed tick by tick |" in page
+    assert "| refused | no | 3 | Bomber, Timeout | - |" in page  # and MovingAvatar
+    assert "| unchecked | no | 11 | - | - |" in page
+    assert "- 1 more have every feature but no Java check yet: unchecked." in page
+
+
+def test_the_games_page_refuses_a_missing_traces_folder_and_writes_nothing(folder, tmp_path, capsys):
+    out = tmp_path / "games.md"
+    with pytest.raises(SystemExit) as stop:
+        main(["vgdl", "games", "--out", str(out), "--traces", str(tmp_path / "none")])
+    assert stop.value.code == 2 and "no traces folder" in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_docs_games_page_is_what_the_corpus_and_traces_give(fresh_registry):
+    from pathlib import Path
+
+    from gvgai_pcg.vgdl.games_page import game_rows, games_markdown
+
+    folder = corpus.corpus_dir()
+    if folder is None or len(corpus.vgdl_games()) < 100:
+        pytest.skip(f"GVGAI's VGDL files are not here: set {ENV_VAR}")
+    root = Path(__file__).resolve().parents[2]
+    page = games_markdown(game_rows(folder, root / "tests/data/vgdl_corpus_traces"))
+    assert (root / "docs/games.md").read_text() == page, "rebuild: gvgai-pcg vgdl games --out docs/games.md"
