@@ -70,6 +70,7 @@ RESOURCE_EFFECTS = frozenset({"collectResource", "killIfOtherHasMore"})
 TERMINATION_KERNELS = {
     "SpriteCounter": frozenset({"stype", "limit", "win"}),
     "MultiSpriteCounter": frozenset({"stype1", "stype2", "stype3", "limit", "win"}),
+    "Timeout": frozenset({"limit", "win"}),
 }
 
 
@@ -130,9 +131,12 @@ def check_engine(game: GameDescription, plan: Plan) -> None:
             for key in termination.values
             if key not in settable
             and key not in ("itype", "itype1", "itype2", "itype3", "min", "count_score", "canEnd")
+            and key not in ("use_counter", "compare", "limits")  # Timeout's, refused below when set
         ]
         if termination.values.get("min"):
             extra.append("min")
+        if termination.java_class == "Timeout":  # the counters decide the winner only with use_counter
+            extra += [key for key in ("use_counter", "compare") if termination.values.get(key)]
         if extra or termination.values.get("count_score") or termination.values.get("canEnd") is False:
             raise VGDLError(
                 path,
