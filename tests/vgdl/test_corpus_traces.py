@@ -1,6 +1,7 @@
-"""The Java traces of six GVGAI corpus games (``tests/data/vgdl_corpus_traces``) replay through the
+"""The Java traces of GVGAI corpus games (``tests/data/vgdl_corpus_traces``) replay through the
 generic step, tick by tick, from GVGAI's own VGDL file of each game; GVGAI's zelda, recorded the
-same way, is the control that the engine already plays exactly.
+same way, is the control that the engine already plays exactly. One longer trace plays labyrinth
+until its ``Timeout`` ends it.
 
 GVGAI's files are not in this repository: without the corpus folder (``GVGAI_VGDL_DIR``) every
 replay is skipped, saying so; a game the engine refuses is skipped with the engine's one-line
@@ -54,6 +55,7 @@ def first_mismatch(expected: list[dict], actual: list[dict]) -> str | None:
 def test_every_game_has_its_five_human_levels_recorded():
     names = [path.stem for path in trace_files()]
     games = ("camelRace", "infection", "painter", "racebet", "racebet2", "zenpuzzle", "zelda")
+    games += ("labyrinth", "labyrinthdual", "shipwreck", "surround", "whackamole")
     assert names == sorted(f"{game}_lvl{index}" for game in games for index in range(5))
     for path in trace_files():
         trace = json.loads(path.read_text())
@@ -74,6 +76,18 @@ def test_a_changed_tick_is_the_first_mismatch():
 @pytest.mark.parametrize("path", trace_files(), ids=lambda path: path.stem)
 def test_corpus_trace_replays_exactly(path):
     trace = json.loads(path.read_text())
+    game = corpus_game(trace["game"])
+    level = Level(trace["game"], tuple(trace["level"]), name=path.stem)
+    ticks = play_trace(game, level, trace["actions"], exclude=trace["excluded"])
+    mismatch = first_mismatch(trace["ticks"], ticks)
+    assert mismatch is None, f"{path.name}, {mismatch}"
+
+
+@pytest.mark.slow  # 1001 ticks: about 10 CPU-seconds
+def test_labyrinth_ends_by_timeout_in_the_tick_java_does():
+    path = TRACES / "labyrinth_timeout.json"
+    trace = json.loads(path.read_text())
+    assert (trace["ticks"][-1]["tick"], trace["ticks"][-1]["status"]) == (1000, "lose")
     game = corpus_game(trace["game"])
     level = Level(trace["game"], tuple(trace["level"]), name=path.stem)
     ticks = play_trace(game, level, trace["actions"], exclude=trace["excluded"])
