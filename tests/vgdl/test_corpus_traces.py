@@ -1,7 +1,7 @@
 """The Java traces of GVGAI corpus games (``tests/data/vgdl_corpus_traces``) replay through the
 generic step, tick by tick, from GVGAI's own VGDL file of each game; GVGAI's zelda, recorded the
 same way, is the control that the engine already plays exactly. One longer trace plays labyrinth
-until its ``Timeout`` ends it.
+until its ``Timeout`` ends it; one on a hand-made level renews labyrinthdual's avatar in place.
 
 GVGAI's files are not in this repository: without the corpus folder (``GVGAI_VGDL_DIR``) every
 replay is skipped, saying so; a game the engine refuses is skipped with the engine's one-line
@@ -73,7 +73,11 @@ def test_a_changed_tick_is_the_first_mismatch():
 
 
 # a game the engine runs replays its 120 ticks eagerly in about 1 CPU-second
-@pytest.mark.parametrize("path", trace_files(), ids=lambda path: path.stem)
+# with a hand-made level: labyrinthdual's avatar made into its own type by a second red coat
+HAND_MADE = ("labyrinthdual_renew.json",)
+
+
+@pytest.mark.parametrize("path", trace_files() + [TRACES / n for n in HAND_MADE], ids=lambda path: path.stem)
 def test_corpus_trace_replays_exactly(path):
     trace = json.loads(path.read_text())
     game = corpus_game(trace["game"])

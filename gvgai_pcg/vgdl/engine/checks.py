@@ -258,7 +258,7 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
         target = plan.types.get(stype) if isinstance(stype, str) else None
         if target is None or target.representation != RECORD or representations - {RECORD}:
             raise VGDLError(path, line, "transformTo is implemented from record types (the avatar) into one")
-        if stype in rule.firsts and any(stype in other.seconds for other in plan.pairs):
+        if stype in rule.firsts and not _renewal_unseen(plan, rule, stype):
             # renewed in place, the record cannot also be the killed sprite Java keeps as a second
             raise VGDLError(
                 path,
@@ -283,6 +283,21 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
         raise VGDLError(
             path, line, f"{rule.name}: a rule of kind {rule.kind} ({rule.why}) is not implemented"
         )
+
+
+def _renewal_unseen(plan: Plan, rule: RulePlan, stype: str) -> bool:
+    """Whether renewing ``stype``'s record in place (a transformTo into its own type) gives Java's
+    result although Java keeps the killed sprite as a second beside the new one until cleanup: every
+    rule after ``rule`` in the tick that has ``stype`` among its seconds is a killSprite of a type
+    that is not a record, which kills its first at the first second it meets and so applies once
+    whether it meets one such second or two at the same place (labyrinthdual's ``exit avatar``).
+    Rules before it ran before the renewal; in later ticks there is one sprite."""
+    index = next(i for i, other in enumerate(plan.pairs) if other is rule)
+    return all(
+        other.name == "killSprite" and all(plan.types[name].representation != RECORD for name in other.firsts)
+        for other in plan.pairs[index + 1 :]
+        if stype in other.seconds
+    )
 
 
 def _scanned(plan: Plan, rule: RulePlan) -> bool:
