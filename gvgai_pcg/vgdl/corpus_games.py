@@ -21,9 +21,20 @@ from gvgai_pcg.vgdl.layout import is_avatar
 from gvgai_pcg.vgdl.parser import parse_file
 from gvgai_pcg.vgdl.support import check_supported
 
-# Corpus games that need no VGDL feature the four study games lack (CORPUS.md, "Staging"); the
-# file stems, as GVGAI spells them. A game's registered name is its stem in lower case.
-CORPUS_GAMES = ("camelRace", "infection", "painter", "racebet", "racebet2", "zenpuzzle")
+# Corpus games the generic step plays as Java does (each held to Java traces,
+# tests/data/vgdl_corpus_traces): those that need no VGDL feature the four study games lack
+# (CORPUS.md, "Staging"), then labyrinth and labyrinthdual, which need only Timeout; the file stems,
+# as GVGAI spells them. A game's registered name is its stem in lower case.
+CORPUS_GAMES = (
+    "camelRace",
+    "infection",
+    "painter",
+    "racebet",
+    "racebet2",
+    "zenpuzzle",
+    "labyrinth",
+    "labyrinthdual",
+)
 HUMAN_LEVELS = 5
 
 _FILES: dict[str, Path] = {}  # registered name -> its VGDL file, for the rules' import path

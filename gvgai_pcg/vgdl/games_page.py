@@ -74,7 +74,8 @@ def games_markdown(rows: list[GameRow]) -> str:
         "play was checked against Java; any other is refused in one line naming what it needs.",
         "",
         f"- **{len(playable)} of {len(rows)} files play**: " + ", ".join(row.stem for row in playable) + ".",
-        f"- {len(unverified)} more have every feature but no Java check yet"
+        f"- {len(unverified)} more have every feature but do not play yet (no Java check, or the generic"
+        " step refuses how they use one: its refusal names it)"
         + (": " + ", ".join(row.stem for row in unverified) if unverified else "")
         + ".",
         "- The rest lack "
@@ -101,6 +102,8 @@ def games_markdown(rows: list[GameRow]) -> str:
 def _check(row: GameRow) -> str:
     if row.name in VGDL_GAMES:
         return STUDY_CHECK
-    if row.traces:
+    if row.traces and row.registered:
         return f"{row.traces} Java traces, replayed tick by tick"
+    if row.traces:
+        return f"{row.traces} Java traces, recorded for when it plays"
     return "-"

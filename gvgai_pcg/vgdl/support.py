@@ -19,8 +19,8 @@ flag that changes how the step must run:
 
 ``key_handler=Pulse`` is not a feature: it changes how a human's keys are read, not the step.
 
-``IMPLEMENTED`` is what the four study games use (31 features): the hand-written engines
-implement exactly these.
+``STUDY_FEATURES`` is what the four study games use (31 features): the hand-written engines
+implement exactly these. ``IMPLEMENTED`` adds what only the generic step has (``Timeout``).
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.model import GameDescription
 
-IMPLEMENTED: frozenset[str] = frozenset(
+STUDY_FEATURES: frozenset[str] = frozenset(
     {
         # engine flags
         "@EOS",
@@ -69,6 +69,7 @@ IMPLEMENTED: frozenset[str] = frozenset(
         "wrapAround",
     }
 )
+IMPLEMENTED: frozenset[str] = STUDY_FEATURES | {"Timeout"}
 # Classes whose own update never moves a sprite (a stepBack among them undoes only pushes).
 STILL_CLASSES = frozenset(
     "Immovable Passive Resource ResourcePack Door Flicker OrientedFlicker Spreader Portal "

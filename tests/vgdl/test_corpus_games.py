@@ -25,7 +25,7 @@ REFUSED = """BasicGame
         hero > MovingAvatar
         bomb > Bomber stype=hero
     TerminationSet
-        Timeout limit=10 win=True
+        SpriteCounterMore stype=hero limit=0 win=True
 """
 
 
@@ -185,9 +185,10 @@ def test_the_games_page_has_a_row_per_file_saying_what_it_lacks(folder, tmp_path
     assert capsys.readouterr().out.startswith("1 of 3 games play")
     page = out.read_text()
     assert "| zcopy | yes | 11 | - | 3 Java traces, replayed tick by tick |" in page
-    assert "| refused | no | 3 | Bomber, Timeout | - |" in page  # and MovingAvatar
+    assert "| refused | no | 3 | Bomber, SpriteCounterMore | - |" in page  # and MovingAvatar
     assert "| unchecked | no | 11 | - | - |" in page
-    assert "- 1 more have every feature but no Java check yet: unchecked." in page
+    assert "- 1 more have every feature but do not play yet (no Java check, or the generic step" in page
+    assert "refuses how they use one: its refusal names it): unchecked." in page
 
 
 def test_the_games_page_refuses_a_missing_traces_folder_and_writes_nothing(folder, tmp_path, capsys):

@@ -1,6 +1,7 @@
-"""The Java traces of six GVGAI corpus games (``tests/data/vgdl_corpus_traces``) replay through the
+"""The Java traces of GVGAI corpus games (``tests/data/vgdl_corpus_traces``) replay through the
 generic step, tick by tick, from GVGAI's own VGDL file of each game; GVGAI's zelda, recorded the
-same way, is the control that the engine already plays exactly.
+same way, is the control that the engine already plays exactly. One longer trace plays labyrinth
+until its ``Timeout`` ends it; one on a hand-made level renews labyrinthdual's avatar in place.
 
 GVGAI's files are not in this repository: without the corpus folder (``GVGAI_VGDL_DIR``) every
 replay is skipped, saying so; a game the engine refuses is skipped with the engine's one-line
@@ -54,6 +55,7 @@ def first_mismatch(expected: list[dict], actual: list[dict]) -> str | None:
 def test_every_game_has_its_five_human_levels_recorded():
     names = [path.stem for path in trace_files()]
     games = ("camelRace", "infection", "painter", "racebet", "racebet2", "zenpuzzle", "zelda")
+    games += ("labyrinth", "labyrinthdual", "shipwreck", "surround", "whackamole")
     boxed = [f"infection_boxed_lvl{index}" for index in range(5)]  # its RandomNPCs walled in
     assert names == sorted([f"{game}_lvl{index}" for game in games for index in range(5)] + boxed)
     for path in trace_files():
@@ -72,9 +74,25 @@ def test_a_changed_tick_is_the_first_mismatch():
 
 
 # a game the engine runs replays its 120 ticks eagerly in about 1 CPU-second
-@pytest.mark.parametrize("path", trace_files(), ids=lambda path: path.stem)
+# with a hand-made level: labyrinthdual's avatar made into its own type by a second red coat
+HAND_MADE = ("labyrinthdual_renew.json",)
+
+
+@pytest.mark.parametrize("path", trace_files() + [TRACES / n for n in HAND_MADE], ids=lambda path: path.stem)
 def test_corpus_trace_replays_exactly(path):
     trace = json.loads(path.read_text())
+    game = corpus_game(trace["game"])
+    level = Level(trace["game"], tuple(trace["level"]), name=path.stem)
+    ticks = play_trace(game, level, trace["actions"], exclude=trace["excluded"])
+    mismatch = first_mismatch(trace["ticks"], ticks)
+    assert mismatch is None, f"{path.name}, {mismatch}"
+
+
+@pytest.mark.slow  # 1001 ticks: about 10 CPU-seconds
+def test_labyrinth_ends_by_timeout_in_the_tick_java_does():
+    path = TRACES / "labyrinth_timeout.json"
+    trace = json.loads(path.read_text())
+    assert (trace["ticks"][-1]["tick"], trace["ticks"][-1]["status"]) == (1000, "lose")
     game = corpus_game(trace["game"])
     level = Level(trace["game"], tuple(trace["level"]), name=path.stem)
     ticks = play_trace(game, level, trace["actions"], exclude=trace["excluded"])

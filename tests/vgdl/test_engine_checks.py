@@ -87,6 +87,15 @@ def test_a_sprite_parameter_without_kernel_is_refused():
     assert message == "mine.txt:10: stone: parameter solid of Immovable is not implemented"
 
 
+def test_an_immovable_portal_is_accepted_it_only_names_the_observation_category():
+    # Java reads ``portal`` only for the category a state observation gives the sprite
+    game = VGDLGame.from_text(description(sprites="        hole > Immovable portal=True"), "mine.txt")
+    assert "hole" in game.layout.plan.types
+    assert refusal(description(sprites="        hole > Immovable portal=True solid=True")) == (
+        "mine.txt:10: hole: parameter solid of Immovable is not implemented"
+    )
+
+
 def test_a_feature_no_engine_has_is_refused_by_the_support_check():
     assert refusal(description(sprites="        hunter > Chaser stype=avatar")).startswith(
         "mine.txt:10: Chaser"

@@ -335,10 +335,14 @@ def refusal(text: str) -> str:
 
 
 def test_what_these_kernels_do_not_cover_is_refused_in_one_line():
-    renewed_second = BETS.replace(
+    # a later rule that kills a still first applies once whether it meets the renewed sprite alone
+    # or also the killed one Java keeps as a second (labyrinthdual's exit); one that spawns would not
+    killed_once = BETS.replace(
         "        avatar pit > transformTo stype=bet scoreChange=10",
         "        avatar pit > transformTo stype=bet scoreChange=10\n        pit normal > killSprite",
     )
+    assert "pit" in VGDLGame.from_text(killed_once, "mine.txt").layout.plan.types
+    renewed_second = killed_once.replace("pit normal > killSprite", "pit normal > spawn stype=arena")
     assert refusal(renewed_second) == (
         "mine.txt:9: transformTo of normal into itself, with normal a second of a rule, is not implemented"
     )

@@ -18,8 +18,9 @@ from gvgai_pcg.vgdl.plan import Plan, RulePlan, TypePlan
 
 # Per class, its representation and the behaviour parameters a file may set.
 SPRITE_KERNELS: dict[str, tuple[str, frozenset[str]]] = {
-    # singleton: Java's creation guard (``TypePlan.singleton_guard``); speed: an Immovable never moves
-    "Immovable": (GRID, frozenset({"singleton", "speed"})),
+    # singleton: Java's creation guard (``TypePlan.singleton_guard``); speed: an Immovable never moves;
+    # portal (here and below): only the category an agent's observation gives the sprite
+    "Immovable": (GRID, frozenset({"singleton", "speed", "portal"})),
     "Door": (GRID, frozenset()),
     "Flicker": (RECORD, frozenset({"limit", "singleton"})),
     "OrientedFlicker": (RECORD, frozenset({"limit", "singleton"})),
@@ -30,7 +31,6 @@ SPRITE_KERNELS: dict[str, tuple[str, frozenset[str]]] = {
     "Resource": (GRID, frozenset({"limit", "value"})),
     "MovingAvatar": (RECORD, frozenset({"speed"})),
     "Missile": (TABLE, frozenset({"speed", "cooldown", "orientation"})),
-    # portal: only the category an agent's observation gives it
     "SpawnPoint": (GRID, frozenset({"stype", "prob", "cooldown", "total", "portal"})),
 }
 # Classes whose kernels also hold them in another representation.
@@ -70,6 +70,7 @@ RESOURCE_EFFECTS = frozenset({"collectResource", "killIfOtherHasMore"})
 TERMINATION_KERNELS = {
     "SpriteCounter": frozenset({"stype", "limit", "win"}),
     "MultiSpriteCounter": frozenset({"stype1", "stype2", "stype3", "limit", "win"}),
+    "Timeout": frozenset({"limit", "win"}),
 }
 
 
@@ -130,9 +131,12 @@ def check_engine(game: GameDescription, plan: Plan) -> None:
             for key in termination.values
             if key not in settable
             and key not in ("itype", "itype1", "itype2", "itype3", "min", "count_score", "canEnd")
+            and key not in ("use_counter", "compare", "limits")  # Timeout's, refused below when set
         ]
         if termination.values.get("min"):
             extra.append("min")
+        if termination.java_class == "Timeout":  # the counters decide the winner only with use_counter
+            extra += [key for key in ("use_counter", "compare") if termination.values.get(key)]
         if extra or termination.values.get("count_score") or termination.values.get("canEnd") is False:
             raise VGDLError(
                 path,
@@ -254,7 +258,7 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
         target = plan.types.get(stype) if isinstance(stype, str) else None
         if target is None or target.representation != RECORD or representations - {RECORD}:
             raise VGDLError(path, line, "transformTo is implemented from record types (the avatar) into one")
-        if stype in rule.firsts and any(stype in other.seconds for other in plan.pairs):
+        if stype in rule.firsts and not _renewal_unseen(plan, rule, stype):
             # renewed in place, the record cannot also be the killed sprite Java keeps as a second
             raise VGDLError(
                 path,
@@ -279,6 +283,21 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
         raise VGDLError(
             path, line, f"{rule.name}: a rule of kind {rule.kind} ({rule.why}) is not implemented"
         )
+
+
+def _renewal_unseen(plan: Plan, rule: RulePlan, stype: str) -> bool:
+    """Whether renewing ``stype``'s record in place (a transformTo into its own type) gives Java's
+    result although Java keeps the killed sprite as a second beside the new one until cleanup: every
+    rule after ``rule`` in the tick that has ``stype`` among its seconds is a killSprite of a type
+    that is not a record, which kills its first at the first second it meets and so applies once
+    whether it meets one such second or two at the same place (labyrinthdual's ``exit avatar``).
+    Rules before it ran before the renewal; in later ticks there is one sprite."""
+    index = next(i for i, other in enumerate(plan.pairs) if other is rule)
+    return all(
+        other.name == "killSprite" and all(plan.types[name].representation != RECORD for name in other.firsts)
+        for other in plan.pairs[index + 1 :]
+        if stype in other.seconds
+    )
 
 
 def _scanned(plan: Plan, rule: RulePlan) -> bool:

@@ -1,4 +1,8 @@
-"""Terminations, checked after cleanup in declaration order: the first that holds ends the game."""
+"""Terminations, checked after cleanup in declaration order: the first that holds ends the game.
+
+Java's ``Timeout`` holds once the game tick (0 on the reset tick) reaches ``limit``; like the
+others it is checked in declaration order, so one declared before it that holds in the same tick
+decides the game."""
 
 from __future__ import annotations
 
@@ -11,10 +15,14 @@ from gvgai_pcg.vgdl.layout import GRID
 
 def check_terminations(frame: Frame) -> None:
     """SpriteCounter: the sprites of its type (and subtypes) still there, disabled avatars not
-    counted (cleanup removed them), are at most ``limit``."""
+    counted (cleanup removed them), are at most ``limit``; Timeout: the tick is at least ``limit``."""
     won, lost = frame.value("won"), frame.value("lost")
     decided = torch.zeros_like(won)
     for termination in frame.layout.plan.terminations:
+        if termination.java_class == "Timeout":
+            ends = (frame.value("tick") >= termination.limit) & ~decided
+            won, lost, decided = _decide(termination.win, ends, won, lost, decided)
+            continue
         count = torch.zeros_like(frame.value("score"))
         for leaves in termination.counted:
             for side in sides(frame.layout, leaves):
@@ -28,10 +36,17 @@ def check_terminations(frame: Frame) -> None:
             ends = (count == termination.limit) & ~decided
         else:
             ends = (count <= termination.limit) & ~decided
-        if termination.win:
-            won = won | ends
-        else:
-            lost = lost | ends
-        decided = decided | ends
+        won, lost, decided = _decide(termination.win, ends, won, lost, decided)
     frame.put("won", won)
     frame.put("lost", lost)
+
+
+def _decide(
+    win: bool, ends: torch.Tensor, won: torch.Tensor, lost: torch.Tensor, decided: torch.Tensor
+) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+    """``won``, ``lost`` and ``decided`` once a termination ending the games ``ends`` has held."""
+    if win:
+        won = won | ends
+    else:
+        lost = lost | ends
+    return won, lost, decided | ends
