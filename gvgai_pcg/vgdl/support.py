@@ -19,8 +19,9 @@ flag that changes how the step must run:
 
 ``key_handler=Pulse`` is not a feature: it changes how a human's keys are read, not the step.
 
-``IMPLEMENTED`` is what the four study games use (31 features): the hand-written engines
-implement exactly these.
+``IMPLEMENTED`` is what the four study games use (31 features), which the hand-written engines
+implement exactly, and what only the generic step implements: ``bounceForward``, ``killBoth``
+and ``undoAll`` (the Sokoban family).
 """
 
 from __future__ import annotations
@@ -54,9 +55,11 @@ IMPLEMENTED: frozenset[str] = frozenset(
         "MultiSpriteCounter",
         "SpriteCounter",
         # effects
+        "bounceForward",
         "changeResource",
         "collectResource",
         "killIfFromAbove",
+        "killBoth",
         "killIfOtherHasMore",
         "killSprite",
         "pullWithIt",
@@ -66,6 +69,7 @@ IMPLEMENTED: frozenset[str] = frozenset(
         "spawnIfHasMore",
         "stepBack",
         "transformTo",
+        "undoAll",
         "wrapAround",
     }
 )

@@ -15,10 +15,11 @@ def needs(body: str) -> dict[str, int]:
     return {feature.name: feature.line for feature in required_features(parse_vgdl(text, "g.txt"))}
 
 
-def test_the_declared_table_is_the_four_study_games_features():
-    assert len(IMPLEMENTED) == 31
+def test_the_declared_table_is_the_four_study_games_features_and_the_sokoban_effects():
+    assert len(IMPLEMENTED) == 34
     assert {"@EOS", "@F:stepBack", "@singleton", "@subcell", "shieldFrom", "OngoingAvatar"} <= IMPLEMENTED
-    assert "Timeout" not in IMPLEMENTED and "bounceForward" not in IMPLEMENTED
+    assert {"bounceForward", "killBoth", "undoAll"} <= IMPLEMENTED
+    assert "Timeout" not in IMPLEMENTED and "@F:bounceForward" not in IMPLEMENTED
 
 
 def test_classes_effects_terminations_and_flags_at_their_first_line():
@@ -80,7 +81,7 @@ def test_check_supported_refuses_the_first_missing_feature_in_one_line():
     ready = "BasicGame\n    SpriteSet\n        rock > Passive\n    InteractionSet\n"
     ready += "        avatar rock > stepBack\n"
     check_supported(parse_vgdl(ready, "ready.txt"))
-    text = ready + "        rock wall > bounceForward\n    TerminationSet\n        Timeout limit=9 win=True\n"
+    text = ready + "        rock wall > attractGaze\n    TerminationSet\n        Timeout limit=9 win=True\n"
     with pytest.raises(VGDLError) as caught:
         check_supported(parse_vgdl(text, "g.txt"))
-    assert str(caught.value) == "g.txt:6: bounceForward is not implemented by the engine yet (and 1 more)"
+    assert str(caught.value) == "g.txt:6: attractGaze is not implemented by the engine yet (and 1 more)"

@@ -22,16 +22,19 @@ from gvgai_pcg.vgdl.engine.checks import score_of
 from gvgai_pcg.vgdl.engine.columns import fresh_columns
 from gvgai_pcg.vgdl.engine.frame import Entry, Frame, Side, sides
 from gvgai_pcg.vgdl.engine.from_above import kill_if_from_above
+from gvgai_pcg.vgdl.engine.kill_both import kill_both
 from gvgai_pcg.vgdl.engine.layout import Layout
 from gvgai_pcg.vgdl.engine.ordered import ordered_step_back
 from gvgai_pcg.vgdl.engine.pixel_perfect import step_back_pixel_perfect
 from gvgai_pcg.vgdl.engine.pull import pull_with_it
+from gvgai_pcg.vgdl.engine.push import bounce_forward
 from gvgai_pcg.vgdl.engine.resources import change_resource, collect_resource, kill_if_other_has_more
 from gvgai_pcg.vgdl.engine.reverse import reverse_direction
 from gvgai_pcg.vgdl.engine.shield import shield_from
 from gvgai_pcg.vgdl.engine.spawn_effects import spawn, spawn_if_has_more
 from gvgai_pcg.vgdl.engine.transform_grid import transform_into_grid
 from gvgai_pcg.vgdl.engine.transform_table import transform_into_table
+from gvgai_pcg.vgdl.engine.undo import undo_all
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
 from gvgai_pcg.vgdl.plan import RulePlan
@@ -262,4 +265,7 @@ KERNELS: dict[str, Callable[[Frame, Rule], None]] = {
     "killIfFromAbove": kill_if_from_above,
     "shieldFrom": shield_from,
     "pullWithIt": pull_with_it,
+    "bounceForward": bounce_forward,
+    "undoAll": undo_all,
+    "killBoth": kill_both,
 }
