@@ -141,3 +141,28 @@ def test_what_the_kernels_do_not_implement_is_refused_in_one_line(line, refusal)
     with pytest.raises(VGDLError, match=refusal) as error:
         game(text, "refused.txt")
     assert "\n" not in str(error.value) and "refused.txt:" in str(error.value)
+
+
+@pytest.mark.slow  # about 40 s of compiling
+def test_the_compiled_tick_plays_what_the_eager_one_plays():
+    from gvgai_pcg.engine.compiled import engine_tick
+
+    vgdl = game()
+    levels = [
+        Level("a", ("wwwwww", "wA1..w", "w.1p.w", "w~c0.w", "wwwwww")),
+        Level("b", ("wwwwww", "w.11Aw", "wc~..w", "w.s.pw", "wwwwww")),
+    ]
+    actions = torch.randint(5, (60, 2), generator=torch.Generator().manual_seed(1))
+    actions[0] = 0
+    played = []
+    for tick in (vgdl.tick, engine_tick(vgdl)):
+        state = vgdl.compile(levels, torch.arange(2), "cpu")
+        records = []
+        for action in actions:
+            tick(state, action)
+            records.append([vgdl.snapshot(state, env) for env in range(2)])
+        played.append(records)
+    eager, compiled = played
+    assert compiled == eager
+    moved = {str(where(tick[0], "box")) for tick in eager} | {str(where(tick[1], "box")) for tick in eager}
+    assert len(moved) > 2  # the random walk pushed boxes
