@@ -19,20 +19,19 @@ from gvgai_pcg.vgdl.support import STILL_CLASSES
 
 # Per class, its representation and the behaviour parameters a file may set.
 SPRITE_KERNELS: dict[str, tuple[str, frozenset[str]]] = {
-    # singleton: Java's creation guard (``TypePlan.singleton_guard``); speed: an Immovable never moves
-    "Immovable": (GRID, frozenset({"singleton", "speed"})),
+    # singleton: Java's creation guard (``TypePlan.singleton_guard``); speed: an Immovable never
+    # moves; portal (here and below): only the category an agent's observation gives it
+    "Immovable": (GRID, frozenset({"singleton", "speed", "portal"})),
     "Door": (GRID, frozenset()),
     "Flicker": (RECORD, frozenset({"limit", "singleton"})),
     "OrientedFlicker": (RECORD, frozenset({"limit", "singleton"})),
     "ShootAvatar": (RECORD, frozenset({"stype", "speed"})),
     "RandomNPC": (TABLE, frozenset({"speed", "cooldown", "cons"})),
     "OngoingAvatar": (RECORD, frozenset({"speed"})),
-    # portal: only the category an agent's observation gives it
     "Passive": (GRID, frozenset({"portal"})),
     "Resource": (GRID, frozenset({"limit", "value"})),
     "MovingAvatar": (RECORD, frozenset({"speed"})),
     "Missile": (TABLE, frozenset({"speed", "cooldown", "orientation"})),
-    # portal: only the category an agent's observation gives it
     "SpawnPoint": (GRID, frozenset({"stype", "prob", "cooldown", "total", "portal"})),
 }
 # Classes whose kernels also hold them in another representation.
