@@ -473,12 +473,18 @@ def _check_undo(plan: Plan, rule: RulePlan) -> None:
 
 
 def _check_kill_both(plan: Plan, rule: RulePlan) -> None:
-    """killBoth (``kill_both``): pairs of types that share no type, no avatar first."""
-    if rule.kind != "P" or any(plan.types[name].java_class.endswith("Avatar") for name in rule.firsts):
+    """killBoth (``kill_both``): pairs of types that share no type, no avatar first, seconds in
+    tables only where their slots are Java's list order (nothing creates them)."""
+    created = any(
+        plan.types[name].representation == TABLE and plan.types[name].created_by for name in rule.seconds
+    )
+    avatar = any(plan.types[name].java_class.endswith("Avatar") for name in rule.firsts)
+    if rule.kind != "P" or created or avatar:
         raise VGDLError(
             plan.path,
             rule.line,
-            "killBoth is implemented between types that share none, with no avatar first",
+            "killBoth is implemented between types that share none, with no avatar first, of seconds "
+            "no rule creates in a table",
         )
 
 
