@@ -22,7 +22,7 @@ from gvgai_pcg.vgdl.engine.checks import score_of
 from gvgai_pcg.vgdl.engine.columns import fresh_columns
 from gvgai_pcg.vgdl.engine.frame import Entry, Frame, Side, sides
 from gvgai_pcg.vgdl.engine.from_above import kill_if_from_above
-from gvgai_pcg.vgdl.engine.kill_both import kill_both
+from gvgai_pcg.vgdl.engine.kill_both import kill_both, kill_listed_cells
 from gvgai_pcg.vgdl.engine.layout import Layout
 from gvgai_pcg.vgdl.engine.ordered import ordered_step_back
 from gvgai_pcg.vgdl.engine.pixel_perfect import step_back_pixel_perfect
@@ -219,7 +219,7 @@ def transform_to(frame: Frame, rule: Rule) -> None:
             for second, first_hit, index in firsts_hit:
                 chosen = first_hit & fire.unsqueeze(-1)
                 if second.representation == GRID:
-                    _kill_listed_cells(frame, second.key, index, chosen)
+                    kill_listed_cells(frame, second.key, index, chosen)
                 else:
                     frame.kill(second, chosen)
 
@@ -240,16 +240,6 @@ def _create(frame: Frame, name: str, where: torch.Tensor, source: Entry) -> None
         current = target.get(column)
         values[column] = torch.where(where, torch.full_like(current, value), current)
     target.update(values)
-
-
-def _kill_listed_cells(frame: Frame, key: str, index: torch.Tensor, chosen: torch.Tensor) -> None:
-    """Kill one sprite of grid ``key`` in each chosen cell (``index``, ``chosen``: ``[B, c]``)
-    that has none killed yet."""
-    killed = frame.grid_killed(key)
-    batch = killed.shape[0]
-    flat = killed.reshape(batch, -1)
-    add = chosen & (torch.gather(flat, 1, index) == 0)
-    frame.killed[key] = flat.scatter_add(1, index, add.to(flat.dtype)).view(killed.shape)
 
 
 KERNELS: dict[str, Callable[[Frame, Rule], None]] = {

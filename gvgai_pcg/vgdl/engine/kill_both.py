@@ -3,7 +3,7 @@
 Java applies it to a first's overlapping seconds in list order while the first is not killed:
 a sprite kills itself and its first second, once. A killed second stays a second until cleanup,
 so several firsts may all kill (and score for) the same one. In a grid second's cell the sprite
-killed is the cell's first (``effects._kill_listed_cells``).
+killed is the cell's first (``kill_listed_cells``).
 
 A grid first: each of its sprites in a cell some second covers kills itself and the first second
 in list order (``iSubTypes`` order of the seconds' sides, then slot order) that covers that
@@ -35,9 +35,6 @@ def kill_both(frame: Frame, rule: Rule) -> None:
 
 
 def _sprite_first(frame: Frame, rule: Rule, first: Side) -> None:
-    # local import: effects imports this module
-    from gvgai_pcg.vgdl.engine.effects import _kill_listed_cells
-
     x, y = frame.xy(first)
     eligible = frame.eligible(first)
     found = torch.zeros_like(eligible)
@@ -58,7 +55,7 @@ def _sprite_first(frame: Frame, rule: Rule, first: Side) -> None:
     for second, chosen, index in chosen_per_side:
         if second.representation == GRID:
             batch = chosen.shape[0]
-            _kill_listed_cells(frame, second.key, index.reshape(batch, -1), chosen.reshape(batch, -1))
+            kill_listed_cells(frame, second.key, index.reshape(batch, -1), chosen.reshape(batch, -1))
         else:
             frame.kill(second, chosen.any(-2))
 
@@ -93,3 +90,13 @@ def _grid_first(frame: Frame, rule: Rule, first: Side) -> None:
         mine = valid & (torch.gather(rank, 1, flat).view(index.shape) == order)
         mine = mine & torch.gather(struck, 1, flat).view(index.shape)
         frame.kill(second, mine.any(-1))
+
+
+def kill_listed_cells(frame: Frame, key: str, index: torch.Tensor, chosen: torch.Tensor) -> None:
+    """Kill one sprite of grid ``key`` in each chosen cell (``index``, ``chosen``: ``[B, c]``)
+    that has none killed yet."""
+    killed = frame.grid_killed(key)
+    batch = killed.shape[0]
+    flat = killed.reshape(batch, -1)
+    add = chosen & (torch.gather(flat, 1, index) == 0)
+    frame.killed[key] = flat.scatter_add(1, index, add.to(flat.dtype)).view(killed.shape)
