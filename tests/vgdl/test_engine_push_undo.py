@@ -166,3 +166,23 @@ def test_the_compiled_tick_plays_what_the_eager_one_plays():
     assert compiled == eager
     moved = {str(where(tick[0], "box")) for tick in eager} | {str(where(tick[1], "box")) for tick in eager}
     assert len(moved) > 2  # the random walk pushed boxes
+
+
+def test_undo_all_leaves_a_sprite_made_by_a_transform_in_an_earlier_tick_where_it_is():
+    # a half-cell shot falls onto the wall and becomes a stone (off the cells: a table) with the
+    # shot's last position; the stone's next update saves where it is (Java's preMovement), so an
+    # undo in a later tick leaves it be
+    text = TEXT.replace("        wall > Immovable\n", "        wall > Immovable\n        stone > Immovable\n")
+    text = text.replace(
+        "        shot > Missile orientation=DOWN\n", "        shot > Missile orientation=DOWN speed=0.5\n"
+    )
+    text = text.replace("        shot EOS > killSprite\n", "        shot wall > transformTo stype=stone\n")
+    vgdl = game(text, "stones.txt")
+    assert vgdl.layout.places["stone"].representation == "table"
+    history = play([("A1.w", "s...", "w...")], [["NIL"], ["NIL"], ["RIGHT"], ["RIGHT"]], vgdl)
+    made = next(tick for tick, records in enumerate(history) if where(records[0], "stone"))
+    stone = where(history[made][0], "stone")
+    assert made < 3 and stone != [(0, 10)]
+    assert where(history[3][0], "box") == [(20, 0)]
+    assert where(history[4][0], "box") == [(20, 0)] and avatar_at(history[4][0]) == (10, 0)  # undone
+    assert where(history[4][0], "stone") == stone

@@ -3,7 +3,8 @@
 Grid types never change on their own (nor do Immovable tables); spawners, a grid of them or a
 table, create sprites (``spawn``). A table that a ``bounceForward`` pushes saves its positions
 (Java's ``preMovement``: ``lastrect := rect``), which a ``stepBack`` or ``undoAll`` of the pushed
-sprites goes back to; the other still tables and records never move, so theirs stay right. A
+sprites goes back to; in a game with an ``undoAll``, every still table and record does (one made
+by a transform starts with its source's last position, which Java's next update forgets). A
 table group is updated whole, at the first of its kinds in that order: its classes' updates touch
 only the sprite itself, and its draws are keyed by slot (``layout``'s draw-key rule), so the
 order of its sprites within the phase changes nothing.
@@ -23,12 +24,14 @@ from gvgai_pcg.vgdl.engine.spawn import spawn_point, table_spawn_point
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
 
 DIRECTIONS = 4  # RandomNPC draws one of the four base directions
+# Table classes whose kernels save the start of the tick (``lastx, lasty``) themselves.
+SELF_SAVING = frozenset({"RandomNPC", "Missile"})
 
 
 def update_npcs(frame: Frame) -> None:
     layout = frame.layout
     done: set[str] = set()
-    pushed = pushed_tables(layout)
+    saved = saved_entries(layout)
     for name in layout.plan.update_order:
         if name in layout.avatars or name not in layout.places:
             continue
@@ -44,24 +47,33 @@ def update_npcs(frame: Frame) -> None:
                 table_flicker(frame, group)
             elif group.java_class == "SpawnPoint":
                 table_spawn_point(frame, group)
-            if place.key in pushed:
+            if place.key in saved:
                 pre_movement(frame, place.key)
-        elif place.representation == RECORD and layout.plan.types[name].java_class in FLICKERS:
-            flicker(frame, name)
+        elif place.representation == RECORD:
+            if name in saved:
+                pre_movement(frame, name)
+            if layout.plan.types[name].java_class in FLICKERS:
+                flicker(frame, name)
         elif place.representation == GRID and layout.plan.types[name].java_class == "SpawnPoint":
             spawn_point(frame, name)
 
 
-def pushed_tables(layout: Layout) -> frozenset[str]:
-    """The tables whose sprites a ``bounceForward`` pushes (``checks``: of classes that never move
-    by themselves)."""
-    return frozenset(
+def saved_entries(layout: Layout) -> frozenset[str]:
+    """The tables and records whose update saves their positions here: those a ``bounceForward``
+    pushes (``checks``: of classes that never move by themselves) and, in a game with an
+    ``undoAll``, every table and record whose class kernel does not (RandomNPC, Missile and the
+    avatars save their own)."""
+    saved = {
         layout.places[name].key
         for rule in layout.plan.pairs
         if rule.name == "bounceForward"
         for name in rule.firsts
         if name in layout.places and layout.places[name].representation == TABLE
-    )
+    }
+    if any(rule.name == "undoAll" for rule in layout.plan.pairs):
+        saved.update(group.key for group in layout.tables if group.java_class not in SELF_SAVING)
+        saved.update(name for name in layout.records if name not in layout.avatars)
+    return frozenset(saved)
 
 
 def pre_movement(frame: Frame, key: str) -> None:
