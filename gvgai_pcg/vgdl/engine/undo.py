@@ -5,8 +5,8 @@ One application restores everything and a second finds nothing left to undo, so 
 per-env global operation: it fires in the envs where any eligible first overlaps a second (no
 position changes before it fires, so testing them all at once is Java's first hit). Java's
 ``lastrect`` is what each sprite's update saved (``preMovement``): the avatar's and the moving
-classes' kernels keep it, and ``npcs.pre_movement`` keeps it for pushed tables. Grid types never
-move, and their ``lastrect`` is where they are. Facing and cooldowns stay as they are (Java
+classes' kernels keep it, and ``npcs.saved_entries`` has every other table and record keep it in a
+game with an undoAll. Grid types never move, and their ``lastrect`` is where they are. Facing and cooldowns stay as they are (Java
 restores only the rectangle).
 
 Implemented (``checks``) without ``notStype`` and without a score; a grid first only of a type
