@@ -23,8 +23,9 @@ from gvgai_pcg.vgdl.support import check_supported
 
 # Corpus games the generic step plays as Java does (each held to Java traces,
 # tests/data/vgdl_corpus_traces): those that need no VGDL feature the four study games lack
-# (CORPUS.md, "Staging"), then labyrinth and labyrinthdual, which need only Timeout; the file stems,
-# as GVGAI spells them. A game's registered name is its stem in lower case.
+# (CORPUS.md, "Staging"), then labyrinth and labyrinthdual, which need only Timeout, and those
+# that bounceForward, killBoth and undoAll complete (the Sokoban family); the file stems, as
+# GVGAI spells them. A game's registered name is its stem in lower case.
 CORPUS_GAMES = (
     "camelRace",
     "infection",
@@ -34,6 +35,11 @@ CORPUS_GAMES = (
     "zenpuzzle",
     "labyrinth",
     "labyrinthdual",
+    "bait",
+    "realsokoban",
+    "sokoban",
+    "thesnowman",
+    "watergame",
 )
 HUMAN_LEVELS = 5
 

@@ -20,7 +20,8 @@ flag that changes how the step must run:
 ``key_handler=Pulse`` is not a feature: it changes how a human's keys are read, not the step.
 
 ``STUDY_FEATURES`` is what the four study games use (31 features): the hand-written engines
-implement exactly these. ``IMPLEMENTED`` adds what only the generic step has (``Timeout``).
+implement exactly these. ``IMPLEMENTED`` adds what only the generic step has: ``Timeout``, and
+``bounceForward``, ``killBoth`` and ``undoAll`` (the Sokoban family).
 """
 
 from __future__ import annotations
@@ -69,7 +70,7 @@ STUDY_FEATURES: frozenset[str] = frozenset(
         "wrapAround",
     }
 )
-IMPLEMENTED: frozenset[str] = STUDY_FEATURES | {"Timeout"}
+IMPLEMENTED: frozenset[str] = STUDY_FEATURES | {"Timeout", "bounceForward", "killBoth", "undoAll"}
 # Classes whose own update never moves a sprite (a stepBack among them undoes only pushes).
 STILL_CLASSES = frozenset(
     "Immovable Passive Resource ResourcePack Door Flicker OrientedFlicker Spreader Portal "

@@ -16,7 +16,7 @@ READY = """BasicGame
         hero > MovingAvatar
         rock > Passive
     InteractionSet
-        rock hero > bounceForward
+        rock hero > attractGaze
         hero EOS > stepBack
         rock wall > stepBack
         hero wall > stepBack
@@ -34,7 +34,7 @@ NEEDS = """BasicGame
 
 @pytest.fixture
 def corpus(tmp_path, monkeypatch):
-    (tmp_path / "ready.txt").write_text(READY.replace("bounceForward", "killSprite"))
+    (tmp_path / "ready.txt").write_text(READY.replace("attractGaze", "killSprite"))
     (tmp_path / "needs.txt").write_text(NEEDS)
     (tmp_path / "needs_lvl0.txt").write_text("wwww\n")  # a level file, not a game
     monkeypatch.setenv("GVGAI_VGDL_DIR", str(tmp_path))
@@ -66,9 +66,9 @@ def test_inspect_prints_the_orders_java_uses(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "update order (avatar first, then reverse drawing order): avatar, rock, hero, floor, wall" in out
     assert "EOS (in order, repeats applied again): hero" in out
-    assert "   1. rock hero: bounceForward(line 7)\n   2. rock wall: stepBack(line 9)" in out
+    assert "   1. rock hero: attractGaze(line 7)\n   2. rock wall: stepBack(line 9)" in out
     assert "  line 12: SpriteCounter stype=hero limit=0 win=False" in out
-    assert "not implemented by the engine: bounceForward" in out
+    assert "not implemented by the engine: attractGaze" in out
 
 
 def test_inspect_json_is_the_whole_description(corpus, capsys):
@@ -138,11 +138,11 @@ def test_inspect_shows_the_refusal_in_the_plans_place(tmp_path, capsys):
     path.write_text(READY)
     assert main(["vgdl", "inspect", str(path)]) == 0
     out = capsys.readouterr().out
-    assert out.endswith(f"plan: refused: {path}:7: bounceForward is not implemented by the engine yet\n")
+    assert out.endswith(f"plan: refused: {path}:7: attractGaze is not implemented by the engine yet\n")
     assert main(["vgdl", "inspect", str(path), "--json"]) == 0
     described = json.loads(capsys.readouterr().out)
     assert described["plan"] is None and described["plan_refused"].endswith(
-        "bounceForward is not implemented by the engine yet"
+        "attractGaze is not implemented by the engine yet"
     )
 
 

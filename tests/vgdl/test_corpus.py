@@ -20,7 +20,7 @@ import pytest
 from gvgai_pcg.vgdl import GameDescription, parse_file
 from gvgai_pcg.vgdl.kinds import RANDOM_EFFECTS, rule_kind
 from gvgai_pcg.vgdl.plan import analyse, compile_plan
-from gvgai_pcg.vgdl.support import STUDY_FEATURES, required_features, unsupported_features
+from gvgai_pcg.vgdl.support import IMPLEMENTED, STUDY_FEATURES, required_features, unsupported_features
 
 ROOT = Path(__file__).resolve().parents[2]
 GAMES = Path(os.environ.get("GVGAI_VGDL_DIR", ROOT.parent / "shared" / "vgdl" / "games"))
@@ -28,6 +28,37 @@ DATA = Path(os.environ.get("GVGAI_VGDL_DATA", ROOT.parent / "shared" / "vgdl" / 
 STRUCTURE = DATA / "java_structure.jsonl"
 INVENTORY = DATA / "inventory.json"
 RULE_ORDER = DATA / "rule_order.json"
+# The games the four study games' features complete (CORPUS.md, "Staging"), those that Timeout
+# then completes, and those that bounceForward, killBoth and undoAll complete after it.
+TEN_GAMES = [
+    "boulderdash",
+    "camelRace",
+    "frogs",
+    "infection",
+    "painter",
+    "racebet",
+    "racebet2",
+    "solarfox",
+    "zelda",
+    "zenpuzzle",
+]
+TIMEOUT_GAMES = ["labyrinth", "labyrinthdual", "shipwreck", "surround", "whackamole"]
+SOKOBAN_FAMILY = [
+    "bait",
+    "bomberman",
+    "clusters",
+    "colourescape",
+    "cookmepasta",
+    "escape",
+    "modality",
+    "realsokoban",
+    "sokoban",
+    "tercio",
+    "thesnowman",
+    "watergame",
+]
+# of those, the games whose every feature the engine implements (the rest: see docs/games.md)
+READY_GAMES = TEN_GAMES + TIMEOUT_GAMES + SOKOBAN_FAMILY
 
 needs_corpus = pytest.mark.skipif(
     not GAMES.is_dir() or not STRUCTURE.is_file(),
@@ -76,28 +107,13 @@ def test_each_file_needs_the_features_the_inventory_lists():
     complete = sorted(
         game for game in inventory if not unsupported_features(parse_file(GAMES / f"{game}.txt"))
     )
-    assert complete == [
-        "boulderdash",
-        "camelRace",
-        "frogs",
-        "infection",
-        "labyrinth",
-        "labyrinthdual",
-        "painter",
-        "racebet",
-        "racebet2",
-        "shipwreck",
-        "solarfox",
-        "surround",
-        "whackamole",
-        "zelda",
-        "zenpuzzle",
-    ]
+    assert complete == sorted(TEN_GAMES + TIMEOUT_GAMES + SOKOBAN_FAMILY)
 
 
 @pytest.mark.skipif(not (DATA / "cover.json").is_file(), reason=f"the corpus notes ({DATA}) are not here")
 def test_the_study_features_table_is_the_four_games_features_of_the_corpus_notes():
     assert STUDY_FEATURES == set(json.loads((DATA / "cover.json").read_text())["four_features"])
+    assert IMPLEMENTED == STUDY_FEATURES | {"Timeout", "bounceForward", "killBoth", "undoAll"}
 
 
 @needs_corpus
@@ -119,7 +135,7 @@ def test_each_rule_kind_agrees_with_the_corpus_classification():
 
 
 @needs_corpus
-def test_every_file_has_a_plan_and_the_fifteen_ready_games_compile():
+def test_every_file_has_a_plan_and_the_ready_games_compile():
     ready = []
     for path in sorted(GAMES.glob("*.txt")):
         if "_lvl" in path.stem:
@@ -132,4 +148,4 @@ def test_every_file_has_a_plan_and_the_fifteen_ready_games_compile():
         assert reached | counted <= set(plan.types), path.name  # the step needs no other type
         if not unsupported_features(game):
             ready.append(compile_plan(game).path)
-    assert len(ready) == 15
+    assert sorted(Path(path).stem for path in ready) == sorted(READY_GAMES)

@@ -52,16 +52,60 @@ def first_mismatch(expected: list[dict], actual: list[dict]) -> str | None:
     return None
 
 
+# the recorded games, and the hand-scripted walks that push (``<level>_pushes``, README)
+GAMES = (
+    "camelRace",
+    "infection",
+    "painter",
+    "racebet",
+    "racebet2",
+    "zenpuzzle",
+    "zelda",
+    "labyrinth",
+    "labyrinthdual",
+    "shipwreck",
+    "surround",
+    "whackamole",
+    "bait",
+    "realsokoban",
+    "sokoban",
+    "thesnowman",
+    "watergame",
+)
+PUSHES = ("bait_lvl1", "realsokoban_lvl0", "sokoban_lvl0", "thesnowman_lvl0", "watergame_lvl1")
+
+
 def test_every_game_has_its_five_human_levels_recorded():
     names = [path.stem for path in trace_files()]
-    games = ("camelRace", "infection", "painter", "racebet", "racebet2", "zenpuzzle", "zelda")
-    games += ("labyrinth", "labyrinthdual", "shipwreck", "surround", "whackamole")
+    scripted = [f"{level}_pushes" for level in PUSHES]
     boxed = [f"infection_boxed_lvl{index}" for index in range(5)]  # its RandomNPCs walled in
-    assert names == sorted([f"{game}_lvl{index}" for game in games for index in range(5)] + boxed)
+    recorded = [f"{game}_lvl{index}" for game in GAMES for index in range(5)]
+    assert names == sorted(recorded + scripted + boxed)
     for path in trace_files():
         trace = json.loads(path.read_text())
         assert trace["engine_seeds"] == [0, 1, 2, 3] and trace["ticks"][0]["action"] == "NIL"
         assert len(trace["ticks"]) == len(trace["actions"]) + 1
+
+
+PUSHED = frozenset({"box", "boxin", "body", "chest", "head"})  # the pushed types of these games
+STEPS = {"LEFT": (-10, 0), "RIGHT": (10, 0), "UP": (0, -10), "DOWN": (0, 10)}
+
+
+@pytest.mark.parametrize("level", PUSHES)
+def test_each_hand_scripted_walk_pushes_and_has_a_push_undone(level):
+    ticks = json.loads((TRACES / f"{level}_pushes.json").read_text())["ticks"]
+    pushes = undone = 0
+    for before, tick in zip(ticks, ticks[1:], strict=False):
+        if tick["action"] not in STEPS or not tick["avatar"]:
+            continue
+        dx, dy = STEPS[tick["action"]]
+        x, y = before["avatar"]["x"], before["avatar"]["y"]
+        if not any(sprite == [name, x + dx, y + dy] for sprite in before["sprites"] for name in PUSHED):
+            continue
+        moved = (tick["avatar"]["x"], tick["avatar"]["y"]) != (x, y)
+        pushes += moved
+        undone += not moved
+    assert pushes >= 3 and undone >= 1
 
 
 def test_a_changed_tick_is_the_first_mismatch():

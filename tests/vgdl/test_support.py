@@ -15,11 +15,12 @@ def needs(body: str) -> dict[str, int]:
     return {feature.name: feature.line for feature in required_features(parse_vgdl(text, "g.txt"))}
 
 
-def test_the_declared_table_is_the_four_study_games_features_and_timeout():
+def test_the_declared_table_is_the_four_study_games_features_timeout_and_the_sokoban_effects():
     assert len(STUDY_FEATURES) == 31
     assert {"@EOS", "@F:stepBack", "@singleton", "@subcell", "shieldFrom", "OngoingAvatar"} <= STUDY_FEATURES
-    assert "Timeout" not in STUDY_FEATURES and IMPLEMENTED == STUDY_FEATURES | {"Timeout"}
-    assert "bounceForward" not in IMPLEMENTED
+    added = {"Timeout", "bounceForward", "killBoth", "undoAll"}
+    assert not added & STUDY_FEATURES and IMPLEMENTED == STUDY_FEATURES | added
+    assert "@F:bounceForward" not in IMPLEMENTED
 
 
 def test_classes_effects_terminations_and_flags_at_their_first_line():
@@ -81,8 +82,8 @@ def test_check_supported_refuses_the_first_missing_feature_in_one_line():
     ready = "BasicGame\n    SpriteSet\n        rock > Passive\n    InteractionSet\n"
     ready += "        avatar rock > stepBack\n"
     check_supported(parse_vgdl(ready, "ready.txt"))
-    text = ready + "        rock wall > bounceForward\n    TerminationSet\n"
+    text = ready + "        rock wall > attractGaze\n    TerminationSet\n"
     text += "        SpriteCounterMore stype=rock limit=0 win=True\n"
     with pytest.raises(VGDLError) as caught:
         check_supported(parse_vgdl(text, "g.txt"))
-    assert str(caught.value) == "g.txt:6: bounceForward is not implemented by the engine yet (and 1 more)"
+    assert str(caught.value) == "g.txt:6: attractGaze is not implemented by the engine yet (and 1 more)"

@@ -15,11 +15,12 @@ from gvgai_pcg.vgdl.java_classes import defaults_of
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
 from gvgai_pcg.vgdl.model import GameDescription
 from gvgai_pcg.vgdl.plan import Plan, RulePlan, TypePlan
+from gvgai_pcg.vgdl.support import STILL_CLASSES
 
 # Per class, its representation and the behaviour parameters a file may set.
 SPRITE_KERNELS: dict[str, tuple[str, frozenset[str]]] = {
-    # singleton: Java's creation guard (``TypePlan.singleton_guard``); speed: an Immovable never moves;
-    # portal (here and below): only the category an agent's observation gives the sprite
+    # singleton: Java's creation guard (``TypePlan.singleton_guard``); speed: an Immovable never
+    # moves; portal (here and below): only the category an agent's observation gives it
     "Immovable": (GRID, frozenset({"singleton", "speed", "portal"})),
     "Door": (GRID, frozenset()),
     "Flicker": (RECORD, frozenset({"limit", "singleton"})),
@@ -27,7 +28,7 @@ SPRITE_KERNELS: dict[str, tuple[str, frozenset[str]]] = {
     "ShootAvatar": (RECORD, frozenset({"stype", "speed"})),
     "RandomNPC": (TABLE, frozenset({"speed", "cooldown", "cons"})),
     "OngoingAvatar": (RECORD, frozenset({"speed"})),
-    "Passive": (GRID, frozenset()),
+    "Passive": (GRID, frozenset({"portal"})),
     "Resource": (GRID, frozenset({"limit", "value"})),
     "MovingAvatar": (RECORD, frozenset({"speed"})),
     "Missile": (TABLE, frozenset({"speed", "cooldown", "orientation"})),
@@ -58,7 +59,15 @@ EFFECT_KERNELS: dict[str, frozenset[str]] = {
     "killIfFromAbove": frozenset({"scoreChange"}),
     "shieldFrom": frozenset({"scoreChange", "stype", "ftype", "istype", "iftype"}),
     "pullWithIt": frozenset(),
+    "bounceForward": frozenset({"scoreChange"}),
+    "undoAll": frozenset(),
+    "killBoth": frozenset({"scoreChange"}),
 }
+# Effects that kill their first sprite, and those that also kill their second (a grid type no
+# rule kills is read whole by ``undo``).
+KILLING_FIRST = frozenset(
+    {"killSprite", "transformTo", "collectResource", "killIfOtherHasMore", "killIfFromAbove", "killBoth"}
+)
 # Per effect an EOS rule may apply (``eos``), the parameters its kernel reads.
 EDGE_KERNELS: dict[str, frozenset[str]] = {
     "stepBack": frozenset(),
@@ -243,7 +252,7 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
         raise VGDLError(path, line, "stepBack with a scoreChange is not implemented")
     representations = {plan.types[name].representation for name in rule.firsts}
     seconds = {plan.types[name].representation for name in rule.seconds}
-    if rule.name != "stepBack" and GRID in representations and GRID in seconds:
+    if rule.name not in ("stepBack", "undoAll") and GRID in representations and GRID in seconds:
         raise VGDLError(path, line, f"{rule.name} between two static types is not implemented")
     if rule.name in CREATION_CHECKS:
         CREATION_CHECKS[rule.name](plan, rule)
@@ -271,6 +280,12 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
     if rule.name == "pullWithIt":
         _check_pull(plan, rule)
         return
+    if rule.name == "bounceForward":
+        _check_push(plan, rule)
+    if rule.name == "undoAll":
+        _check_undo(plan, rule)
+    if rule.name == "killBoth":
+        _check_kill_both(plan, rule)
     if rule.name == "stepBack" and rule.values.get("pixelPerfect") and rule.kind == "F":
         raise VGDLError(path, line, "a pixelPerfect stepBack among sprites of one group is not implemented")
     if rule.kind == "F":
@@ -279,7 +294,11 @@ def _check_rule(plan: Plan, rule: RulePlan) -> None:
             raise VGDLError(
                 path, line, f"{rule.name} among sprites of one group is implemented for one table only"
             )
-    elif rule.kind not in ("P", "A") and not (rule.kind == "X" and _scanned(plan, rule)):
+    elif (
+        rule.kind not in ("P", "A")
+        and not (rule.kind == "X" and _scanned(plan, rule))
+        and rule.name != "undoAll"
+    ):
         raise VGDLError(
             path, line, f"{rule.name}: a rule of kind {rule.kind} ({rule.why}) is not implemented"
         )
@@ -372,9 +391,10 @@ def _check_off_grid(plan: Plan) -> None:
                 made.setdefault(stype, set()).update(tables)
     for rule in plan.pairs:
         reads_first = rule.name not in ("stepBack", "collectResource") and set(rule.firsts) & set(made)
-        reads_second = (
-            rule.name == "transformTo" and rule.values.get("killSecond") and set(rule.seconds) & set(made)
+        kills_second = rule.name == "killBoth" or (
+            rule.name == "transformTo" and rule.values.get("killSecond")
         )
+        reads_second = kills_second and set(rule.seconds) & set(made)
         if reads_first or reads_second:
             raise VGDLError(
                 plan.path,
@@ -434,6 +454,68 @@ def _check_pull(plan: Plan, rule: RulePlan) -> None:
             "pullWithIt is implemented for a MovingAvatar pulled by Missiles (one table), one pair a "
             "line, no score",
         )
+
+
+def _check_push(plan: Plan, rule: RulePlan) -> None:
+    """bounceForward (``push``): tables of still classes with no speed or cooldown of their own,
+    pushed by records; a push among sprites of one type (a chain push) is refused."""
+    firsts = [plan.types[name] for name in rule.firsts]
+    if rule.kind == "F":
+        raise VGDLError(
+            plan.path, rule.line, "bounceForward among sprites of one type (a chain push) is not implemented"
+        )
+    if any(
+        sprite.representation != TABLE
+        or sprite.java_class not in STILL_CLASSES
+        or float(sprite.values["speed"]) != 0
+        or float(sprite.values["cooldown"]) != 0
+        or sprite.values.get("rotateInPlace")
+        for sprite in firsts
+    ) or any(plan.types[name].representation != RECORD for name in rule.seconds):
+        raise VGDLError(
+            plan.path,
+            rule.line,
+            "bounceForward is implemented for still sprites in tables (no speed, no cooldown) pushed "
+            "by records",
+        )
+
+
+def _check_undo(plan: Plan, rule: RulePlan) -> None:
+    """undoAll (``undo``): no score; a grid first only of a type no rule kills."""
+    if score_of(plan, rule) != 0:
+        raise VGDLError(plan.path, rule.line, "undoAll with a scoreChange is not implemented")
+    for name in rule.firsts:
+        if plan.types[name].representation == GRID and _killed(plan, name):
+            raise VGDLError(
+                plan.path, rule.line, f"undoAll with {name}, a killed still type, as first is not implemented"
+            )
+
+
+def _check_kill_both(plan: Plan, rule: RulePlan) -> None:
+    """killBoth (``kill_both``): pairs of types that share no type, no avatar first, seconds in
+    tables only where their slots are Java's list order (nothing creates them)."""
+    created = any(
+        plan.types[name].representation == TABLE and plan.types[name].created_by for name in rule.seconds
+    )
+    avatar = any(plan.types[name].java_class.endswith("Avatar") for name in rule.firsts)
+    if rule.kind != "P" or created or avatar:
+        raise VGDLError(
+            plan.path,
+            rule.line,
+            "killBoth is implemented between types that share none, with no avatar first, of seconds "
+            "no rule creates in a table",
+        )
+
+
+def _killed(plan: Plan, name: str) -> bool:
+    """Whether some rule kills sprites of type ``name``."""
+    for rule in plan.pairs:
+        if rule.name in KILLING_FIRST and name in rule.firsts:
+            return True
+        kills_second = rule.name == "killBoth" or rule.values.get("killSecond")
+        if kills_second and name in rule.seconds:
+            return True
+    return False
 
 
 def score_of(plan: Plan, rule: RulePlan) -> int:

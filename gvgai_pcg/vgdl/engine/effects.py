@@ -22,16 +22,19 @@ from gvgai_pcg.vgdl.engine.checks import score_of
 from gvgai_pcg.vgdl.engine.columns import fresh_columns
 from gvgai_pcg.vgdl.engine.frame import Entry, Frame, Side, sides
 from gvgai_pcg.vgdl.engine.from_above import kill_if_from_above
+from gvgai_pcg.vgdl.engine.kill_both import kill_both, kill_listed_cells
 from gvgai_pcg.vgdl.engine.layout import Layout
 from gvgai_pcg.vgdl.engine.ordered import ordered_step_back
 from gvgai_pcg.vgdl.engine.pixel_perfect import step_back_pixel_perfect
 from gvgai_pcg.vgdl.engine.pull import pull_with_it
+from gvgai_pcg.vgdl.engine.push import bounce_forward
 from gvgai_pcg.vgdl.engine.resources import change_resource, collect_resource, kill_if_other_has_more
 from gvgai_pcg.vgdl.engine.reverse import reverse_direction
 from gvgai_pcg.vgdl.engine.shield import shield_from
 from gvgai_pcg.vgdl.engine.spawn_effects import spawn, spawn_if_has_more
 from gvgai_pcg.vgdl.engine.transform_grid import transform_into_grid
 from gvgai_pcg.vgdl.engine.transform_table import transform_into_table
+from gvgai_pcg.vgdl.engine.undo import undo_all
 from gvgai_pcg.vgdl.errors import VGDLError
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
 from gvgai_pcg.vgdl.plan import RulePlan
@@ -216,7 +219,7 @@ def transform_to(frame: Frame, rule: Rule) -> None:
             for second, first_hit, index in firsts_hit:
                 chosen = first_hit & fire.unsqueeze(-1)
                 if second.representation == GRID:
-                    _kill_listed_cells(frame, second.key, index, chosen)
+                    kill_listed_cells(frame, second.key, index, chosen)
                 else:
                     frame.kill(second, chosen)
 
@@ -239,16 +242,6 @@ def _create(frame: Frame, name: str, where: torch.Tensor, source: Entry) -> None
     target.update(values)
 
 
-def _kill_listed_cells(frame: Frame, key: str, index: torch.Tensor, chosen: torch.Tensor) -> None:
-    """Kill one sprite of grid ``key`` in each chosen cell (``index``, ``chosen``: ``[B, c]``)
-    that has none killed yet."""
-    killed = frame.grid_killed(key)
-    batch = killed.shape[0]
-    flat = killed.reshape(batch, -1)
-    add = chosen & (torch.gather(flat, 1, index) == 0)
-    frame.killed[key] = flat.scatter_add(1, index, add.to(flat.dtype)).view(killed.shape)
-
-
 KERNELS: dict[str, Callable[[Frame, Rule], None]] = {
     "stepBack": step_back,
     "killSprite": kill_sprite,
@@ -262,4 +255,7 @@ KERNELS: dict[str, Callable[[Frame, Rule], None]] = {
     "killIfFromAbove": kill_if_from_above,
     "shieldFrom": shield_from,
     "pullWithIt": pull_with_it,
+    "bounceForward": bounce_forward,
+    "undoAll": undo_all,
+    "killBoth": kill_both,
 }

@@ -47,7 +47,7 @@ from gvgai_pcg.vgdl.plan import compile_plan
 ACTION_SETS = {"ShootAvatar": SHOOT_ACTIONS, "MovingAvatar": MOVE_ACTIONS, "OngoingAvatar": MOVE_ACTIONS}
 # Effects that remove their first sprite, and those that also remove their second.
 KILLS_FIRST = frozenset(
-    {"killSprite", "transformTo", "collectResource", "killIfOtherHasMore", "killIfFromAbove"}
+    {"killSprite", "transformTo", "collectResource", "killIfOtherHasMore", "killIfFromAbove", "killBoth"}
 )
 _GAMES: dict[tuple[str, str, str | None, tuple[str, ...]], VGDLGame] = {}
 # The widest table whose same-table stepBack ticks compiled: compiled, ``step_back_in_order`` runs
@@ -243,7 +243,7 @@ def _changing_types(layout: Layout) -> frozenset[str]:
     for rule in layout.plan.pairs:
         if rule.name in KILLS_FIRST:
             changing.update(rule.firsts)
-        if rule.values.get("killSecond"):
+        if rule.values.get("killSecond") or rule.name == "killBoth":
             changing.update(rule.seconds)
         if rule.name in CREATING_RULES:
             changing.add(str(rule.values["stype"]))

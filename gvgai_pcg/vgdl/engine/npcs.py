@@ -1,9 +1,13 @@
 """Every other sprite's update, type by type in Java's update order (reverse drawing order).
 
 Grid types never change on their own (nor do Immovable tables); spawners, a grid of them or a
-table, create sprites (``spawn``). A table group is updated whole, at the first of its kinds in
-that order: its classes' updates touch only the sprite itself, and its draws are keyed by slot
-(``layout``'s draw-key rule), so the order of its sprites within the phase changes nothing.
+table, create sprites (``spawn``). A table that a ``bounceForward`` pushes saves its positions
+(Java's ``preMovement``: ``lastrect := rect``), which a ``stepBack`` or ``undoAll`` of the pushed
+sprites goes back to; in a game with an ``undoAll``, every still table and record does (one made
+by a transform starts with its source's last position, which Java's next update forgets). A
+table group is updated whole, at the first of its kinds in that order: its classes' updates touch
+only the sprite itself, and its draws are keyed by slot (``layout``'s draw-key rule), so the
+order of its sprites within the phase changes nothing.
 """
 
 from __future__ import annotations
@@ -14,17 +18,20 @@ from gvgai_pcg.games import rng
 from gvgai_pcg.games.geometry import NONE, direction_dx, direction_dy
 from gvgai_pcg.vgdl.engine.flicker import table_flicker
 from gvgai_pcg.vgdl.engine.frame import Frame
-from gvgai_pcg.vgdl.engine.layout import FLICKERS, TableGroup
+from gvgai_pcg.vgdl.engine.layout import FLICKERS, Layout, TableGroup
 from gvgai_pcg.vgdl.engine.missiles import missile, per_kind
 from gvgai_pcg.vgdl.engine.spawn import spawn_point, table_spawn_point
 from gvgai_pcg.vgdl.layout import GRID, RECORD, TABLE
 
 DIRECTIONS = 4  # RandomNPC draws one of the four base directions
+# Table classes whose kernels save the start of the tick (``lastx, lasty``) themselves.
+SELF_SAVING = frozenset({"RandomNPC", "Missile"})
 
 
 def update_npcs(frame: Frame) -> None:
     layout = frame.layout
     done: set[str] = set()
+    saved = saved_entries(layout)
     for name in layout.plan.update_order:
         if name in layout.avatars or name not in layout.places:
             continue
@@ -40,10 +47,39 @@ def update_npcs(frame: Frame) -> None:
                 table_flicker(frame, group)
             elif group.java_class == "SpawnPoint":
                 table_spawn_point(frame, group)
-        elif place.representation == RECORD and layout.plan.types[name].java_class in FLICKERS:
-            flicker(frame, name)
+            if place.key in saved:
+                pre_movement(frame, place.key)
+        elif place.representation == RECORD:
+            if name in saved:
+                pre_movement(frame, name)
+            if layout.plan.types[name].java_class in FLICKERS:
+                flicker(frame, name)
         elif place.representation == GRID and layout.plan.types[name].java_class == "SpawnPoint":
             spawn_point(frame, name)
+
+
+def saved_entries(layout: Layout) -> frozenset[str]:
+    """The tables and records whose update saves their positions here: those a ``bounceForward``
+    pushes (``checks``: of classes that never move by themselves) and, in a game with an
+    ``undoAll``, every table and record whose class kernel does not (RandomNPC, Missile and the
+    avatars save their own)."""
+    saved = {
+        layout.places[name].key
+        for rule in layout.plan.pairs
+        if rule.name == "bounceForward"
+        for name in rule.firsts
+        if name in layout.places and layout.places[name].representation == TABLE
+    }
+    if any(rule.name == "undoAll" for rule in layout.plan.pairs):
+        saved.update(group.key for group in layout.tables if group.java_class not in SELF_SAVING)
+        saved.update(name for name in layout.records if name not in layout.avatars)
+    return frozenset(saved)
+
+
+def pre_movement(frame: Frame, key: str) -> None:
+    """``lastrect := rect`` for every sprite of table ``key``."""
+    table = frame.entry(key)
+    table.update({"lastx": table.get("x"), "lasty": table.get("y")})
 
 
 def random_npc(frame: Frame, group: TableGroup) -> None:
