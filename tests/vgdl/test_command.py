@@ -28,7 +28,7 @@ NEEDS = """BasicGame
         hero > MovingAvatar
         bomb > Bomber stype=hero
     TerminationSet
-        Timeout limit=10 win=True
+        SpriteCounterMore stype=bomb limit=0 win=True
 """
 
 
@@ -44,7 +44,7 @@ def corpus(tmp_path, monkeypatch):
 
 def test_list_corpus_prints_one_game_a_line_with_what_the_engine_lacks(corpus, capsys):
     assert main(["vgdl", "list", "--corpus"]) == 0
-    assert capsys.readouterr().out.splitlines() == ["needs\tneeds Bomber, Timeout", "ready\tready"]
+    assert capsys.readouterr().out.splitlines() == ["needs\tneeds Bomber, SpriteCounterMore", "ready\tready"]
 
 
 def test_list_prints_the_registered_games_whatever_the_corpus(corpus, capsys):

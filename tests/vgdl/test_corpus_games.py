@@ -169,9 +169,7 @@ def test_an_unlisted_corpus_game_is_refused_with_what_it_lacks_or_as_unverified(
     (folder / "lacking.txt").write_text(REFUSED)
     with pytest.raises(ValueError, match=r"'unchecked' .* is not verified against Java yet"):
         registry.get_game_spec("unchecked")
-    with pytest.raises(
-        ValueError, match=r"'lacking' cannot be played yet: .*lacking.txt:4: Bomber is not"
-    ):
+    with pytest.raises(ValueError, match=r"'lacking' cannot be played yet: .*lacking.txt:4: Bomber is not"):
         registry.get_game_spec("lacking")
 
 
