@@ -175,6 +175,7 @@ SCHEMA: dict[str, Any] = {
     "total_frames": Integer(1),
     "device": Device(),
     "threads": Integer(0),
+    "rollout": OneOf(("auto", "fused", "unfused")),
     "env": {"num_envs": Integer(1), "obs": OneOf(("tiles", "pixels")), "max_steps": Integer(1)},
     "collector": {"workers": Integer(1)},
     "checkpoint": {"every_frames": Integer(1), "keep_every_frames": Integer(0)},
