@@ -62,7 +62,7 @@ def test_fused_rollouts_restart_finished_envs_through_the_curriculum_as_unfused(
 def test_what_cannot_roll_out_fused_is_said_in_one_line():
     env = GVGAIEnv("zelda", 4, "human", "tiles", seed=0, shards=2)
     assert "several threads" in fusable(env)
-    assert fused_step("auto", env, torch.nn.Identity()) is None
+    assert fused_step("auto", env, torch.nn.Identity()) is None  # auto rolls out unfused (not faster)
     with pytest.raises(ValueError, match="rollout=fused: this env cannot roll out fused"):
         fused_step("fused", env, torch.nn.Identity())
     assert fused_step("unfused", GVGAIEnv("zelda", 4, compile_tick=False), torch.nn.Identity()) is None
