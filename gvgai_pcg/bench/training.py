@@ -203,7 +203,7 @@ def batch_breakdown(cfg: DictConfig, batches: int = 60) -> dict[str, Cost]:
     adds around it (TorchRL's step plumbing, transforms, resets)."""
     env, net, learner = _env_and_net(cfg)
     parts = {name: Stopwatch(sync=True) for name in ("acting", "env", "update")}
-    fused = fused_step(cfg.rollout, env, net)
+    fused = fused_step(cfg.get("rollout", "auto"), env, net)
     timed_net = _Timed(net, parts["acting"])
     if fused is not None:  # the acting pass runs in one call with the tick: "acting" times that call
 

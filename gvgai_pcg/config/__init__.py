@@ -190,6 +190,10 @@ SCHEMA: dict[str, Any] = {
 }
 
 
+# Keys a config written before them may lack (their default is the old behaviour).
+OPTIONAL_KEYS = frozenset({"rollout"})
+
+
 def _shown(value: Any) -> str:
     if isinstance(value, dict | list):
         return repr(value)
@@ -278,7 +282,7 @@ def validate(cfg: DictConfig | Mapping) -> dict:
         values = dict(cfg)
     values.pop("hydra", None)
     checked: dict = {}
-    _check_section(values, SCHEMA, "", checked)
+    _check_section(values, SCHEMA, "", checked, OPTIONAL_KEYS)
     _check_together(checked)
     return checked
 

@@ -393,9 +393,9 @@ def _make_collector(
     workers = int(cfg.collector.workers)
     if workers == 1:
         # from 24 envs A2C's acting passes keep their graph for the update (gvgai_pcg.rl.rollout)
-        keep_graph, fused = learner.keep_acting_graph, fused_step(cfg.rollout, env, net)
+        keep_graph, fused = learner.keep_acting_graph, fused_step(cfg.get("rollout", "auto"), env, net)
         return session.closing(ActingRollouts(env, net, cfg.env.obs, learner.n_steps, keep_graph, fused))
-    if cfg.rollout == "fused":
+    if cfg.get("rollout", "auto") == "fused":
         raise ValueError(f"rollout=fused: collector workers ({workers}) roll out unfused; use rollout=auto")
     env.close()
     make_env.run.share_through(session.run_dir / "shared")

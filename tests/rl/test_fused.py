@@ -93,3 +93,16 @@ def test_the_compiled_fused_rollout_is_the_unfused_one():
     unfused = _rollouts(False, "tiles", True, compile_tick=True, batches=3)
     fused = _rollouts(True, "tiles", True, compile_tick=True, batches=3)
     _assert_same(unfused, fused)
+
+
+def test_the_rollout_key_takes_three_values_and_may_be_missing_from_an_older_config(make_config):
+    from omegaconf import OmegaConf
+
+    from gvgai_pcg.config import ConfigError, checked_config
+
+    assert checked_config(make_config(["rollout=fused"])).rollout == "fused"
+    with pytest.raises(ConfigError, match="rollout='fast'"):
+        checked_config(make_config(["rollout=fast"]))
+    older = OmegaConf.to_container(make_config([]), resolve=True)
+    del older["rollout"]
+    checked_config(OmegaConf.create(older))  # a run's config from before the key is still valid
