@@ -31,9 +31,12 @@ step from ``gvgai_pcg.bench.training``'s batch split, two alternating rounds eac
 What holds it back is the network: inductor's CPU code for the compact net is slower than eager
 (12 envs, no graph: about 1.4-1.7 ms compiled with dynamic shapes, as the tick's graph has them,
 against 0.8-1.3 ms eager; static shapes about 1.0 ms), and with the acting graph kept the compiled
-forward and backward (AOTAutograd) cost more again. The tick's per-call cost it saves (guards and
-the call) is smaller than that, and TorchRL's step plumbing and the resets stay (0.7-0.8 ms a step
-at 12 envs, 1.9-3.1 ms at 64, with the resets).
+forward and backward (AOTAutograd) cost more again. The tick's per-call cost it saves is smaller
+than that: the env's compiled call is 53-61% of an env step's CPU time at 12 and 64 envs (0.4-0.65
+ms of 0.75-1.1), and Dynamo's guard evaluation over the state's leaves 21-26% of the call, about
+0.1-0.16 ms (``python -m gvgai_pcg.bench.compiled --split``, under torch's profiler); a fused
+call pays those guards too, over the net's parameters as well. TorchRL's step plumbing and the
+resets stay (0.7-0.8 ms a step at 12 envs, 1.9-3.1 ms at 64, with the resets).
 """
 
 from __future__ import annotations
