@@ -43,6 +43,7 @@ from gvgai_pcg.bench.timing import Stopwatch, time_windows
 from gvgai_pcg.config import ConfigError, check_jobs, config_dir
 from gvgai_pcg.engine.threads import threads_for_batch
 from gvgai_pcg.rl.environment import EnvFactory
+from gvgai_pcg.rl.fused import fused_step
 from gvgai_pcg.rl.learners import learner_class
 from gvgai_pcg.rl.learners.base import Learner
 from gvgai_pcg.rl.models import CHANNELS_LAST_TORSOS, actor_critic_for, as_tensordict_module
@@ -197,12 +198,26 @@ def network_costs(cfg: DictConfig, seconds: float = 6.0) -> dict[str, Cost]:
 def batch_breakdown(cfg: DictConfig, batches: int = 60) -> dict[str, Cost]:
     """Seconds per batch of the training loop's parts: the acting passes, the env's steps and
     resets, the learner's update (its loss, backward passes, clipping and steps) and the rest
-    (rollout bookkeeping)."""
+    (rollout bookkeeping). With the fused rollout (``cfg.rollout``, ``gvgai_pcg.rl.fused``)
+    "acting" is the fused call (acting pass, sampling and tick) and "env" what the env's step
+    adds around it (TorchRL's step plumbing, transforms, resets)."""
     env, net, learner = _env_and_net(cfg)
     parts = {name: Stopwatch(sync=True) for name in ("acting", "env", "update")}
+    fused = fused_step(cfg.get("rollout", "auto"), env, net)
     timed_net = _Timed(net, parts["acting"])
+    if fused is not None:  # the acting pass runs in one call with the tick: "acting" times that call
+
+        def timed_fused(obs: torch.Tensor):
+            with parts["acting"]:
+                return fused(obs)
+
     rollouts = ActingRollouts(
-        env, timed_net, cfg.env.obs, learner.n_steps, keep_graph=learner.keep_acting_graph
+        env,
+        net if fused is not None else timed_net,
+        cfg.env.obs,
+        learner.n_steps,
+        keep_graph=learner.keep_acting_graph,
+        fused=timed_fused if fused is not None else None,
     )
     step_and_maybe_reset = env.step_and_maybe_reset
 
@@ -223,6 +238,7 @@ def batch_breakdown(cfg: DictConfig, batches: int = 60) -> dict[str, Cost]:
     env.close()
     costs = {name: Cost(w.wall / batches, w.cpu / batches) for name, w in parts.items()}
     costs["total"] = Cost(total.wall / batches, total.cpu / batches)
+    costs["fused"] = Cost(float(fused is not None), float(fused is not None))
     costs["rest"] = Cost(
         costs["total"].wall - sum(parts[name].wall for name in parts) / batches,
         costs["total"].cpu - sum(parts[name].cpu for name in parts) / batches,
@@ -277,6 +293,9 @@ def benchmark(cfg: DictConfig) -> dict[str, float]:
         numbers["layout_cpu_speedup"] = layouts["contiguous"].cpu / layouts["own"].cpu
     if int(cfg.collector.workers) == 1:
         for name, cost in batch_breakdown(cfg).items():
+            if name == "fused":  # a flag, not a cost
+                numbers["fused"] = cost.wall
+                continue
             numbers[f"{name}_ms"] = cost.wall * 1e3
             numbers[f"{name}_cpu_ms"] = cost.cpu * 1e3
     return numbers
@@ -307,6 +326,8 @@ def describe(name: str, numbers: dict[str, float]) -> str:
             f"{part} {n[f'{part}_cpu_ms']:.1f} ({n[f'{part}_cpu_ms'] / n['total_cpu_ms']:.0%})"
             for part in ("acting", "env", "update", "rest")
         )
+        if n.get("fused"):
+            split += " (fused: acting = the fused call with the tick; env = the step's plumbing, resets)"
         lines.append(f"  one batch, CPU ms: {n['total_cpu_ms']:.1f} = {split}")
     return "\n".join(lines)
 

@@ -175,6 +175,7 @@ SCHEMA: dict[str, Any] = {
     "total_frames": Integer(1),
     "device": Device(),
     "threads": Integer(0),
+    "rollout": OneOf(("auto", "fused", "unfused")),
     "env": {"num_envs": Integer(1), "obs": OneOf(("tiles", "pixels")), "max_steps": Integer(1)},
     "collector": {"workers": Integer(1)},
     "checkpoint": {"every_frames": Integer(1), "keep_every_frames": Integer(0)},
@@ -187,6 +188,10 @@ SCHEMA: dict[str, Any] = {
     "out_dir": Text(),
     "run_name": Text(),
 }
+
+
+# Keys a config written before them may lack (their default is the old behaviour).
+OPTIONAL_KEYS = frozenset({"rollout"})
 
 
 def _shown(value: Any) -> str:
@@ -277,7 +282,7 @@ def validate(cfg: DictConfig | Mapping) -> dict:
         values = dict(cfg)
     values.pop("hydra", None)
     checked: dict = {}
-    _check_section(values, SCHEMA, "", checked)
+    _check_section(values, SCHEMA, "", checked, OPTIONAL_KEYS)
     _check_together(checked)
     return checked
 

@@ -132,6 +132,8 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
         self._steps = torch.zeros(num_envs, dtype=torch.int64, device=self.device)
         self._difficulty = torch.full((num_envs,), difficulty, dtype=torch.float64, device=self.device)
         self._levels: list[Level | None] = [None] * num_envs
+        # A step already run by the caller (``run_step_ahead``), output by the next ``_step``.
+        self._step_ahead: tuple[torch.Tensor, torch.Tensor, dict[str, torch.Tensor]] | None = None
         # Where tick 0 draws nothing, recurring levels are banked started (envs/level_bank.py).
         start = self._start_levels if self.game.seed_free_reset_tick else None
         self._bank = CompiledLevelBank(
@@ -270,9 +272,33 @@ class GVGAIEnv(CompleteStepHook, RowResetEnv):
 
     def _step(self, tensordict: TensorDictBase) -> TensorDict:
         state = self.state
-        action = self._check_action(tensordict.get("action"))
+        given = tensordict.get("action")
+        action = self._check_action(given)
         self._steps += 1
+        ahead, self._step_ahead = self._step_ahead, None
+        if ahead is not None:
+            ran, observed, outputs = ahead
+            if ran is not given and not torch.equal(ran, action):
+                raise RuntimeError(
+                    "gvgai_env.py: a step run ahead was given another action than the one it ran"
+                )
+            return self._output(observed, outputs)
         return self._output(*self._runner.step(state, action, self._steps))
+
+    def run_step_ahead(
+        self, action: torch.Tensor, observed: torch.Tensor, outputs: dict[str, torch.Tensor]
+    ) -> None:
+        """Take the next step of ``action`` (``[B]`` int64) as already run on ``state`` by the caller,
+        with the observation ``observed`` and ``outputs`` (``episode_outputs`` with the reward, after
+        ``next_steps``): the fused rollout (``gvgai_pcg.rl.fused``) ticks in its own compiled call,
+        and the env's step (``step_and_maybe_reset``, transforms and resets included) then only
+        outputs it. The step must be the next ``step`` of exactly that action."""
+        self._step_ahead = (action, observed, outputs)
+
+    @property
+    def next_steps(self) -> torch.Tensor:
+        """``[B]`` int64: each env's step count after its next step (the truncation's clock)."""
+        return self._steps + 1
 
     def _reset_output(self, state: TensorDict, observed: torch.Tensor, restarted: torch.Tensor) -> TensorDict:
         """The reset's output for every env of ``state``, whose observation is ``observed``. Envs

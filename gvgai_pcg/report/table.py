@@ -81,7 +81,17 @@ class RunResults:
 
 # Keys that do not change what a run learns (bookkeeping, where it ran) and the seed, which
 # replicates: runs differing only in these are seeds of one condition.
-NOT_TRAINING = ("seed", "total_frames", "device", "threads", "checkpoint", "log", "out_dir", "run_name")
+NOT_TRAINING = (
+    "seed",
+    "total_frames",
+    "device",
+    "threads",
+    "rollout",
+    "checkpoint",
+    "log",
+    "out_dir",
+    "run_name",
+)
 NAMES = ("regimen.tag",)  # a name derived from the regimen's other keys
 
 

@@ -25,7 +25,7 @@ recomputes them.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 import torch
 from tensordict import TensorDict, TensorDictBase
@@ -62,10 +62,19 @@ class ActingRollouts:
         n_steps: steps per rollout (T).
         keep_graph: keep the acting passes' graph (default: ``keeps_acting_graph`` of the
             env's batch); without it ``logits`` and ``state_value`` are plain tensors.
+        fused: the fused step (``gvgai_pcg.rl.fused.FusedStep`` of this env and net): the acting
+            pass, the sampling and the env's tick run as one call, and the env's step only
+            outputs it and restarts the finished envs. The same rollouts.
     """
 
     def __init__(
-        self, env: EnvBase, net: nn.Module, obs_key: str, n_steps: int, keep_graph: bool | None = None
+        self,
+        env: EnvBase,
+        net: nn.Module,
+        obs_key: str,
+        n_steps: int,
+        keep_graph: bool | None = None,
+        fused: Callable[[torch.Tensor], tuple[torch.Tensor, torch.Tensor, torch.Tensor]] | None = None,
     ) -> None:
         if n_steps < 1:
             raise ValueError(f"n_steps must be at least 1, got {n_steps}")
@@ -73,6 +82,7 @@ class ActingRollouts:
         if keep_graph is None:
             keep_graph = keeps_acting_graph(env.batch_size.numel())
         self.keep_graph = bool(keep_graph)
+        self.fused = fused
         self._current: TensorDictBase | None = None
 
     def collect(self) -> TensorDict:
@@ -84,8 +94,12 @@ class ActingRollouts:
         for _ in range(self.n_steps):
             obs = current.get(self.obs_key)
             with torch.set_grad_enabled(self.keep_graph and torch.is_grad_enabled()):
-                step_logits, step_value = self.net(obs)
-            action = sample_actions(step_logits)
+                if self.fused is not None:
+                    step_logits, step_value, action = self.fused(obs)
+                else:
+                    step_logits, step_value = self.net(obs)
+            if self.fused is None:
+                action = sample_actions(step_logits)
             current.set("action", action)
             stepped, current = self.env.step_and_maybe_reset(current)
             observations.append(obs)

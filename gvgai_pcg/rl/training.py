@@ -50,6 +50,7 @@ from gvgai_pcg.levels.sets import level_set_fingerprint
 from gvgai_pcg.progress import progress
 from gvgai_pcg.rl.curves import plot_curve
 from gvgai_pcg.rl.environment import EnvFactory, curriculum_run
+from gvgai_pcg.rl.fused import fused_step
 from gvgai_pcg.rl.learners import learner_class
 from gvgai_pcg.rl.learners.base import Learner
 from gvgai_pcg.rl.main_guard import refuse_without_main_guard
@@ -392,9 +393,10 @@ def _make_collector(
     workers = int(cfg.collector.workers)
     if workers == 1:
         # from 24 envs A2C's acting passes keep their graph for the update (gvgai_pcg.rl.rollout)
-        return session.closing(
-            ActingRollouts(env, net, cfg.env.obs, learner.n_steps, keep_graph=learner.keep_acting_graph)
-        )
+        keep_graph, fused = learner.keep_acting_graph, fused_step(cfg.get("rollout", "auto"), env, net)
+        return session.closing(ActingRollouts(env, net, cfg.env.obs, learner.n_steps, keep_graph, fused))
+    if cfg.get("rollout", "auto") == "fused":
+        raise ValueError(f"rollout=fused: collector workers ({workers}) roll out unfused; use rollout=auto")
     env.close()
     make_env.run.share_through(session.run_dir / "shared")
     frames_per_batch = workers * int(cfg.env.num_envs) * learner.n_steps

@@ -45,7 +45,7 @@ PREVIOUS_NAME = "prev.pt"
 # ``env.num_envs`` does.
 # The curriculum's shared state: its key, and the key it had before (PPCG's d was all it held).
 CURRICULUM_KEY, LEGACY_CURRICULUM_KEY = "curriculum", "difficulty"
-MAY_CHANGE = ("total_frames", "device", "threads", "checkpoint", "log", "out_dir", "run_name")
+MAY_CHANGE = ("total_frames", "device", "threads", "rollout", "checkpoint", "log", "out_dir", "run_name")
 
 
 def nonfinite_names(tensors: dict[str, torch.Tensor]) -> list[str]:
