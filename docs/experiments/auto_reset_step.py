@@ -24,7 +24,7 @@ import torch
 from tensordict import TensorDict
 
 from gvgai_pcg._private_apis import unchecked_tensordict
-from gvgai_pcg.engine.compiled import INDUCTOR_OPTIONS, _configured_thread, tick_and_draw
+from gvgai_pcg.engine.compiled import INDUCTOR_OPTIONS, configure_compiler_thread, tick_and_draw
 from gvgai_pcg.envs import GVGAIEnv
 from gvgai_pcg.envs.states import entity_capacities, pad_entity_tables
 
@@ -60,7 +60,7 @@ class AutoResetStep:
     def step(self, action: torch.Tensor) -> TensorDict:
         env = self.env
         env._steps += 1
-        _configured_thread()
+        configure_compiler_thread()
         arguments = env.game.host_arguments(env.state)
         start = time.process_time()
         with torch.compiler.set_stance(skip_guard_eval_unsafe=self.unsafe):

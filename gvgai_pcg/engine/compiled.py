@@ -94,7 +94,7 @@ def _configure_this_thread() -> None:
     _THREAD.configured = True
 
 
-def _configured_thread() -> None:
+def configure_compiler_thread() -> None:
     """Configure this thread's compiler settings once (see ``_configure_this_thread``)."""
     if not getattr(_THREAD, "configured", False):
         _configure_this_thread()
@@ -158,7 +158,7 @@ class CompiledTick:
     def _arguments(self, state: TensorDict, device: str) -> tuple[dict, bool]:
         """The host arguments of the next tick of ``state`` and whether it may run compiled (not
         where compiling failed on ``device``, nor where an ``eager_when`` argument holds)."""
-        _configured_thread()
+        configure_compiler_thread()
         arguments = self.game.host_arguments(state)
         eager = device in self.failures or any(arguments[name] for name in self.facts.eager_when)
         return arguments, not eager

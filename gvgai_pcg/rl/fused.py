@@ -18,25 +18,9 @@ A step whose data asks for the eager tick (``StepFacts.eager_when``) runs the sa
 eagerly; where compiling fails, every step does from then on (with one warning).
 
 It is not faster on the CPU, so training uses it only when asked (``rollout=fused``; ``auto`` rolls
-out unfused). Zelda, compact net, fp32, one thread, on a machine loaded by two trainings (CPU ms a
-step from ``gvgai_pcg.bench.training``'s batch split, two alternating rounds each):
-
-- 12 envs: the fused call 3.1-3.3 ms against the eager acting pass 1.2-1.5 ms plus the env's
-  compiled tick call (about 1 ms of its 1.7-2.1); training 0.72-1.32x the unfused frames/s
-  (per CPU s 0.71-1.14x), within the load's noise at best;
-- 64 envs (A2C keeps the acting graph): the fused call 7.0-7.9 ms against 2.9-3.4 ms plus about
-  1.1 ms; training 0.76-0.85x (per CPU s 0.86-0.90x), and the update is slower too (the compiled
-  graph's backward).
-
-What holds it back is the network: inductor's CPU code for the compact net is slower than eager
-(12 envs, no graph: about 1.4-1.7 ms compiled with dynamic shapes, as the tick's graph has them,
-against 0.8-1.3 ms eager; static shapes about 1.0 ms), and with the acting graph kept the compiled
-forward and backward (AOTAutograd) cost more again. The tick's per-call cost it saves is smaller
-than that: the env's compiled call is 53-61% of an env step's CPU time at 12 and 64 envs (0.4-0.65
-ms of 0.75-1.1), and Dynamo's guard evaluation over the state's leaves 21-26% of the call, about
-0.1-0.16 ms (``python -m gvgai_pcg.bench.compiled --split``, under torch's profiler); a fused
-call pays those guards too, over the net's parameters as well. TorchRL's step plumbing and the
-resets stay (0.7-0.8 ms a step at 12 envs, 1.9-3.1 ms at 64, with the resets).
+out unfused): inductor's CPU code for the compact network is slower than eager, more so with the
+acting graph kept, and that costs more than the tick's per-call wall it saves. docs/training.md
+has the measured figures.
 """
 
 from __future__ import annotations
@@ -47,7 +31,7 @@ import torch
 from tensordict import TensorDict
 from torch import nn
 
-from gvgai_pcg.engine.compiled import COMPILE_ERRORS, INDUCTOR_OPTIONS, _configured_thread
+from gvgai_pcg.engine.compiled import COMPILE_ERRORS, INDUCTOR_OPTIONS, configure_compiler_thread
 from gvgai_pcg.engine.outputs import episode_outputs
 from gvgai_pcg.envs.gvgai_env import GVGAIEnv
 from gvgai_pcg.games.base import Game
@@ -130,7 +114,7 @@ class FusedStep:
         for function in call:
             try:
                 if function is not act_and_tick:
-                    _configured_thread()
+                    configure_compiler_thread()
                 result = function(
                     self.net, self.game, state, obs, steps, env.max_steps, self.draw_tiles, **arguments
                 )
