@@ -67,6 +67,7 @@ GAMES = (
     "surround",
     "whackamole",
     "bait",
+    "escape",
     "realsokoban",
     "sokoban",
     "thesnowman",
