@@ -67,6 +67,7 @@ GAMES = (
     "surround",
     "whackamole",
     "bait",
+    "colourescape",
     "escape",
     "realsokoban",
     "sokoban",
