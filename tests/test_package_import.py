@@ -11,10 +11,11 @@ def test_import_registers_gymnasium_ids_without_torch():
         "print(ids, 'torch' in sys.modules)"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
-    # the study's four, and GVGAI's thirteen corpus games, whose ids exist without the corpus folder
+    # the study's four, and GVGAI's fifteen corpus games, whose ids exist without the corpus folder
     # so that making one says in one line what to set (gvgai_pcg.vgdl.corpus_games)
     study = ["Boulderdash", "Frogs", "Solarfox", "Zelda"]
     corpus = ["CamelRace", "Infection", "Labyrinth", "Labyrinthdual", "Painter", "Racebet", "Racebet2"]
-    corpus += ["Zenpuzzle", "Bait", "Realsokoban", "Sokoban", "Thesnowman", "Watergame"]
+    corpus += ["Zenpuzzle", "Bait", "Colourescape", "Escape", "Realsokoban", "Sokoban", "Thesnowman"]
+    corpus += ["Watergame"]
     expected = sorted(f"gvgai_pcg/{name}-v0" for name in study + corpus)
     assert out.strip() == f"{expected} False"

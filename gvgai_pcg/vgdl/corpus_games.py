@@ -24,8 +24,9 @@ from gvgai_pcg.vgdl.support import check_supported
 # Corpus games the generic step plays as Java does (each held to Java traces,
 # tests/data/vgdl_corpus_traces): those that need no VGDL feature the four study games lack
 # (CORPUS.md, "Staging"), then labyrinth and labyrinthdual, which need only Timeout, and those
-# that bounceForward, killBoth and undoAll complete (the Sokoban family); the file stems, as
-# GVGAI spells them. A game's registered name is its stem in lower case.
+# that bounceForward, killBoth and undoAll complete (the Sokoban family, colourescape with its
+# avatar's transforms; escape with Timeout); the file stems, as GVGAI spells them. A game's
+# registered name is its stem in lower case.
 CORPUS_GAMES = (
     "camelRace",
     "infection",
@@ -36,6 +37,8 @@ CORPUS_GAMES = (
     "labyrinth",
     "labyrinthdual",
     "bait",
+    "colourescape",
+    "escape",
     "realsokoban",
     "sokoban",
     "thesnowman",

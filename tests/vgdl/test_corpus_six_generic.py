@@ -1,10 +1,10 @@
 """Six GVGAI corpus games the generic step runs with no feature class of their own (camelRace,
-racebet, racebet2, painter, infection, zenpuzzle), and five of the Sokoban family (bait,
-realsokoban, sokoban, thesnowman, watergame): on their five human levels, batched (levels of
-different sizes in one state), the step gives each env what it gives the level played alone, eager
-and through the engine's compiled tick, on random actions. Java's traces of these games are checked
-with ``gvgai-pcg vgdl trace`` (the ``traces`` recordings); here the engine is held to itself.
-Needs GVGAI's VGDL files (``GVGAI_VGDL_DIR``)."""
+racebet, racebet2, painter, infection, zenpuzzle), and seven of the Sokoban family (bait,
+colourescape, escape, realsokoban, sokoban, thesnowman, watergame): on their five human levels,
+batched (levels of different sizes in one state), the step gives each env what it gives the level
+played alone, eager and through the engine's compiled tick, on random actions. Java's traces of
+these games are checked with ``gvgai-pcg vgdl trace`` (the ``traces`` recordings); here the engine
+is held to itself. Needs GVGAI's VGDL files (``GVGAI_VGDL_DIR``)."""
 
 from __future__ import annotations
 
@@ -23,7 +23,7 @@ ROOT = Path(__file__).parents[2]
 GAMES = Path(os.environ.get("GVGAI_VGDL_DIR", ROOT.parent / "shared" / "vgdl" / "games"))
 SIX = ("camelRace", "racebet", "racebet2", "painter", "infection", "zenpuzzle")
 # the Sokoban family's games the generic step runs (bounceForward, killBoth, undoAll)
-SOKOBAN = ("bait", "realsokoban", "sokoban", "thesnowman", "watergame")
+SOKOBAN = ("bait", "colourescape", "escape", "realsokoban", "sokoban", "thesnowman", "watergame")
 TICKS = 60
 
 needs_corpus = pytest.mark.skipif(

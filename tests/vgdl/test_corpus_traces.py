@@ -67,12 +67,14 @@ GAMES = (
     "surround",
     "whackamole",
     "bait",
+    "colourescape",
+    "escape",
     "realsokoban",
     "sokoban",
     "thesnowman",
     "watergame",
 )
-PUSHES = ("bait_lvl1", "realsokoban_lvl0", "sokoban_lvl0", "thesnowman_lvl0", "watergame_lvl1")
+PUSHES = ("bait_lvl1", "escape_lvl0", "realsokoban_lvl0", "sokoban_lvl0", "thesnowman_lvl0", "watergame_lvl1")
 
 
 def test_every_game_has_its_five_human_levels_recorded():
